@@ -1,0 +1,170 @@
+//! The scene model every loader produces and every renderer consumes: triangle meshes,
+//! materials, textures, lights, a camera and instances of meshes.
+//!
+//! Conventions (DESIGN.md section 4): right-handed, +Y up, linear RGB radiometric quantities.
+//! Area lights are not a separate type: any triangle whose material has a non-zero `emission`
+//! is an area light, and a `quad` light of a scene file becomes two such triangles.
+
+use glam::{Affine3A, Vec2, Vec3};
+
+/// A triangle mesh in its own object space. Meshes are placed in the world by [`Instance`]s.
+#[derive(Clone, Debug, Default)]
+pub struct Mesh {
+    /// Name from the source file (object, mesh or file name), for messages and `igi info`.
+    pub name: String,
+    /// Vertex positions.
+    pub positions: Vec<Vec3>,
+    /// Optional per-vertex shading normals (same length as `positions`, unit length).
+    pub normals: Option<Vec<Vec3>>,
+    /// Optional per-vertex texture coordinates (same length as `positions`).
+    pub uvs: Option<Vec<Vec2>>,
+    /// Triangles as indices into the vertex arrays. Every index is in range and every triangle
+    /// has a non-zero area: loaders drop degenerate triangles (and count them).
+    pub indices: Vec<[u32; 3]>,
+    /// Per-triangle index into [`Scene::materials`].
+    pub material_ids: Vec<u32>,
+}
+
+/// How a surface scatters light. Parameters follow the OBJ/MTL reading of them; the renderer's
+/// BRDF shaders interpret them (Lambert plus an optional Phong lobe, mirror, glass).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    /// Name from the source file.
+    pub name: String,
+    /// Diffuse reflectance ρ_d (linear RGB, each channel in [0, 1]).
+    pub diffuse: Vec3,
+    /// Optional texture that multiplies `diffuse` (index into [`Scene::textures`]).
+    pub diffuse_texture: Option<u32>,
+    /// Specular reflectance ρ_s of the glossy lobe (linear RGB).
+    pub specular: Vec3,
+    /// Phong exponent of the glossy lobe.
+    pub exponent: f32,
+    /// Emitted radiance L_e in W/(sr m²) toward the front side (the winding normal).
+    pub emission: Vec3,
+    /// Optional bump or height map (index into [`Scene::textures`]).
+    pub bump_texture: Option<u32>,
+    /// Fraction of light transmitted (1 - opacity); kept for the glass BRDF of later issues.
+    pub transparency: f32,
+    /// Index of refraction, kept for the glass BRDF of later issues.
+    pub ior: f32,
+    /// Perfect-mirror or glass behaviour requested by the source (MTL `illum` 3-7).
+    pub kind: MaterialKind,
+}
+
+/// The BRDF family a material asks for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum MaterialKind {
+    /// Lambertian diffuse plus an optional glossy Phong lobe.
+    #[default]
+    Plastic,
+    /// Perfect mirror with reflectance `specular`.
+    Mirror,
+    /// Dielectric with index `ior`.
+    Glass,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Self {
+            name: "default".into(),
+            diffuse: Vec3::splat(0.8),
+            diffuse_texture: None,
+            specular: Vec3::ZERO,
+            exponent: 1.0,
+            emission: Vec3::ZERO,
+            bump_texture: None,
+            transparency: 0.0,
+            ior: 1.0,
+            kind: MaterialKind::Plastic,
+        }
+    }
+}
+
+impl Material {
+    /// True if triangles with this material are area lights.
+    pub fn is_emissive(&self) -> bool {
+        self.emission.max_element() > 0.0
+    }
+}
+
+/// A decoded image texture, stored as linear-light RGBA f32 texels, row 0 at the top.
+#[derive(Clone, Debug)]
+pub struct Texture {
+    /// The file it came from (or a descriptive name for embedded images).
+    pub name: String,
+    /// Width in texels.
+    pub width: u32,
+    /// Height in texels.
+    pub height: u32,
+    /// `width * height` texels, row-major, linear RGB (sRGB decoded for colour maps) and alpha.
+    pub texels: Vec<[f32; 4]>,
+}
+
+/// A punctual or distant light source. Area lights are emissive triangles (see the module doc).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Light {
+    /// Isotropic point light with radiant intensity `intensity` in W/sr.
+    Point {
+        /// Position in world space.
+        position: Vec3,
+        /// Radiant intensity I in W/sr.
+        intensity: Vec3,
+    },
+    /// Spot light: a point light restricted to a cone around `direction`.
+    Spot {
+        /// Position in world space.
+        position: Vec3,
+        /// Unit direction of the cone axis.
+        direction: Vec3,
+        /// Full opening angle of the cone in degrees.
+        angle_deg: f32,
+        /// Radiant intensity I in W/sr inside the cone.
+        intensity: Vec3,
+    },
+    /// Distant light (a sun): parallel light travelling along `direction`.
+    Directional {
+        /// Unit direction the light travels in (pointing away from the light).
+        direction: Vec3,
+        /// Irradiance E in W/m² on a surface facing the light.
+        irradiance: Vec3,
+    },
+}
+
+/// A pinhole camera.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    /// Eye position.
+    pub position: Vec3,
+    /// Point the camera looks at.
+    pub target: Vec3,
+    /// Up hint (need not be orthogonal to the view direction).
+    pub up: Vec3,
+    /// Vertical field of view in degrees.
+    pub fov_y_deg: f32,
+}
+
+/// One placement of a mesh in the world.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Instance {
+    /// Index into [`Scene::meshes`].
+    pub mesh: u32,
+    /// Object-to-world transform (affine, invertible).
+    pub transform: Affine3A,
+}
+
+/// Everything a renderer needs besides its own settings.
+#[derive(Clone, Debug, Default)]
+pub struct Scene {
+    /// Triangle meshes in object space.
+    pub meshes: Vec<Mesh>,
+    /// Placements of the meshes; a mesh may be placed any number of times.
+    pub instances: Vec<Instance>,
+    /// Materials referenced by [`Mesh::material_ids`].
+    pub materials: Vec<Material>,
+    /// Textures referenced by materials.
+    pub textures: Vec<Texture>,
+    /// Point, spot and directional lights (area lights are emissive triangles).
+    pub lights: Vec<Light>,
+    /// The scene's own camera, if its file has one.
+    pub camera: Option<Camera>,
+}

@@ -1,0 +1,422 @@
+//! AVX2 + FMA backend: each type wraps one 256-bit register.
+//!
+//! This module is only compiled when the target enables `avx2` and `fma` (see `lib.rs`), so the
+//! intrinsics are always available and the `unsafe` blocks below only call them.
+
+use std::arch::x86_64::*;
+use std::ops::{Add, BitAnd, BitOr, BitXor, Div, Mul, Neg, Not, Sub};
+
+/// Eight `f32` lanes.
+#[derive(Clone, Copy, Debug)]
+#[repr(transparent)]
+pub struct F32x8(__m256);
+
+/// Eight `i32` lanes.
+#[derive(Clone, Copy, Debug)]
+#[repr(transparent)]
+pub struct I32x8(__m256i);
+
+/// Eight lane flags, each lane all ones (true) or all zeros (false).
+#[derive(Clone, Copy, Debug)]
+#[repr(transparent)]
+pub struct M32x8(__m256);
+
+impl F32x8 {
+    /// All lanes zero.
+    pub const ZERO: Self = Self::from_array([0.0; 8]);
+
+    /// All lanes `v`.
+    #[inline(always)]
+    pub fn splat(v: f32) -> Self {
+        unsafe { Self(_mm256_set1_ps(v)) }
+    }
+
+    /// Lanes from an array, lane 0 first.
+    #[inline(always)]
+    pub const fn from_array(a: [f32; 8]) -> Self {
+        // SAFETY: __m256 and [f32; 8] have the same size and every bit pattern is valid.
+        unsafe { std::mem::transmute::<[f32; 8], Self>(a) }
+    }
+
+    /// The lanes as an array, lane 0 first.
+    #[inline(always)]
+    pub fn to_array(self) -> [f32; 8] {
+        // SAFETY: as in `from_array`.
+        unsafe { std::mem::transmute::<Self, [f32; 8]>(self) }
+    }
+
+    /// Lane `i` (panics if `i >= 8`).
+    #[inline(always)]
+    pub fn lane(self, i: usize) -> f32 {
+        self.to_array()[i]
+    }
+
+    /// `self * b + c`, fused (one rounding).
+    #[inline(always)]
+    pub fn mul_add(self, b: Self, c: Self) -> Self {
+        unsafe { Self(_mm256_fmadd_ps(self.0, b.0, c.0)) }
+    }
+
+    /// Lane-wise minimum; if either lane is NaN the result is `o`'s lane.
+    #[inline(always)]
+    pub fn min(self, o: Self) -> Self {
+        unsafe { Self(_mm256_min_ps(self.0, o.0)) }
+    }
+
+    /// Lane-wise maximum; if either lane is NaN the result is `o`'s lane.
+    #[inline(always)]
+    pub fn max(self, o: Self) -> Self {
+        unsafe { Self(_mm256_max_ps(self.0, o.0)) }
+    }
+
+    /// Lane-wise square root.
+    #[inline(always)]
+    pub fn sqrt(self) -> Self {
+        unsafe { Self(_mm256_sqrt_ps(self.0)) }
+    }
+
+    /// Lane-wise absolute value.
+    #[inline(always)]
+    pub fn abs(self) -> Self {
+        unsafe { Self(_mm256_andnot_ps(_mm256_set1_ps(-0.0), self.0)) }
+    }
+
+    /// Lane-wise floor.
+    #[inline(always)]
+    pub fn floor(self) -> Self {
+        unsafe { Self(_mm256_floor_ps(self.0)) }
+    }
+
+    /// `self` with the sign bit of each lane flipped where `sign`'s lane is negative.
+    #[inline(always)]
+    pub fn xor_sign(self, sign: Self) -> Self {
+        unsafe {
+            let s = _mm256_and_ps(sign.0, _mm256_set1_ps(-0.0));
+            Self(_mm256_xor_ps(self.0, s))
+        }
+    }
+
+    /// `self < o` per lane (false for NaN).
+    #[inline(always)]
+    pub fn lt(self, o: Self) -> M32x8 {
+        unsafe { M32x8(_mm256_cmp_ps::<_CMP_LT_OQ>(self.0, o.0)) }
+    }
+
+    /// `self <= o` per lane (false for NaN).
+    #[inline(always)]
+    pub fn le(self, o: Self) -> M32x8 {
+        unsafe { M32x8(_mm256_cmp_ps::<_CMP_LE_OQ>(self.0, o.0)) }
+    }
+
+    /// `self > o` per lane (false for NaN).
+    #[inline(always)]
+    pub fn gt(self, o: Self) -> M32x8 {
+        unsafe { M32x8(_mm256_cmp_ps::<_CMP_GT_OQ>(self.0, o.0)) }
+    }
+
+    /// `self >= o` per lane (false for NaN).
+    #[inline(always)]
+    pub fn ge(self, o: Self) -> M32x8 {
+        unsafe { M32x8(_mm256_cmp_ps::<_CMP_GE_OQ>(self.0, o.0)) }
+    }
+
+    /// `self == o` per lane (false for NaN).
+    #[inline(always)]
+    pub fn eq(self, o: Self) -> M32x8 {
+        unsafe { M32x8(_mm256_cmp_ps::<_CMP_EQ_OQ>(self.0, o.0)) }
+    }
+
+    /// `self != o` per lane (true for NaN).
+    #[inline(always)]
+    pub fn ne(self, o: Self) -> M32x8 {
+        unsafe { M32x8(_mm256_cmp_ps::<_CMP_NEQ_UQ>(self.0, o.0)) }
+    }
+
+    /// Per lane: `a` where `m` is set, else `b`.
+    #[inline(always)]
+    pub fn select(m: M32x8, a: Self, b: Self) -> Self {
+        unsafe { Self(_mm256_blendv_ps(b.0, a.0, m.0)) }
+    }
+
+    /// Smallest lane (NaN lanes are ignored unless all are NaN).
+    #[inline(always)]
+    pub fn reduce_min(self) -> f32 {
+        unsafe {
+            let m = _mm256_min_ps(self.0, _mm256_permute2f128_ps::<1>(self.0, self.0));
+            let m = _mm256_min_ps(m, _mm256_shuffle_ps::<0b01_00_11_10>(m, m));
+            let m = _mm256_min_ps(m, _mm256_shuffle_ps::<0b10_11_00_01>(m, m));
+            _mm256_cvtss_f32(m)
+        }
+    }
+
+    /// Largest lane (NaN lanes are ignored unless all are NaN).
+    #[inline(always)]
+    pub fn reduce_max(self) -> f32 {
+        unsafe {
+            let m = _mm256_max_ps(self.0, _mm256_permute2f128_ps::<1>(self.0, self.0));
+            let m = _mm256_max_ps(m, _mm256_shuffle_ps::<0b01_00_11_10>(m, m));
+            let m = _mm256_max_ps(m, _mm256_shuffle_ps::<0b10_11_00_01>(m, m));
+            _mm256_cvtss_f32(m)
+        }
+    }
+
+    /// Sum of the lanes (pairwise, in a fixed order).
+    #[inline(always)]
+    pub fn reduce_add(self) -> f32 {
+        let a = self.to_array();
+        ((a[0] + a[4]) + (a[2] + a[6])) + ((a[1] + a[5]) + (a[3] + a[7]))
+    }
+
+    /// Lanes converted to `i32`, truncating toward zero.
+    #[inline(always)]
+    pub fn to_i32(self) -> I32x8 {
+        unsafe { I32x8(_mm256_cvttps_epi32(self.0)) }
+    }
+
+    /// The bits of each lane reinterpreted as `i32`.
+    #[inline(always)]
+    pub fn to_bits(self) -> I32x8 {
+        unsafe { I32x8(_mm256_castps_si256(self.0)) }
+    }
+}
+
+macro_rules! f32_binop {
+    ($tr:ident, $f:ident, $intr:ident) => {
+        impl $tr for F32x8 {
+            type Output = Self;
+            #[inline(always)]
+            fn $f(self, o: Self) -> Self {
+                unsafe { Self($intr(self.0, o.0)) }
+            }
+        }
+    };
+}
+f32_binop!(Add, add, _mm256_add_ps);
+f32_binop!(Sub, sub, _mm256_sub_ps);
+f32_binop!(Mul, mul, _mm256_mul_ps);
+f32_binop!(Div, div, _mm256_div_ps);
+
+impl Neg for F32x8 {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        unsafe { Self(_mm256_xor_ps(self.0, _mm256_set1_ps(-0.0))) }
+    }
+}
+
+impl I32x8 {
+    /// All lanes `v`.
+    #[inline(always)]
+    pub fn splat(v: i32) -> Self {
+        unsafe { Self(_mm256_set1_epi32(v)) }
+    }
+
+    /// Lanes from an array, lane 0 first.
+    #[inline(always)]
+    pub const fn from_array(a: [i32; 8]) -> Self {
+        // SAFETY: same size, every bit pattern valid.
+        unsafe { std::mem::transmute::<[i32; 8], Self>(a) }
+    }
+
+    /// The lanes as an array, lane 0 first.
+    #[inline(always)]
+    pub fn to_array(self) -> [i32; 8] {
+        // SAFETY: as in `from_array`.
+        unsafe { std::mem::transmute::<Self, [i32; 8]>(self) }
+    }
+
+    /// Lane `i` (panics if `i >= 8`).
+    #[inline(always)]
+    pub fn lane(self, i: usize) -> i32 {
+        self.to_array()[i]
+    }
+
+    /// `self == o` per lane.
+    #[inline(always)]
+    pub fn eq(self, o: Self) -> M32x8 {
+        unsafe { M32x8(_mm256_castsi256_ps(_mm256_cmpeq_epi32(self.0, o.0))) }
+    }
+
+    /// `self > o` per lane (signed).
+    #[inline(always)]
+    pub fn gt(self, o: Self) -> M32x8 {
+        unsafe { M32x8(_mm256_castsi256_ps(_mm256_cmpgt_epi32(self.0, o.0))) }
+    }
+
+    /// `self < o` per lane (signed).
+    #[inline(always)]
+    pub fn lt(self, o: Self) -> M32x8 {
+        o.gt(self)
+    }
+
+    /// Per lane: `a` where `m` is set, else `b`.
+    #[inline(always)]
+    pub fn select(m: M32x8, a: Self, b: Self) -> Self {
+        unsafe {
+            Self(_mm256_castps_si256(_mm256_blendv_ps(
+                _mm256_castsi256_ps(b.0),
+                _mm256_castsi256_ps(a.0),
+                m.0,
+            )))
+        }
+    }
+
+    /// Lanes converted to `f32`.
+    #[inline(always)]
+    pub fn to_f32(self) -> F32x8 {
+        unsafe { F32x8(_mm256_cvtepi32_ps(self.0)) }
+    }
+
+    /// The bits of each lane reinterpreted as `f32`.
+    #[inline(always)]
+    pub fn from_bits_to_f32(self) -> F32x8 {
+        unsafe { F32x8(_mm256_castsi256_ps(self.0)) }
+    }
+}
+
+impl Add for I32x8 {
+    type Output = Self;
+    #[inline(always)]
+    fn add(self, o: Self) -> Self {
+        unsafe { Self(_mm256_add_epi32(self.0, o.0)) }
+    }
+}
+
+impl Sub for I32x8 {
+    type Output = Self;
+    #[inline(always)]
+    fn sub(self, o: Self) -> Self {
+        unsafe { Self(_mm256_sub_epi32(self.0, o.0)) }
+    }
+}
+
+impl Mul for I32x8 {
+    type Output = Self;
+    #[inline(always)]
+    fn mul(self, o: Self) -> Self {
+        unsafe { Self(_mm256_mullo_epi32(self.0, o.0)) }
+    }
+}
+
+impl BitAnd for I32x8 {
+    type Output = Self;
+    #[inline(always)]
+    fn bitand(self, o: Self) -> Self {
+        unsafe { Self(_mm256_and_si256(self.0, o.0)) }
+    }
+}
+
+impl BitOr for I32x8 {
+    type Output = Self;
+    #[inline(always)]
+    fn bitor(self, o: Self) -> Self {
+        unsafe { Self(_mm256_or_si256(self.0, o.0)) }
+    }
+}
+
+impl BitXor for I32x8 {
+    type Output = Self;
+    #[inline(always)]
+    fn bitxor(self, o: Self) -> Self {
+        unsafe { Self(_mm256_xor_si256(self.0, o.0)) }
+    }
+}
+
+impl M32x8 {
+    /// Every lane set.
+    pub const ALL: Self = Self::from_bools([true; 8]);
+    /// No lane set.
+    pub const NONE: Self = Self::from_bools([false; 8]);
+
+    /// Lanes from booleans, lane 0 first.
+    #[inline(always)]
+    pub const fn from_bools(b: [bool; 8]) -> Self {
+        let mut a = [0i32; 8];
+        let mut i = 0;
+        while i < 8 {
+            a[i] = if b[i] { -1 } else { 0 };
+            i += 1;
+        }
+        // SAFETY: same size, every bit pattern valid.
+        unsafe { std::mem::transmute::<[i32; 8], Self>(a) }
+    }
+
+    /// The mask whose lane `i` is bit `i` of `bits`.
+    #[inline(always)]
+    pub fn from_bitmask(bits: u32) -> Self {
+        unsafe {
+            let lane_bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+            let b = _mm256_and_si256(_mm256_set1_epi32(bits as i32), lane_bits);
+            Self(_mm256_castsi256_ps(_mm256_cmpeq_epi32(b, lane_bits)))
+        }
+    }
+
+    /// Bit `i` of the result is lane `i`.
+    #[inline(always)]
+    pub fn bitmask(self) -> u32 {
+        unsafe { _mm256_movemask_ps(self.0) as u32 }
+    }
+
+    /// True if any lane is set.
+    #[inline(always)]
+    pub fn any(self) -> bool {
+        unsafe { _mm256_testz_ps(self.0, self.0) == 0 }
+    }
+
+    /// True if every lane is set.
+    #[inline(always)]
+    pub fn all(self) -> bool {
+        self.bitmask() == 0xff
+    }
+
+    /// True if no lane is set.
+    #[inline(always)]
+    pub fn none(self) -> bool {
+        !self.any()
+    }
+
+    /// Lane `i` (panics if `i >= 8`).
+    #[inline(always)]
+    pub fn lane(self, i: usize) -> bool {
+        assert!(i < 8);
+        self.bitmask() >> i & 1 != 0
+    }
+
+    /// `self & !o`.
+    #[inline(always)]
+    pub fn and_not(self, o: Self) -> Self {
+        unsafe { Self(_mm256_andnot_ps(o.0, self.0)) }
+    }
+}
+
+impl BitAnd for M32x8 {
+    type Output = Self;
+    #[inline(always)]
+    fn bitand(self, o: Self) -> Self {
+        unsafe { Self(_mm256_and_ps(self.0, o.0)) }
+    }
+}
+
+impl BitOr for M32x8 {
+    type Output = Self;
+    #[inline(always)]
+    fn bitor(self, o: Self) -> Self {
+        unsafe { Self(_mm256_or_ps(self.0, o.0)) }
+    }
+}
+
+impl BitXor for M32x8 {
+    type Output = Self;
+    #[inline(always)]
+    fn bitxor(self, o: Self) -> Self {
+        unsafe { Self(_mm256_xor_ps(self.0, o.0)) }
+    }
+}
+
+impl Not for M32x8 {
+    type Output = Self;
+    #[inline(always)]
+    fn not(self) -> Self {
+        self ^ Self::ALL
+    }
+}

@@ -1,0 +1,127 @@
+//! Every operation against the scalar operation it stands for, lane by lane, on values that
+//! include zeros, negative zero, infinities and NaN. The same tests run on both backends.
+
+use crate::{F32x8, I32x8, M32x8, Vec3x8};
+
+const A: [f32; 8] = [1.5, -2.25, 0.0, -0.0, 1e30, -1e-30, f32::INFINITY, 7.0];
+const B: [f32; 8] = [0.5, -2.25, 3.0, 0.0, -1e30, 2.0, 1.0, f32::NAN];
+
+fn same(a: f32, b: f32) -> bool {
+    a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan())
+}
+
+#[test]
+fn arithmetic_equals_scalar() {
+    let (a, b) = (F32x8::from_array(A), F32x8::from_array(B));
+    for i in 0..8 {
+        assert!(same((a + b).lane(i), A[i] + B[i]));
+        assert!(same((a - b).lane(i), A[i] - B[i]));
+        assert!(same((a * b).lane(i), A[i] * B[i]));
+        assert!(same((a / b).lane(i), A[i] / B[i]));
+        assert!(same((-a).lane(i), -A[i]));
+        assert!(same(a.abs().lane(i), A[i].abs()));
+        assert!(same(a.abs().sqrt().lane(i), A[i].abs().sqrt()));
+        assert!(same(a.floor().lane(i), A[i].floor()));
+    }
+}
+
+#[test]
+fn mul_add_is_close_to_scalar() {
+    let x = F32x8::from_array([1.0, 2.0, 3.0, -4.0, 0.5, 0.25, 1e3, -1e-3]);
+    let r = x.mul_add(x, F32x8::splat(1.0)).to_array();
+    for (i, v) in x.to_array().iter().enumerate() {
+        let want = v * v + 1.0;
+        assert!((r[i] - want).abs() <= want.abs() * 1e-6, "lane {i}");
+    }
+}
+
+#[test]
+fn min_max_follow_minps_nan_rule() {
+    let (a, b) = (F32x8::from_array(A), F32x8::from_array(B));
+    for i in 0..8 {
+        let lo = if A[i] < B[i] { A[i] } else { B[i] };
+        let hi = if A[i] > B[i] { A[i] } else { B[i] };
+        assert!(same(a.min(b).lane(i), lo), "min lane {i}");
+        assert!(same(a.max(b).lane(i), hi), "max lane {i}");
+    }
+}
+
+#[test]
+fn comparisons_and_masks() {
+    let (a, b) = (F32x8::from_array(A), F32x8::from_array(B));
+    for i in 0..8 {
+        assert_eq!(a.lt(b).lane(i), A[i] < B[i]);
+        assert_eq!(a.le(b).lane(i), A[i] <= B[i]);
+        assert_eq!(a.gt(b).lane(i), A[i] > B[i]);
+        assert_eq!(a.ge(b).lane(i), A[i] >= B[i]);
+        assert_eq!(a.eq(b).lane(i), A[i] == B[i]);
+        assert_eq!(a.ne(b).lane(i), A[i] != B[i]);
+    }
+    let m = a.lt(b);
+    let bits = (0..8).fold(0, |acc, i| acc | ((A[i] < B[i]) as u32) << i);
+    assert_eq!(m.bitmask(), bits);
+    assert_eq!(M32x8::from_bitmask(bits).bitmask(), bits);
+    assert!(M32x8::ALL.all() && M32x8::ALL.any() && M32x8::NONE.none());
+    assert_eq!((m & !m).bitmask(), 0);
+    assert_eq!((m | !m).bitmask(), 0xff);
+    assert_eq!(m.and_not(m).bitmask(), 0);
+    assert_eq!((m ^ M32x8::ALL).bitmask(), !bits & 0xff);
+    let sel = F32x8::select(m, a, b);
+    for i in 0..8 {
+        assert!(same(sel.lane(i), if A[i] < B[i] { A[i] } else { B[i] }));
+    }
+}
+
+#[test]
+fn reductions() {
+    let v = F32x8::from_array([3.0, -1.0, 8.0, 2.0, -7.5, 0.0, 4.0, 1.0]);
+    assert_eq!(v.reduce_min(), -7.5);
+    assert_eq!(v.reduce_max(), 8.0);
+    assert_eq!(v.reduce_add(), 9.5);
+    let with_nan = F32x8::from_array([f32::NAN, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
+    assert!(with_nan.reduce_min().is_finite() || with_nan.reduce_min().is_nan());
+}
+
+#[test]
+fn integers() {
+    let a = I32x8::from_array([1, -2, 3, i32::MAX, 0, 5, -7, 8]);
+    let b = I32x8::splat(3);
+    let (sa, sb) = (a.to_array(), b.to_array());
+    for i in 0..8 {
+        assert_eq!((a + b).lane(i), sa[i].wrapping_add(sb[i]));
+        assert_eq!((a - b).lane(i), sa[i].wrapping_sub(sb[i]));
+        assert_eq!((a * b).lane(i), sa[i].wrapping_mul(sb[i]));
+        assert_eq!((a & b).lane(i), sa[i] & sb[i]);
+        assert_eq!((a | b).lane(i), sa[i] | sb[i]);
+        assert_eq!((a ^ b).lane(i), sa[i] ^ sb[i]);
+        assert_eq!(a.eq(b).lane(i), sa[i] == sb[i]);
+        assert_eq!(a.gt(b).lane(i), sa[i] > sb[i]);
+        assert_eq!(a.lt(b).lane(i), sa[i] < sb[i]);
+        assert_eq!(a.to_f32().lane(i), sa[i] as f32);
+    }
+    let f = F32x8::from_array([1.9, -1.9, 0.5, 1e10, -3.0, 2.5, 7.99, 0.0]);
+    assert_eq!(f.to_i32().to_array(), [1, -1, 0, i32::MIN, -3, 2, 7, 0]);
+    assert_eq!(f.to_bits().from_bits_to_f32().to_array(), f.to_array());
+    let m = a.gt(b);
+    assert_eq!(I32x8::select(m, a, b).to_array()[3], i32::MAX);
+}
+
+#[test]
+fn xor_sign_flips_where_negative() {
+    let v = F32x8::splat(2.0).xor_sign(F32x8::from_array(A));
+    for (i, s) in A.iter().enumerate() {
+        assert_eq!(v.lane(i), if s.is_sign_negative() { -2.0 } else { 2.0 });
+    }
+}
+
+#[test]
+fn vec3_ops() {
+    let a = Vec3x8::splat([1.0, 2.0, 3.0]);
+    let b = Vec3x8::from_lanes([[0.0, 1.0, 0.0]; 8]);
+    assert_eq!(a.dot(b).to_array(), [2.0; 8]);
+    assert_eq!(a.cross(b).lane(5), [-3.0, 0.0, 1.0]);
+    let n = Vec3x8::splat([3.0, 0.0, 4.0]).normalize();
+    assert_eq!(n.lane(0), [0.6, 0.0, 0.8]);
+    assert_eq!((a - b + a).lane(2), [2.0, 3.0, 6.0]);
+    assert_eq!((a * F32x8::splat(2.0)).lane(7), [2.0, 4.0, 6.0]);
+}
