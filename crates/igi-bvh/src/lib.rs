@@ -1,1 +1,26 @@
-//! placeholder
+//! Ray tracing core of igi: BVH builders, the node layout, the watertight triangle test and the
+//! traversal kernels for single rays and 8-ray SIMD packets (closest hit and any hit), over a
+//! two-level structure (one BVH per mesh, one over the instances).
+//!
+//! The crate knows nothing about materials or scenes: it takes triangle meshes and their
+//! placements, and answers ray queries.
+
+mod aabb;
+mod accel;
+pub mod build;
+mod bvh;
+mod node;
+mod offset;
+mod ray;
+mod traverse;
+mod triangle;
+
+pub use aabb::Aabb;
+pub use accel::{Accel, TriangleMesh};
+pub use build::{BuildParams, build_binned_sah, build_sweep_sah};
+pub use bvh::Bvh;
+pub use node::Node;
+pub use offset::offset_ray_origin;
+pub use ray::{Hit, HitPacket8, INVALID_ID, Ray, RayPacket8};
+pub use traverse::MAX_DEPTH;
+pub use triangle::intersect_triangle;

@@ -1,0 +1,89 @@
+//! The binary BVH: a flat array of [`Node`]s and the order of the primitives in its leaves.
+
+use crate::build::BuildParams;
+use crate::node::Node;
+
+/// A binary bounding volume hierarchy over primitives `0 .. n`, as built by
+/// [`build_binned_sah`](crate::build::build_binned_sah) and
+/// [`build_sweep_sah`](crate::build::build_sweep_sah).
+///
+/// Invariants, relied on by the traversal kernels and by [`Bvh::refit`]:
+/// - An empty BVH (no primitives) has no nodes at all: traversal must check
+///   [`Bvh::is_empty`] (or `nodes.is_empty()`) before reading the root.
+/// - Otherwise node 0 is the root. A BVH over one primitive is a single leaf.
+/// - The children of inner node `i` are `offset` and `offset + 1`, and `offset > i`: children
+///   always come after their parent. Nodes are laid out depth first, so the nodes of the left
+///   child's subtree are contiguous and directly follow the child pair.
+/// - Leaf `i` holds the primitives `prim_order[offset .. offset + count]`, with
+///   `1 <= count <= BuildParams::MAX_LEAF_SIZE`; every leaf-order index lies in exactly one leaf.
+/// - `prim_order` is a permutation of `0 .. n`: `prim_order[j]` is the input index of the `j`-th
+///   primitive in leaf order.
+/// - Every node's box is the exact union of its primitives' boxes (no padding, no rounding).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Bvh {
+    /// The nodes, root first.
+    pub nodes: Vec<Node>,
+    /// Input index of each primitive in leaf order.
+    pub prim_order: Vec<u32>,
+}
+
+impl Bvh {
+    /// True if the BVH has no primitives (and no nodes).
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+
+    /// The SAH cost of the tree (MacDonald & Booth 1990): the expected cost of a ray that hits
+    /// the root box, `Σ_inner C_trav A(n)/A(root) + Σ_leaves C_isect count(n) A(n)/A(root)`
+    /// with the costs of `params`. Zero for an empty BVH. If the root box has no area (all
+    /// primitives on one axis-parallel line), every node is weighted by 1 instead.
+    pub fn sah_cost(&self, params: &BuildParams) -> f32 {
+        let Some(root) = self.nodes.first() else {
+            return 0.0;
+        };
+        let root_area = f64::from(root.bounds().half_area());
+        let sum: f64 = self
+            .nodes
+            .iter()
+            .map(|node| {
+                let cost = if node.is_leaf() {
+                    params.intersection_cost * node.count as f32
+                } else {
+                    params.traversal_cost
+                };
+                let area = f64::from(node.bounds().half_area());
+                f64::from(cost) * if root_area > 0.0 { area / root_area } else { 1.0 }
+            })
+            .sum();
+        sum as f32
+    }
+
+    /// Number of nodes on the longest path from the root to a leaf (0 for an empty BVH, 1 for a
+    /// single leaf).
+    pub fn depth(&self) -> usize {
+        // Parents come before children, so one forward sweep sees every node's depth before
+        // its children need it.
+        let mut depths = vec![0u32; self.nodes.len()];
+        let mut deepest = 0;
+        for (i, node) in self.nodes.iter().enumerate() {
+            let depth = if i == 0 { 1 } else { depths[i] };
+            if node.is_leaf() {
+                deepest = deepest.max(depth);
+            } else {
+                depths[node.offset as usize] = depth + 1;
+                depths[node.offset as usize + 1] = depth + 1;
+            }
+        }
+        deepest as usize
+    }
+
+    /// Number of leaves.
+    pub fn leaf_count(&self) -> usize {
+        self.nodes.iter().filter(|node| node.is_leaf()).count()
+    }
+
+    /// Heap memory held by the nodes and the primitive order, in bytes.
+    pub fn bytes(&self) -> usize {
+        self.nodes.capacity() * size_of::<Node>() + self.prim_order.capacity() * size_of::<u32>()
+    }
+}

@@ -1,0 +1,223 @@
+//! Depth-first BVH traversal for one ray and for 8-ray packets: the walk over the node array,
+//! shared by the top level (instances) and the bottom level (triangles) of [`crate::Accel`].
+//!
+//! Both walkers visit the nearer child first and keep the other on a small stack together with
+//! its entry distance, so that a subtree beyond the closest hit found so far is dropped when it
+//! is popped (the interval early-out). The packet walker tests both child boxes against all
+//! eight rays at once (one SIMD slab test per box), descends while any active ray hits, orders
+//! children by the majority of rays (Wald et al. 2001, Embree's hybrid traversal), and stops as
+//! soon as no ray is left active (any-hit queries).
+//!
+//! Box tests follow Ize, "Robust BVH Ray Traversal" (JCGT 2(2), 2013): slab distances are
+//! computed as (b - o) · (1/d) and the exit distance is enlarged by 1 + 2γ₃, so a box is never
+//! missed by a ray that hits a triangle inside it, which keeps the watertight triangle test
+//! watertight through the traversal.
+
+use crate::node::Node;
+use glam::Vec3;
+use igi_simd::{F32x8, M32x8, Vec3x8};
+
+/// Maximum BVH depth the fixed traversal stacks allow; the builders never exceed it.
+pub const MAX_DEPTH: usize = 64;
+
+/// 1 + 2γ₃ with γₙ = nε/(1 - nε), ε = 2⁻²⁴ (pbrt, section 3.9).
+const EXIT_SCALE: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
+
+/// Reciprocal of a direction component, kept finite: components closer to zero than 1e-30 are
+/// replaced by ±1e-30 so that (b - o)·(1/d) can never be 0·∞.
+#[inline(always)]
+pub(crate) fn safe_rcp(d: f32) -> f32 {
+    const TINY: f32 = 1e-30;
+    1.0 / if d.abs() < TINY { TINY.copysign(d) } else { d }
+}
+
+/// A single ray prepared for box tests.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BoxRay1 {
+    pub org: Vec3,
+    pub inv: Vec3,
+    pub tnear: f32,
+}
+
+impl BoxRay1 {
+    pub(crate) fn new(org: Vec3, dir: Vec3, tnear: f32) -> Self {
+        Self { org, inv: Vec3::new(safe_rcp(dir.x), safe_rcp(dir.y), safe_rcp(dir.z)), tnear }
+    }
+
+    /// Entry distance into `n`'s box if the ray overlaps it within `[tnear, tfar]`.
+    #[inline(always)]
+    fn enter(&self, n: &Node, tfar: f32) -> Option<f32> {
+        let t0 = (Vec3::from(n.min) - self.org) * self.inv;
+        let t1 = (Vec3::from(n.max) - self.org) * self.inv;
+        let tmin = t0.min(t1).max_element().max(self.tnear);
+        let tmax = t0.max(t1).min_element().min(tfar) * EXIT_SCALE;
+        (tmin <= tmax).then_some(tmin)
+    }
+}
+
+/// What a single-ray walk needs from its query.
+pub(crate) trait Query1 {
+    /// Current end of the ray's interval (shrinks as closer hits are found).
+    fn tfar(&self) -> f32;
+    /// True once the query has its answer (any-hit found).
+    fn done(&self) -> bool;
+}
+
+/// Walks `nodes` with one ray, calling `leaf` for every leaf the ray reaches.
+#[inline(always)]
+pub(crate) fn walk1<Q: Query1>(nodes: &[Node], ray: &BoxRay1, q: &mut Q, mut leaf: impl FnMut(&mut Q, &Node)) {
+    let Some(root) = nodes.first() else { return };
+    if ray.enter(root, q.tfar()).is_none() {
+        return;
+    }
+    let mut stack = [(0u32, 0f32); MAX_DEPTH];
+    let mut sp = 0;
+    let mut node = root;
+    loop {
+        if node.is_leaf() {
+            leaf(q, node);
+            if q.done() {
+                return;
+            }
+        } else {
+            let (l, r) = (&nodes[node.offset as usize], &nodes[node.offset as usize + 1]);
+            let tfar = q.tfar();
+            match (ray.enter(l, tfar), ray.enter(r, tfar)) {
+                (Some(tl), Some(tr)) => {
+                    let (near, far, tfar_entry) =
+                        if tl <= tr { (l, node.offset + 1, tr) } else { (r, node.offset, tl) };
+                    stack[sp] = (far, tfar_entry);
+                    sp += 1;
+                    node = near;
+                    continue;
+                }
+                (Some(_), None) => {
+                    node = l;
+                    continue;
+                }
+                (None, Some(_)) => {
+                    node = r;
+                    continue;
+                }
+                (None, None) => {}
+            }
+        }
+        loop {
+            if sp == 0 {
+                return;
+            }
+            sp -= 1;
+            let (n, entry) = stack[sp];
+            if entry <= q.tfar() * EXIT_SCALE {
+                node = &nodes[n as usize];
+                break;
+            }
+        }
+    }
+}
+
+/// Eight rays prepared for box tests.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BoxRay8 {
+    pub org: [F32x8; 3],
+    pub inv: [F32x8; 3],
+    pub tnear: F32x8,
+}
+
+impl BoxRay8 {
+    pub(crate) fn new(org: &Vec3x8, dir: &Vec3x8, tnear: F32x8) -> Self {
+        let rcp = |d: F32x8| F32x8::from_array(d.to_array().map(safe_rcp));
+        Self { org: [org.x, org.y, org.z], inv: [rcp(dir.x), rcp(dir.y), rcp(dir.z)], tnear }
+    }
+
+    /// Lanes overlapping `n`'s box within `[tnear, tfar]`, and their entry distances.
+    #[inline(always)]
+    fn enter(&self, n: &Node, tfar: F32x8) -> (M32x8, F32x8) {
+        let slab = |a: usize| {
+            let t0 = (F32x8::splat(n.min[a]) - self.org[a]) * self.inv[a];
+            let t1 = (F32x8::splat(n.max[a]) - self.org[a]) * self.inv[a];
+            (t0.min(t1), t0.max(t1))
+        };
+        let (x0, x1) = slab(0);
+        let (y0, y1) = slab(1);
+        let (z0, z1) = slab(2);
+        let tmin = x0.max(y0).max(z0.max(self.tnear));
+        let tmax = x1.min(y1).min(z1.min(tfar)) * F32x8::splat(EXIT_SCALE);
+        (tmin.le(tmax), tmin)
+    }
+}
+
+/// What a packet walk needs from its query.
+pub(crate) trait Query8 {
+    /// Current ends of the rays' intervals.
+    fn tfar(&self) -> F32x8;
+    /// Rays still looking for an answer.
+    fn active(&self) -> M32x8;
+}
+
+/// Walks `nodes` with eight rays, calling `leaf` for every leaf that any active ray reaches.
+/// Returns early when no ray is left active.
+#[inline(always)]
+pub(crate) fn walk8<Q: Query8>(nodes: &[Node], ray: &BoxRay8, q: &mut Q, mut leaf: impl FnMut(&mut Q, &Node)) {
+    let Some(root) = nodes.first() else { return };
+    let (m, _) = ray.enter(root, q.tfar());
+    if (m & q.active()).none() {
+        return;
+    }
+    let mut stack = [(0u32, 0f32); MAX_DEPTH];
+    let mut sp = 0;
+    let mut node = root;
+    loop {
+        if node.is_leaf() {
+            leaf(q, node);
+            if q.active().none() {
+                return;
+            }
+        } else {
+            let (l, r) = (&nodes[node.offset as usize], &nodes[node.offset as usize + 1]);
+            let (tfar, active) = (q.tfar(), q.active());
+            let (ml, tl) = ray.enter(l, tfar);
+            let (mr, tr) = ray.enter(r, tfar);
+            let (ml, mr) = (ml & active, mr & active);
+            match (ml.any(), mr.any()) {
+                (true, true) => {
+                    // Near-first for the majority of the rays that enter both children.
+                    let both = ml & mr;
+                    let left_nearer = (tl.le(tr) & both).bitmask().count_ones();
+                    let left_first = 2 * left_nearer >= both.bitmask().count_ones();
+                    let (near, far, far_m, far_t) = if left_first {
+                        (l, node.offset + 1, mr, tr)
+                    } else {
+                        (r, node.offset, ml, tl)
+                    };
+                    let entry = F32x8::select(far_m, far_t, F32x8::splat(f32::INFINITY)).reduce_min();
+                    stack[sp] = (far, entry);
+                    sp += 1;
+                    node = near;
+                    continue;
+                }
+                (true, false) => {
+                    node = l;
+                    continue;
+                }
+                (false, true) => {
+                    node = r;
+                    continue;
+                }
+                (false, false) => {}
+            }
+        }
+        loop {
+            if sp == 0 {
+                return;
+            }
+            sp -= 1;
+            let (n, entry) = stack[sp];
+            let reach = F32x8::select(q.active(), q.tfar(), F32x8::splat(f32::NEG_INFINITY)).reduce_max();
+            if entry <= reach * EXIT_SCALE {
+                node = &nodes[n as usize];
+                break;
+            }
+        }
+    }
+}

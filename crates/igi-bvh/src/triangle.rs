@@ -1,0 +1,309 @@
+//! The watertight ray-triangle test of Woop, Benthin and Wald, "Watertight Ray/Triangle
+//! Intersection" (JCGT 2(1), 2013), written once for any lane type so that the single-ray
+//! kernel (`f32`) and the 8-ray packet kernel ([`F32x8`]) perform exactly the same floating-point
+//! operations and agree bit for bit.
+//!
+//! The ray is sheared and permuted so that it becomes the +z axis through the origin; the
+//! triangle's 2D edge functions U, V, W are then evaluated at the origin. A ray through a shared
+//! edge or vertex gets the same edge-function value in both triangles, so it hits at least one
+//! of them (no cracks) and, with the tie rule of the kernels, always the same one. Edge values
+//! of exactly zero are recomputed in double precision, as the paper prescribes.
+
+use glam::Vec3;
+use igi_simd::{F32x8, M32x8, Vec3x8};
+use std::ops::{Add, BitAnd, BitOr, Div, Mul, Not, Sub};
+
+/// A lane type the triangle test runs on: `f32` for one ray, [`F32x8`] for eight.
+pub(crate) trait Lanes:
+    Copy
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+{
+    /// One flag per lane.
+    type Mask: Copy + BitAnd<Output = Self::Mask> + BitOr<Output = Self::Mask> + Not<Output = Self::Mask>;
+    fn splat(v: f32) -> Self;
+    fn lt(self, o: Self) -> Self::Mask;
+    fn gt(self, o: Self) -> Self::Mask;
+    fn le(self, o: Self) -> Self::Mask;
+    fn ge(self, o: Self) -> Self::Mask;
+    fn eq(self, o: Self) -> Self::Mask;
+    fn any(m: Self::Mask) -> bool;
+    /// Recomputes `bx * ay - by * ax` in double precision in the lanes of `m`.
+    fn edge_f64(e: Self, m: Self::Mask, ax: Self, ay: Self, bx: Self, by: Self) -> Self;
+}
+
+/// `bx * ay - by * ax` in double precision, rounded once to `f32`.
+#[inline]
+fn edge_f64_scalar(ax: f32, ay: f32, bx: f32, by: f32) -> f32 {
+    (bx as f64 * ay as f64 - by as f64 * ax as f64) as f32
+}
+
+impl Lanes for f32 {
+    type Mask = bool;
+    #[inline(always)]
+    fn splat(v: f32) -> Self {
+        v
+    }
+    #[inline(always)]
+    fn lt(self, o: Self) -> bool {
+        self < o
+    }
+    #[inline(always)]
+    fn gt(self, o: Self) -> bool {
+        self > o
+    }
+    #[inline(always)]
+    fn le(self, o: Self) -> bool {
+        self <= o
+    }
+    #[inline(always)]
+    fn ge(self, o: Self) -> bool {
+        self >= o
+    }
+    #[inline(always)]
+    fn eq(self, o: Self) -> bool {
+        self == o
+    }
+    #[inline(always)]
+    fn any(m: bool) -> bool {
+        m
+    }
+    #[inline(always)]
+    fn edge_f64(e: f32, m: bool, ax: f32, ay: f32, bx: f32, by: f32) -> f32 {
+        if m { edge_f64_scalar(ax, ay, bx, by) } else { e }
+    }
+}
+
+impl Lanes for F32x8 {
+    type Mask = M32x8;
+    #[inline(always)]
+    fn splat(v: f32) -> Self {
+        F32x8::splat(v)
+    }
+    #[inline(always)]
+    fn lt(self, o: Self) -> M32x8 {
+        F32x8::lt(self, o)
+    }
+    #[inline(always)]
+    fn gt(self, o: Self) -> M32x8 {
+        F32x8::gt(self, o)
+    }
+    #[inline(always)]
+    fn le(self, o: Self) -> M32x8 {
+        F32x8::le(self, o)
+    }
+    #[inline(always)]
+    fn ge(self, o: Self) -> M32x8 {
+        F32x8::ge(self, o)
+    }
+    #[inline(always)]
+    fn eq(self, o: Self) -> M32x8 {
+        F32x8::eq(self, o)
+    }
+    #[inline(always)]
+    fn any(m: M32x8) -> bool {
+        m.any()
+    }
+    #[cold]
+    fn edge_f64(e: Self, m: M32x8, ax: Self, ay: Self, bx: Self, by: Self) -> Self {
+        let (mut r, ax, ay, bx, by) = (e.to_array(), ax.to_array(), ay.to_array(), bx.to_array(), by.to_array());
+        for i in 0..8 {
+            if m.lane(i) {
+                r[i] = edge_f64_scalar(ax[i], ay[i], bx[i], by[i]);
+            }
+        }
+        F32x8::from_array(r)
+    }
+}
+
+/// The per-ray constants of the test: the permutation (kx, ky, kz) that makes z the dominant
+/// direction axis (swapping kx and ky when that axis points backwards, to keep the winding) and
+/// the shear (Sx, Sy, Sz) that maps the ray direction to +z (paper, section 3).
+pub(crate) trait Shear<L: Lanes> {
+    /// The permuted components (v[kx], v[ky], v[kz]) of a vector given per lane.
+    fn permute(&self, v: [L; 3]) -> [L; 3];
+    /// (Sx, Sy, Sz).
+    fn shear(&self) -> [L; 3];
+}
+
+/// Picks (kx, ky, kz) for one ray direction.
+#[inline]
+pub(crate) fn permutation(d: Vec3) -> [usize; 3] {
+    let a = d.abs();
+    let kz = if a.x >= a.y && a.x >= a.z {
+        0
+    } else if a.y >= a.z {
+        1
+    } else {
+        2
+    };
+    let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
+    if d[kz] < 0.0 { [ky, kx, kz] } else { [kx, ky, kz] }
+}
+
+/// Shear constants for one direction and its permutation.
+#[inline]
+fn shear_of(d: Vec3, k: [usize; 3]) -> [f32; 3] {
+    [d[k[0]] / d[k[2]], d[k[1]] / d[k[2]], 1.0 / d[k[2]]]
+}
+
+/// The test constants of a single ray.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ShearScalar {
+    k: [usize; 3],
+    s: [f32; 3],
+}
+
+impl ShearScalar {
+    pub(crate) fn new(dir: Vec3) -> Self {
+        let k = permutation(dir);
+        Self { k, s: shear_of(dir, k) }
+    }
+}
+
+impl Shear<f32> for ShearScalar {
+    #[inline(always)]
+    fn permute(&self, v: [f32; 3]) -> [f32; 3] {
+        [v[self.k[0]], v[self.k[1]], v[self.k[2]]]
+    }
+    #[inline(always)]
+    fn shear(&self) -> [f32; 3] {
+        self.s
+    }
+}
+
+/// Test constants of a packet whose active lanes all share one permutation: the common case for
+/// coherent rays, where the permutation costs nothing.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ShearUniform8 {
+    k: [usize; 3],
+    s: [F32x8; 3],
+}
+
+/// Test constants of a packet whose lanes differ in permutation: each permuted component is
+/// selected lane by lane.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ShearMixed8 {
+    /// Per output component c: lanes whose k[c] is 0, and lanes whose k[c] is 1 (else 2).
+    is0: [M32x8; 3],
+    is1: [M32x8; 3],
+    s: [F32x8; 3],
+}
+
+/// Packet test constants, uniform or mixed.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Shear8 {
+    Uniform(ShearUniform8),
+    Mixed(ShearMixed8),
+}
+
+impl Shear8 {
+    /// The constants for the lanes of `dir`; lanes outside `active` are given the permutation of
+    /// an active lane, so that they do not force the mixed path.
+    pub(crate) fn new(dir: &Vec3x8, active: M32x8) -> Self {
+        let dirs: [Vec3; 8] = std::array::from_fn(|i| Vec3::from(dir.lane(i)));
+        let first = (0..8).find(|&i| active.lane(i)).unwrap_or(0);
+        let ks: [[usize; 3]; 8] = std::array::from_fn(|i| {
+            if active.lane(i) { permutation(dirs[i]) } else { permutation(dirs[first]) }
+        });
+        let ss: [[f32; 3]; 8] = std::array::from_fn(|i| {
+            if active.lane(i) { shear_of(dirs[i], ks[i]) } else { shear_of(dirs[first], ks[first]) }
+        });
+        let s = std::array::from_fn(|c| F32x8::from_array(ss.map(|s| s[c])));
+        if ks.iter().all(|k| *k == ks[first]) {
+            Shear8::Uniform(ShearUniform8 { k: ks[first], s })
+        } else {
+            Shear8::Mixed(ShearMixed8 {
+                is0: std::array::from_fn(|c| M32x8::from_bools(ks.map(|k| k[c] == 0))),
+                is1: std::array::from_fn(|c| M32x8::from_bools(ks.map(|k| k[c] == 1))),
+                s,
+            })
+        }
+    }
+}
+
+impl Shear<F32x8> for ShearUniform8 {
+    #[inline(always)]
+    fn permute(&self, v: [F32x8; 3]) -> [F32x8; 3] {
+        [v[self.k[0]], v[self.k[1]], v[self.k[2]]]
+    }
+    #[inline(always)]
+    fn shear(&self) -> [F32x8; 3] {
+        self.s
+    }
+}
+
+impl Shear<F32x8> for ShearMixed8 {
+    #[inline(always)]
+    fn permute(&self, v: [F32x8; 3]) -> [F32x8; 3] {
+        std::array::from_fn(|c| {
+            F32x8::select(self.is0[c], v[0], F32x8::select(self.is1[c], v[1], v[2]))
+        })
+    }
+    #[inline(always)]
+    fn shear(&self) -> [F32x8; 3] {
+        self.s
+    }
+}
+
+/// Result of one triangle test: lanes that hit within `[tnear, tfar]`, their distances and the
+/// barycentric weights (u, v) of the second and third vertex.
+pub(crate) struct TriangleHit<L: Lanes> {
+    pub mask: L::Mask,
+    pub t: L,
+    pub u: L,
+    pub v: L,
+}
+
+/// Intersects the ray(s) `org + t·dir` (dir described by `shear`) with triangle (p0, p1, p2).
+/// Both sides of the triangle are hit (no culling).
+#[inline(always)]
+pub(crate) fn intersect<L: Lanes, S: Shear<L>>(
+    org: [L; 3],
+    shear: &S,
+    p0: Vec3,
+    p1: Vec3,
+    p2: Vec3,
+    tnear: L,
+    tfar: L,
+) -> TriangleHit<L> {
+    let rel = |p: Vec3| shear.permute([L::splat(p.x) - org[0], L::splat(p.y) - org[1], L::splat(p.z) - org[2]]);
+    let [sx, sy, sz] = shear.shear();
+    // Vertices relative to the origin, permuted, then sheared into ray space (paper, Fig. 4).
+    let [a0, a1, a2] = rel(p0);
+    let [b0, b1, b2] = rel(p1);
+    let [c0, c1, c2] = rel(p2);
+    let (ax, ay) = (a0 - sx * a2, a1 - sy * a2);
+    let (bx, by) = (b0 - sx * b2, b1 - sy * b2);
+    let (cx, cy) = (c0 - sx * c2, c1 - sy * c2);
+    // Scaled barycentric coordinates: 2D edge functions at the origin.
+    let mut u = cx * by - cy * bx;
+    let mut v = ax * cy - ay * cx;
+    let mut w = bx * ay - by * ax;
+    let zero = L::splat(0.0);
+    let on_edge = u.eq(zero) | v.eq(zero) | w.eq(zero);
+    if L::any(on_edge) {
+        u = L::edge_f64(u, on_edge, bx, by, cx, cy);
+        v = L::edge_f64(v, on_edge, cx, cy, ax, ay);
+        w = L::edge_f64(w, on_edge, ax, ay, bx, by);
+    }
+    let has_neg = u.lt(zero) | v.lt(zero) | w.lt(zero);
+    let has_pos = u.gt(zero) | v.gt(zero) | w.gt(zero);
+    let det = u + v + w;
+    let (az, bz, cz) = (sz * a2, sz * b2, sz * c2);
+    let t_scaled = u * az + v * bz + w * cz;
+    let rcp = L::splat(1.0) / det;
+    let t = t_scaled * rcp;
+    let mask = !(has_neg & has_pos) & !det.eq(zero) & t.ge(tnear) & t.le(tfar);
+    TriangleHit { mask, t, u: v * rcp, v: w * rcp }
+}
+
+/// The watertight test for one ray and one triangle, for callers outside the BVH (brute-force
+/// references, light sampling): the hit distance in `[ray.tnear, ray.tfar]` and the barycentric
+/// weights (u, v) of the second and third vertex. Exactly the arithmetic of the BVH kernels.
+pub fn intersect_triangle(ray: &crate::Ray, tri: [Vec3; 3]) -> Option<(f32, f32, f32)> {
+    let h = intersect(ray.origin.to_array(), &ShearScalar::new(ray.dir), tri[0], tri[1], tri[2], ray.tnear, ray.tfar);
+    h.mask.then_some((h.t, h.u, h.v))
+}

@@ -1,0 +1,288 @@
+//! The traversal kernels against brute force and against each other: the BVH never misses what
+//! a loop over all triangles finds, packets equal single rays lane by lane, instancing equals
+//! baked geometry, and rays cannot slip through the shared edges of a closed mesh.
+
+use glam::{Affine3A, Quat, Vec3};
+use igi_bvh::{Accel, Hit, INVALID_ID, Ray, RayPacket8, TriangleMesh, intersect_triangle, offset_ray_origin};
+use igi_simd::M32x8;
+
+/// Small deterministic generator (SplitMix64) so failures reproduce.
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    fn f(&mut self) -> f32 {
+        (self.next() >> 40) as f32 / (1u64 << 24) as f32
+    }
+    fn range(&mut self, lo: f32, hi: f32) -> f32 {
+        lo + (hi - lo) * self.f()
+    }
+    fn v(&mut self, lo: f32, hi: f32) -> Vec3 {
+        Vec3::new(self.range(lo, hi), self.range(lo, hi), self.range(lo, hi))
+    }
+    fn dir(&mut self) -> Vec3 {
+        loop {
+            let v = self.v(-1.0, 1.0);
+            if v.length_squared() > 1e-4 && v.length_squared() <= 1.0 {
+                return v.normalize();
+            }
+        }
+    }
+}
+
+fn soup(rng: &mut Rng, n: usize, size: f32) -> TriangleMesh {
+    let mut m = TriangleMesh::default();
+    for i in 0..n {
+        let c = rng.v(-10.0, 10.0);
+        for _ in 0..3 {
+            m.positions.push(c + rng.v(-size, size));
+        }
+        let b = 3 * i as u32;
+        m.indices.push([b, b + 1, b + 2]);
+    }
+    m
+}
+
+fn single(mesh: TriangleMesh) -> (Accel, TriangleMesh) {
+    let (accel, _) = Accel::build(vec![mesh], &[(0, Affine3A::IDENTITY)]);
+    let stored = accel.meshes()[0].clone();
+    (accel, stored)
+}
+
+/// The closest hit by looping over every triangle, with the kernels' tie rule.
+fn brute_closest(mesh: &TriangleMesh, ray: &Ray) -> Hit {
+    let mut best = Hit::miss(ray.tfar);
+    for p in 0..mesh.indices.len() as u32 {
+        let r = Ray { tfar: best.t, ..*ray };
+        if let Some((t, u, v)) = intersect_triangle(&r, mesh.triangle(p)) {
+            if t < best.t || (t == best.t && p < best.prim) {
+                best = Hit { t, u, v, instance: 0, prim: p };
+            }
+        }
+    }
+    best
+}
+
+/// A random ray; every other one is aimed at a random triangle's centroid so that even tiny
+/// soups are hit often.
+fn random_ray(rng: &mut Rng, mesh: &TriangleMesh) -> Ray {
+    let origin = rng.v(-15.0, 15.0);
+    let target = if rng.f() < 0.5 {
+        rng.v(-10.0, 10.0)
+    } else {
+        let [a, b, c] = mesh.triangle((rng.next() % mesh.indices.len() as u64) as u32);
+        (a + b + c) / 3.0
+    };
+    let mut r = Ray::new(origin, target - origin);
+    if rng.f() < 0.3 {
+        r.tfar = rng.range(0.2, 1.2);
+    }
+    r
+}
+
+#[test]
+fn closest_and_any_hit_equal_brute_force() {
+    let mut rng = Rng(1);
+    for (n, size) in [(1, 3.0), (7, 2.0), (300, 1.5), (3000, 0.8)] {
+        let (accel, mesh) = single(soup(&mut rng, n, size));
+        let mut hits = 0;
+        for _ in 0..2000 {
+            let ray = random_ray(&mut rng, &mesh);
+            let want = brute_closest(&mesh, &ray);
+            let got = accel.intersect(&ray);
+            assert_eq!(got, want, "closest hit, {n} triangles, ray {ray:?}");
+            assert_eq!(accel.occluded(&ray), want.is_hit(), "any hit, {n} triangles, ray {ray:?}");
+            hits += want.is_hit() as u32;
+        }
+        assert!(hits > 500, "the test must exercise hits ({hits} with {n} triangles)");
+    }
+}
+
+fn packet_of(rays: &[Ray; 8]) -> RayPacket8 {
+    RayPacket8::from_rays(rays)
+}
+
+fn check_packet(accel: &Accel, rays: &[Ray; 8], active: M32x8) {
+    let p = packet_of(rays);
+    let hits = accel.intersect8(&p, active);
+    let occ = accel.occluded8(&p, active);
+    for (i, ray) in rays.iter().enumerate() {
+        if active.lane(i) {
+            assert_eq!(hits.hit(i), accel.intersect(ray), "lane {i} closest, ray {ray:?}");
+            assert_eq!(occ.lane(i), accel.occluded(ray), "lane {i} any, ray {ray:?}");
+        } else {
+            assert_eq!(hits.hit(i).prim, INVALID_ID, "inactive lane {i} must miss");
+            assert!(!occ.lane(i), "inactive lane {i} must not be occluded");
+        }
+    }
+}
+
+#[test]
+fn packets_equal_single_rays_lane_by_lane() {
+    let mut rng = Rng(2);
+    let (accel, mesh) = single(soup(&mut rng, 2000, 1.0));
+    for round in 0..1500 {
+        // Alternate incoherent packets (mixed permutations) and coherent ones (a pinhole
+        // camera's 4x2 block, or shadow rays converging on one point).
+        let rays: [Ray; 8] = match round % 3 {
+            0 => std::array::from_fn(|_| random_ray(&mut rng, &mesh)),
+            1 => {
+                let o = rng.v(-15.0, 15.0);
+                let d = rng.dir();
+                std::array::from_fn(|i| Ray::new(o, d + 0.02 * Vec3::new((i % 4) as f32, (i / 4) as f32, 0.0)))
+            }
+            _ => {
+                let light = rng.v(-12.0, 12.0);
+                let c = rng.v(-10.0, 10.0);
+                std::array::from_fn(|_| {
+                    let o = c + rng.v(-1.0, 1.0);
+                    Ray { origin: o, dir: light - o, tnear: 1e-4, tfar: 1.0 - 1e-4 }
+                })
+            }
+        };
+        let active = M32x8::from_bitmask(if round % 5 == 0 { (rng.next() & 0xff) as u32 } else { 0xff });
+        check_packet(&accel, &rays, active);
+    }
+}
+
+/// A mesh placed three times under rotations, scales and translations hits exactly where the
+/// same triangles transformed into world space ("baked") are hit.
+#[test]
+fn instanced_hits_equal_baked_geometry() {
+    let mut rng = Rng(3);
+    let mesh = soup(&mut rng, 400, 1.0);
+    let transforms = [
+        Affine3A::IDENTITY,
+        Affine3A::from_scale_rotation_translation(Vec3::splat(0.5), Quat::from_rotation_y(0.7), Vec3::new(30.0, 0.0, 0.0)),
+        Affine3A::from_scale_rotation_translation(Vec3::new(1.0, 2.0, 0.7), Quat::from_euler(glam::EulerRot::XYZ, 0.3, -1.1, 2.0), Vec3::new(-5.0, 25.0, 8.0)),
+    ];
+    let instances: Vec<(u32, Affine3A)> = transforms.iter().map(|&m| (0, m)).collect();
+    let (inst_accel, _) = Accel::build(vec![mesh.clone()], &instances);
+    let stored = inst_accel.meshes()[0].clone();
+    let baked_meshes: Vec<TriangleMesh> = transforms
+        .iter()
+        .map(|m| TriangleMesh { positions: stored.positions.iter().map(|&p| m.transform_point3(p)).collect(), indices: stored.indices.clone() })
+        .collect();
+    // The baked scene keeps each copy as its own mesh so that (instance, prim) ids line up.
+    let baked_instances: Vec<(u32, Affine3A)> = (0..3).map(|i| (i, Affine3A::IDENTITY)).collect();
+    let (baked, orders) = Accel::build(baked_meshes, &baked_instances);
+    let mut checked = 0;
+    for _ in 0..3000 {
+        // Aim at a triangle centroid so the ray is far from edges in both versions.
+        let inst = (rng.next() % 3) as usize;
+        let prim = (rng.next() % stored.indices.len() as u64) as u32;
+        let [a, b, c] = stored.triangle(prim);
+        let target = transforms[inst].transform_point3((a + b + c) / 3.0);
+        let origin = target + rng.dir() * rng.range(3.0, 40.0);
+        let ray = Ray::new(origin, target - origin);
+        // Grazing rays amplify rounding in t by 1/cos; keep to well-conditioned hits.
+        let n = inst_accel.geometric_normal(inst as u32, prim);
+        if n.dot(ray.dir.normalize()).abs() < 0.2 {
+            continue;
+        }
+        let h = inst_accel.intersect(&ray);
+        let g = baked.intersect(&ray);
+        assert_eq!(h.is_hit(), g.is_hit());
+        if !h.is_hit() {
+            continue;
+        }
+        let baked_prim = orders[g.instance as usize][g.prim as usize];
+        assert_eq!((h.instance, h.prim), (g.instance, baked_prim), "same triangle of the same copy");
+        assert!((h.t - g.t).abs() <= 1e-4 * g.t.max(1.0), "t {} vs {} inst {} prim {} ray {ray:?}", h.t, g.t, h.instance, h.prim);
+        let n1 = inst_accel.geometric_normal(h.instance, h.prim);
+        let n2 = baked.geometric_normal(g.instance, g.prim);
+        assert!(n1.dot(n2) > 0.9999, "normals {n1} vs {n2}");
+        // Packets through instances equal single rays.
+        check_packet(&inst_accel, &[ray; 8], M32x8::ALL);
+        checked += 1;
+    }
+    assert!(checked > 1500, "only {checked} rays checked");
+}
+
+/// A closed UV sphere: rays aimed exactly at its shared vertices and edge midpoints, from inside
+/// and outside, must all hit.
+#[test]
+fn no_ray_leaks_through_shared_edges() {
+    let (rings, segments) = (48u32, 96u32);
+    let mut m = TriangleMesh::default();
+    let centre = Vec3::new(0.3, -0.2, 0.1);
+    m.positions.push(centre + Vec3::Y);
+    for r in 1..rings {
+        let th = std::f32::consts::PI * r as f32 / rings as f32;
+        for s in 0..segments {
+            let ph = std::f32::consts::TAU * s as f32 / segments as f32;
+            m.positions.push(centre + Vec3::new(th.sin() * ph.cos(), th.cos(), th.sin() * ph.sin()));
+        }
+    }
+    m.positions.push(centre - Vec3::Y);
+    let ring = |r: u32, s: u32| 1 + (r - 1) * segments + s % segments;
+    let bottom = m.positions.len() as u32 - 1;
+    for s in 0..segments {
+        m.indices.push([0, ring(1, s + 1), ring(1, s)]);
+        m.indices.push([bottom, ring(rings - 1, s), ring(rings - 1, s + 1)]);
+        for r in 1..rings - 1 {
+            m.indices.push([ring(r, s), ring(r, s + 1), ring(r + 1, s)]);
+            m.indices.push([ring(r, s + 1), ring(r + 1, s + 1), ring(r + 1, s)]);
+        }
+    }
+    let mut targets: Vec<Vec3> = m.positions.clone();
+    for t in &m.indices {
+        for e in 0..3 {
+            targets.push(0.5 * (m.positions[t[e] as usize] + m.positions[t[(e + 1) % 3] as usize]));
+        }
+    }
+    let (accel, _) = single(m);
+    let mut rng = Rng(4);
+    let mut rays = Vec::new();
+    for &p in &targets {
+        rays.push(Ray::new(centre + 0.01 * rng.v(-1.0, 1.0), p - centre));
+        let outside = p + (p - centre).normalize() * 2.0 + 0.5 * rng.v(-1.0, 1.0);
+        rays.push(Ray::new(outside, p - outside));
+    }
+    for chunk in rays.chunks_exact(8) {
+        let rays: [Ray; 8] = chunk.try_into().unwrap();
+        for r in &rays {
+            assert!(accel.intersect(r).is_hit(), "ray {r:?} leaked");
+            assert!(accel.occluded(r), "shadow ray {r:?} leaked");
+        }
+        let p = packet_of(&rays);
+        assert_eq!(accel.intersect8(&p, M32x8::ALL).hit_mask().bitmask(), 0xff);
+        assert_eq!(accel.occluded8(&p, M32x8::ALL).bitmask(), 0xff);
+    }
+}
+
+/// Secondary rays leaving a convex surface from offset origins never hit the surface they left.
+#[test]
+fn offset_origins_avoid_self_intersection() {
+    let mut rng = Rng(5);
+    for scale in [1e-2f32, 1.0, 1e3] {
+        let mut m = soup(&mut rng, 0, 1.0);
+        // A large, tilted quad far from the origin stresses the ulp-scaled offset.
+        let o = Vec3::new(1234.5, -77.25, 3.5) * scale;
+        let (u, v) = (Vec3::new(1.0, 0.2, 0.1) * scale, Vec3::new(-0.1, 0.3, 1.0) * scale);
+        m.positions = vec![o, o + u, o + u + v, o + v];
+        m.indices = vec![[0, 1, 2], [0, 2, 3]];
+        let (accel, _) = single(m);
+        let n = u.cross(v);
+        for _ in 0..2000 {
+            let p = o + rng.f() * u + rng.f() * v;
+            let from = p + n.normalize() * scale;
+            let h = accel.intersect(&Ray::new(from, p - from));
+            if !h.is_hit() {
+                continue;
+            }
+            let hit_p = from + h.t * (p - from);
+            let start = offset_ray_origin(hit_p, n);
+            let mut d = rng.dir();
+            if d.dot(n) < 0.0 {
+                d = -d;
+            }
+            assert!(!accel.occluded(&Ray::new(start, d)), "self-intersection at scale {scale}");
+        }
+    }
+}

@@ -1,0 +1,22 @@
+//! `igi bench`: throughput measurements. `igi bench rays` times the two ray kinds of an
+//! instant-radiosity frame (primary rays, shadow rays to virtual point lights) on exactly the
+//! workload of `../shared/tools/embree-bench`, so the two can be compared ray for ray.
+
+pub mod rays;
+mod workload;
+
+use clap::Subcommand;
+
+/// The benchmarks.
+#[derive(Debug, Subcommand)]
+pub enum BenchCommand {
+    /// Ray throughput of the traversal kernels on the instant-radiosity workload.
+    Rays(rays::RaysArgs),
+}
+
+/// Runs one benchmark.
+pub fn run(cmd: BenchCommand) -> anyhow::Result<()> {
+    match cmd {
+        BenchCommand::Rays(args) => rays::run(&args),
+    }
+}

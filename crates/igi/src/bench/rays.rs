@@ -1,0 +1,407 @@
+//! `igi bench rays`: Mrays/s of the single-ray and 8-ray packet kernels for primary rays
+//! (closest hit) and shadow rays to VPLs (any hit), with 1..N threads, plus BVH build time, SAH
+//! cost and bytes per triangle. Ray definitions, tiling and timing follow
+//! `../shared/tools/embree-bench` (its README), so both tools measure the same work.
+
+use super::workload::{BenchVpl, PinholeCamera, WalkSource, random_walk_vpls, read_vpl_file};
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use glam::Vec3;
+use igi_bvh::{Accel, Ray, RayPacket8};
+use igi_render::PreparedScene;
+use igi_simd::{F32x8, M32x8, Vec3x8};
+use serde::Serialize;
+use std::path::PathBuf;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
+
+/// Arguments of `igi bench rays`.
+#[derive(Debug, Args)]
+pub struct RaysArgs {
+    /// Built-in scene name or scene file.
+    pub scene: String,
+    /// Camera position (default: the scene's camera).
+    #[arg(long, value_parser = crate::cli::parse_vec3, allow_hyphen_values = true)]
+    pub camera_position: Option<Vec3>,
+    /// Camera target.
+    #[arg(long, value_parser = crate::cli::parse_vec3, allow_hyphen_values = true)]
+    pub camera_target: Option<Vec3>,
+    /// Camera up vector.
+    #[arg(long, value_parser = crate::cli::parse_vec3, allow_hyphen_values = true)]
+    pub camera_up: Option<Vec3>,
+    /// Vertical field of view in degrees.
+    #[arg(long)]
+    pub fov: Option<f32>,
+    /// Resolutions, comma separated.
+    #[arg(long, default_value = "640x480,1024x1024", value_delimiter = ',', value_parser = parse_res)]
+    pub res: Vec<(u32, u32)>,
+    /// VPLs per pixel (per interleaved set).
+    #[arg(long, default_value_t = 16)]
+    pub k: usize,
+    /// G for G x G interleaved VPL sets (packets hold pixels of one set).
+    #[arg(long, default_value_t = 3)]
+    pub sets: usize,
+    /// Thread counts, comma separated.
+    #[arg(long, default_value = "1,2", value_delimiter = ',')]
+    pub threads: Vec<usize>,
+    /// Timed repetitions per measurement (the median is reported).
+    #[arg(long, default_value_t = 5)]
+    pub reps: usize,
+    /// Seed of the VPL random walk.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Read the VPLs from an embree-bench VPL file instead of generating them.
+    #[arg(long)]
+    pub vpl_file: Option<PathBuf>,
+    /// Point light that starts the VPL walks (default: the scene's emissive triangles).
+    #[arg(long, value_parser = crate::cli::parse_vec3, allow_hyphen_values = true)]
+    pub light: Option<Vec3>,
+    /// Write all results as JSON.
+    #[arg(long)]
+    pub json: Option<PathBuf>,
+}
+
+fn parse_res(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s.split_once('x').ok_or_else(|| format!("resolution {s:?} is not WxH"))?;
+    let p = |v: &str| v.parse::<u32>().ok().filter(|&v| (1..=16384).contains(&v));
+    match (p(w), p(h)) {
+        (Some(w), Some(h)) => Ok((w, h)),
+        _ => Err(format!("resolution {s:?} is not WxH with sides in 1..=16384")),
+    }
+}
+
+/// One measurement, as the JSON reports it.
+#[derive(Debug, Serialize)]
+struct Measurement {
+    phase: &'static str,
+    kernel: &'static str,
+    threads: usize,
+    width: u32,
+    height: u32,
+    rays: u64,
+    mrays_per_s: f64,
+    /// Primary rays that hit, or shadow rays that were blocked.
+    hits: u64,
+}
+
+#[derive(Debug, Serialize)]
+struct BuildReport {
+    ms: f64,
+    sah_cost: f32,
+    bytes_per_triangle: f64,
+}
+
+#[derive(Debug, Serialize)]
+struct Report {
+    scene: String,
+    triangles: usize,
+    simd_backend: &'static str,
+    k: usize,
+    sets: usize,
+    vpls: usize,
+    build: BuildReport,
+    results: Vec<Measurement>,
+}
+
+/// A primary hit as the shadow pass needs it: position, normal facing the camera.
+#[derive(Clone, Copy, Debug, Default)]
+struct HitRec {
+    p: Vec3,
+    n: Vec3,
+    valid: bool,
+}
+
+/// The image cut into square tiles handed out to threads on demand.
+struct Tiling {
+    size: u32,
+    cols: u32,
+    rows: u32,
+}
+
+impl Tiling {
+    fn count(&self) -> usize {
+        (self.cols * self.rows) as usize
+    }
+    fn origin(&self, tile: usize) -> (u32, u32) {
+        ((tile as u32 % self.cols) * self.size, (tile as u32 / self.cols) * self.size)
+    }
+}
+
+/// Runs `work` over all tiles on `threads` threads pulling tiles from an atomic counter; thread
+/// start and join are inside the timed region (as in embree-bench). Returns seconds and the sum
+/// of the per-tile (rays, hits) counts.
+fn timed_tiles(threads: usize, tiles: usize, work: &(dyn Fn(usize) -> (u64, u64) + Sync)) -> (f64, u64, u64) {
+    let next = AtomicUsize::new(0);
+    let start = Instant::now();
+    let (rays, hits) = std::thread::scope(|s| {
+        let handles: Vec<_> = (0..threads)
+            .map(|_| {
+                s.spawn(|| {
+                    let (mut r, mut h) = (0, 0);
+                    loop {
+                        let t = next.fetch_add(1, Ordering::Relaxed);
+                        if t >= tiles {
+                            break (r, h);
+                        }
+                        let (tr, th) = work(t);
+                        r += tr;
+                        h += th;
+                    }
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().expect("bench thread")).fold((0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
+    });
+    (start.elapsed().as_secs_f64(), rays, hits)
+}
+
+/// Median seconds over `reps` timed runs after one warm-up run.
+fn median_run(reps: usize, mut f: impl FnMut() -> (f64, u64, u64)) -> (f64, u64, u64) {
+    let warm = f();
+    let mut times: Vec<f64> = (0..reps.max(1)).map(|_| f().0).collect();
+    times.sort_by(f64::total_cmp);
+    (times[times.len() / 2], warm.1, warm.2)
+}
+
+fn hit_record(accel: &Accel, ray: &Ray, t: f32, instance: u32, prim: u32) -> HitRec {
+    let mut n = accel.geometric_normal(instance, prim);
+    if n.dot(ray.dir) > 0.0 {
+        n = -n;
+    }
+    HitRec { p: ray.origin + ray.dir * t, n, valid: true }
+}
+
+/// Runs the benchmark and prints (and optionally writes) the results.
+pub fn run(args: &RaysArgs) -> Result<()> {
+    if args.k == 0 || args.sets == 0 || args.sets > 16 {
+        bail!("--k must be at least 1 and --sets between 1 and 16");
+    }
+    if args.threads.iter().any(|&t| t == 0 || t > 1024) {
+        bail!("--threads must be between 1 and 1024");
+    }
+    let scene = igi_scene::load_named(&args.scene).with_context(|| format!("cannot load scene {}", args.scene))?;
+    let camera = crate::cli::camera_with_overrides(&scene, args.camera_position, args.camera_target, args.camera_up, args.fov);
+
+    // Build time: median of several builds of the whole two-level structure.
+    let mut build_ms: Vec<f64> = (0..3)
+        .map(|_| {
+            let t = Instant::now();
+            let p = PreparedScene::new(scene.clone());
+            let ms = t.elapsed().as_secs_f64() * 1e3;
+            drop(p);
+            ms
+        })
+        .collect();
+    build_ms.sort_by(f64::total_cmp);
+    let prepared = PreparedScene::new(scene);
+    let accel = prepared.accel();
+    let triangles: usize = accel.meshes().iter().map(|m| m.indices.len()).sum();
+    let bounds = accel.bounds();
+    let eps_abs = 1e-5 * bounds.diagonal();
+
+    let vpls = match &args.vpl_file {
+        Some(path) => read_vpl_file(path, args.sets * args.sets, args.k)?,
+        None => {
+            let emitters = prepared.emissive_triangle_corners();
+            let source = match args.light {
+                Some(p) => WalkSource::Point(p),
+                None if !emitters.is_empty() => WalkSource::Emitters(&emitters),
+                None => {
+                    let c = bounds.centroid();
+                    let p = Vec3::new(c.x, bounds.max.y - 0.1 * bounds.extent().y, c.z);
+                    tracing::warn!("no emissive triangles and no --light: VPL walks start at a point light at {p}");
+                    WalkSource::Point(p)
+                }
+            };
+            random_walk_vpls(accel, |i, p| prepared.is_emissive(i, p), source, args.sets * args.sets, args.k, args.seed, eps_abs)?
+        }
+    };
+
+    let mut results = Vec::new();
+    println!(
+        "scene={} triangles={triangles} build_ms={:.2} sah={:.2} bytes/tri={:.1} vpls={} backend={}",
+        args.scene,
+        build_ms[1],
+        accel.sah_cost(),
+        accel.bytes() as f64 / triangles.max(1) as f64,
+        vpls.len(),
+        igi_simd::BACKEND
+    );
+    println!("{:>10} {:>7} {:>8} {:>4} {:>10} {:>10} {:>9}", "res", "phase", "kernel", "thr", "rays", "hits", "Mrays/s");
+    for &(w, h) in &args.res {
+        let cam = PinholeCamera::new(camera.position, camera.target, camera.up, camera.fov_y_deg, w, h);
+        let size = 16 * args.sets as u32;
+        let tiling = Tiling { size, cols: w.div_ceil(size), rows: h.div_ceil(size) };
+        let tile_px = (size * size) as usize;
+        let hits: Vec<Mutex<Vec<HitRec>>> = (0..tiling.count()).map(|_| Mutex::new(vec![HitRec::default(); tile_px])).collect();
+        for &threads in &args.threads {
+            let mut record = |phase, kernel, (secs, rays, n): (f64, u64, u64)| {
+                let m = Measurement { phase, kernel, threads, width: w, height: h, rays, mrays_per_s: rays as f64 / secs / 1e6, hits: n };
+                println!(
+                    "{:>10} {:>7} {:>8} {:>4} {:>10} {:>10} {:>9.2}",
+                    format!("{w}x{h}"),
+                    m.phase,
+                    m.kernel,
+                    threads,
+                    m.rays,
+                    m.hits,
+                    m.mrays_per_s
+                );
+                results.push(m);
+            };
+            record("primary", "single", median_run(args.reps, || timed_tiles(threads, tiling.count(), &|t| primary_single(accel, &cam, &tiling, t, &hits[t]))));
+            record("primary", "packet8", median_run(args.reps, || timed_tiles(threads, tiling.count(), &|t| primary_packet8(accel, &cam, &tiling, t, &hits[t]))));
+            let ctx = ShadowCtx { accel, cam: &cam, tiling: &tiling, vpls: &vpls, k: args.k, g: args.sets as u32, eps_abs };
+            record("shadow", "single", median_run(args.reps, || timed_tiles(threads, tiling.count(), &|t| shadow_single(&ctx, t, &hits[t].lock().expect("tile"))))); 
+            record("shadow", "packet8", median_run(args.reps, || timed_tiles(threads, tiling.count(), &|t| shadow_packet8(&ctx, t, &hits[t].lock().expect("tile")))));
+        }
+    }
+    if let Some(path) = &args.json {
+        let report = Report {
+            scene: args.scene.clone(),
+            triangles,
+            simd_backend: igi_simd::BACKEND,
+            k: args.k,
+            sets: args.sets,
+            vpls: vpls.len(),
+            build: BuildReport { ms: build_ms[1], sah_cost: accel.sah_cost(), bytes_per_triangle: accel.bytes() as f64 / triangles.max(1) as f64 },
+            results,
+        };
+        std::fs::write(path, serde_json::to_string_pretty(&report)?).with_context(|| format!("cannot write {}", path.display()))?;
+    }
+    Ok(())
+}
+
+/// One primary ray per pixel, traced one at a time.
+fn primary_single(accel: &Accel, cam: &PinholeCamera, tiling: &Tiling, tile: usize, out: &Mutex<Vec<HitRec>>) -> (u64, u64) {
+    let (x0, y0) = tiling.origin(tile);
+    let mut out = out.lock().expect("tile");
+    let (mut rays, mut hits) = (0, 0);
+    for y in y0..(y0 + tiling.size).min(cam.height) {
+        for x in x0..(x0 + tiling.size).min(cam.width) {
+            let ray = cam.ray(x, y);
+            let h = accel.intersect(&ray);
+            let i = ((y - y0) * tiling.size + (x - x0)) as usize;
+            out[i] = if h.is_hit() { hit_record(accel, &ray, h.t, h.instance, h.prim) } else { HitRec::default() };
+            rays += 1;
+            hits += h.is_hit() as u64;
+        }
+    }
+    (rays, hits)
+}
+
+/// Primary rays as 8-ray packets of 4x2 pixel blocks.
+fn primary_packet8(accel: &Accel, cam: &PinholeCamera, tiling: &Tiling, tile: usize, out: &Mutex<Vec<HitRec>>) -> (u64, u64) {
+    let (x0, y0) = tiling.origin(tile);
+    let mut out = out.lock().expect("tile");
+    let (mut rays, mut hits) = (0, 0);
+    for by in (0..tiling.size).step_by(2) {
+        for bx in (0..tiling.size).step_by(4) {
+            let inside = |i: u32| x0 + bx + i % 4 < cam.width && y0 + by + i / 4 < cam.height;
+            let mask = M32x8::from_bools(std::array::from_fn(|i| inside(i as u32)));
+            if mask.none() {
+                continue;
+            }
+            let lane_rays: [Ray; 8] = std::array::from_fn(|i| {
+                let i = i as u32;
+                if inside(i) { cam.ray(x0 + bx + i % 4, y0 + by + i / 4) } else { cam.ray(0, 0) }
+            });
+            let hp = accel.intersect8(&RayPacket8::from_rays(&lane_rays), mask);
+            let hit_mask = hp.hit_mask() & mask;
+            for (i, ray) in lane_rays.iter().enumerate() {
+                if !mask.lane(i) {
+                    continue;
+                }
+                let p = ((by + i as u32 / 4) * tiling.size + bx + i as u32 % 4) as usize;
+                out[p] = if hit_mask.lane(i) {
+                    let h = hp.hit(i);
+                    hit_record(accel, ray, h.t, h.instance, h.prim)
+                } else {
+                    HitRec::default()
+                };
+            }
+            rays += mask.bitmask().count_ones() as u64;
+            hits += hit_mask.bitmask().count_ones() as u64;
+        }
+    }
+    (rays, hits)
+}
+
+struct ShadowCtx<'a> {
+    accel: &'a Accel,
+    cam: &'a PinholeCamera,
+    tiling: &'a Tiling,
+    vpls: &'a [BenchVpl],
+    k: usize,
+    g: u32,
+    eps_abs: f32,
+}
+
+/// Shadow-ray tnear/tfar convention of embree-bench: tfar = distance · (1 - 1e-4).
+const SHADOW_TFAR_SCALE: f32 = 1.0 - 1e-4;
+
+/// Every valid pixel to each VPL of its interleaved set, one ray at a time.
+fn shadow_single(c: &ShadowCtx, tile: usize, hits: &[HitRec]) -> (u64, u64) {
+    let (x0, y0) = c.tiling.origin(tile);
+    let (mut rays, mut blocked) = (0, 0);
+    for y in y0..(y0 + c.tiling.size).min(c.cam.height) {
+        for x in x0..(x0 + c.tiling.size).min(c.cam.width) {
+            let h = hits[((y - y0) * c.tiling.size + (x - x0)) as usize];
+            if !h.valid {
+                continue;
+            }
+            let set = ((x % c.g) + c.g * (y % c.g)) as usize;
+            for l in &c.vpls[set * c.k..(set + 1) * c.k] {
+                let d = l.p - h.p;
+                let dist = d.length();
+                let dir = if dist > 0.0 { d / dist } else { Vec3::ZERO };
+                let ray = Ray { origin: h.p, dir, tnear: c.eps_abs, tfar: dist * SHADOW_TFAR_SCALE };
+                rays += 1;
+                blocked += c.accel.occluded(&ray) as u64;
+            }
+        }
+    }
+    (rays, blocked)
+}
+
+/// Shadow rays as 8-ray packets: 4x2 blocks of one interleaved set's sub-image (pixel stride
+/// G, paper Figure 2), all eight going to the same VPL.
+fn shadow_packet8(c: &ShadowCtx, tile: usize, hits: &[HitRec]) -> (u64, u64) {
+    let (x0, y0) = c.tiling.origin(tile);
+    let sub = c.tiling.size / c.g;
+    let (mut rays, mut blocked) = (0, 0);
+    for sy in 0..c.g {
+        for sx in 0..c.g {
+            let set = &c.vpls[(sx + c.g * sy) as usize * c.k..][..c.k];
+            for by in (0..sub).step_by(2) {
+                for bx in (0..sub).step_by(4) {
+                    let lane: [HitRec; 8] = std::array::from_fn(|i| {
+                        let (lx, ly) = (sx + c.g * (bx + i as u32 % 4), sy + c.g * (by + i as u32 / 4));
+                        if x0 + lx < c.cam.width && y0 + ly < c.cam.height { hits[(ly * c.tiling.size + lx) as usize] } else { HitRec::default() }
+                    });
+                    let valid = M32x8::from_bools(lane.map(|h| h.valid));
+                    if valid.none() {
+                        continue;
+                    }
+                    let org = Vec3x8::from_lanes(lane.map(|h| h.p.to_array()));
+                    let live = valid.bitmask().count_ones() as u64;
+                    for l in set {
+                        let d = Vec3x8::splat(l.p.to_array()) - org;
+                        let dist = d.length();
+                        let inv = F32x8::select(dist.gt(F32x8::ZERO), F32x8::splat(1.0) / dist, F32x8::ZERO);
+                        let packet = RayPacket8 {
+                            origin: org,
+                            dir: d * inv,
+                            tnear: F32x8::splat(c.eps_abs),
+                            tfar: dist * F32x8::splat(SHADOW_TFAR_SCALE),
+                        };
+                        rays += live;
+                        blocked += c.accel.occluded8(&packet, valid).bitmask().count_ones() as u64;
+                    }
+                }
+            }
+        }
+    }
+    (rays, blocked)
+}
