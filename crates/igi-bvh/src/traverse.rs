@@ -27,9 +27,11 @@ const EXIT_SCALE: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f3
 /// replaced by ±1e-30 so that (b - o)·(1/d) can never be 0·∞.
 #[inline(always)]
 pub(crate) fn safe_rcp(d: f32) -> f32 {
-    const TINY: f32 = 1e-30;
-    1.0 / if d.abs() < TINY { TINY.copysign(d) } else { d }
+    1.0 / if d.abs() < SAFE_RCP_TINY { SAFE_RCP_TINY.copysign(d) } else { d }
 }
+
+/// Smallest direction component magnitude the box tests use.
+const SAFE_RCP_TINY: f32 = 1e-30;
 
 /// A single ray prepared for box tests.
 #[derive(Clone, Copy, Debug)]
@@ -126,7 +128,9 @@ pub(crate) struct BoxRay8 {
 
 impl BoxRay8 {
     pub(crate) fn new(org: &Vec3x8, dir: &Vec3x8, tnear: F32x8) -> Self {
-        let rcp = |d: F32x8| F32x8::from_array(d.to_array().map(safe_rcp));
+        // `safe_rcp` lane by lane, in SIMD.
+        let tiny = F32x8::splat(SAFE_RCP_TINY);
+        let rcp = |d: F32x8| F32x8::splat(1.0) / F32x8::select(d.abs().lt(tiny), tiny.xor_sign(d), d);
         Self { org: [org.x, org.y, org.z], inv: [rcp(dir.x), rcp(dir.y), rcp(dir.z)], tnear }
     }
 

@@ -203,23 +203,26 @@ impl Shear8 {
     /// The constants for the lanes of `dir`; lanes outside `active` are given the permutation of
     /// an active lane, so that they do not force the mixed path.
     pub(crate) fn new(dir: &Vec3x8, active: M32x8) -> Self {
-        let dirs: [Vec3; 8] = std::array::from_fn(|i| Vec3::from(dir.lane(i)));
         let first = (0..8).find(|&i| active.lane(i)).unwrap_or(0);
+        let k_first = permutation(Vec3::from(dir.lane(first)));
         let ks: [[usize; 3]; 8] = std::array::from_fn(|i| {
-            if active.lane(i) { permutation(dirs[i]) } else { permutation(dirs[first]) }
+            if active.lane(i) { permutation(Vec3::from(dir.lane(i))) } else { k_first }
         });
-        let ss: [[f32; 3]; 8] = std::array::from_fn(|i| {
-            if active.lane(i) { shear_of(dirs[i], ks[i]) } else { shear_of(dirs[first], ks[first]) }
-        });
-        let s = std::array::from_fn(|c| F32x8::from_array(ss.map(|s| s[c])));
-        if ks.iter().all(|k| *k == ks[first]) {
-            Shear8::Uniform(ShearUniform8 { k: ks[first], s })
+        let d = [dir.x, dir.y, dir.z];
+        // The shear is computed in SIMD from the permuted direction, with the same divisions as
+        // `shear_of`, so each lane equals the single-ray constants bit for bit.
+        let shear_from = |[dx, dy, dz]: [F32x8; 3]| [dx / dz, dy / dz, F32x8::splat(1.0) / dz];
+        if ks.iter().all(|k| *k == k_first) {
+            let s = ShearUniform8 { k: k_first, s: [F32x8::ZERO; 3] };
+            Shear8::Uniform(ShearUniform8 { s: shear_from(s.permute(d)), ..s })
         } else {
-            Shear8::Mixed(ShearMixed8 {
+            let mut s = ShearMixed8 {
                 is0: std::array::from_fn(|c| M32x8::from_bools(ks.map(|k| k[c] == 0))),
                 is1: std::array::from_fn(|c| M32x8::from_bools(ks.map(|k| k[c] == 1))),
-                s,
-            })
+                s: [F32x8::ZERO; 3],
+            };
+            s.s = shear_from(s.permute(d));
+            Shear8::Mixed(s)
         }
     }
 }
