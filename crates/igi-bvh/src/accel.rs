@@ -12,7 +12,7 @@ use crate::build::{BuildParams, build_binned_sah};
 use crate::bvh::Bvh;
 use crate::node::Node;
 use crate::ray::{Hit, HitPacket8, INVALID_ID, Ray, RayPacket8};
-use crate::traverse::{BoxRay1, BoxRay8, Query1, Query8, walk1, walk8};
+use crate::traverse::{BoxRay1, BoxRay8, Boxes8, Query1, Query8, walk1, walk8};
 use crate::triangle::{Shear, Shear8, ShearScalar, intersect};
 use glam::{Affine3A, Vec3};
 use igi_simd::{F32x8, I32x8, M32x8, Vec3x8};
@@ -251,17 +251,23 @@ impl Accel {
             active,
         };
         let world = Local8::new(rays.origin, rays.dir, rays.tnear, active);
-        walk8(&self.tlas.nodes, &world.boxes, &mut q, |q, leaf| {
+        let tlas = |q: &mut Closest8, leaf: &Node| {
             for &inst in self.tlas_leaf(leaf) {
                 let p = &self.placements[inst as usize];
                 let local = if p.identity { world } else { world.transformed(rays, &p.world_to_object, q.active) };
                 let (mesh, nodes) = (&self.meshes[p.mesh as usize], &self.blas[p.mesh as usize].nodes);
-                match &local.shear {
-                    Shear8::Uniform(s) => closest8_blas(nodes, mesh, &local, s, rays.tnear, inst, q),
-                    Shear8::Mixed(s) => closest8_blas(nodes, mesh, &local, s, rays.tnear, inst, q),
+                match (&local.shear, &local.boxes) {
+                    (Shear8::Uniform(s), BoxRay8::Octant(b)) => closest8_blas(nodes, mesh, &local, s, b, inst, q),
+                    (Shear8::Uniform(s), BoxRay8::Mixed(b)) => closest8_blas(nodes, mesh, &local, s, b, inst, q),
+                    (Shear8::Mixed(s), BoxRay8::Octant(b)) => closest8_blas(nodes, mesh, &local, s, b, inst, q),
+                    (Shear8::Mixed(s), BoxRay8::Mixed(b)) => closest8_blas(nodes, mesh, &local, s, b, inst, q),
                 }
             }
-        });
+        };
+        match &world.boxes {
+            BoxRay8::Octant(b) => walk8(&self.tlas.nodes, b, &mut q, tlas),
+            BoxRay8::Mixed(b) => walk8(&self.tlas.nodes, b, &mut q, tlas),
+        }
         HitPacket8 { t: q.t, u: q.u, v: q.v, instance: q.instance, prim: q.prim }
     }
 
@@ -269,20 +275,26 @@ impl Accel {
     pub fn occluded8(&self, rays: &RayPacket8, active: M32x8) -> M32x8 {
         let mut q = Any8 { tfar: rays.tfar, active };
         let world = Local8::new(rays.origin, rays.dir, rays.tnear, active);
-        walk8(&self.tlas.nodes, &world.boxes, &mut q, |q, leaf| {
+        let tlas = |q: &mut Any8, leaf: &Node| {
             for &inst in self.tlas_leaf(leaf) {
                 let p = &self.placements[inst as usize];
                 let local = if p.identity { world } else { world.transformed(rays, &p.world_to_object, q.active) };
                 let (mesh, nodes) = (&self.meshes[p.mesh as usize], &self.blas[p.mesh as usize].nodes);
-                match &local.shear {
-                    Shear8::Uniform(s) => any8_blas(nodes, mesh, &local, s, rays.tnear, q),
-                    Shear8::Mixed(s) => any8_blas(nodes, mesh, &local, s, rays.tnear, q),
+                match (&local.shear, &local.boxes) {
+                    (Shear8::Uniform(s), BoxRay8::Octant(b)) => any8_blas(nodes, mesh, &local, s, b, q),
+                    (Shear8::Uniform(s), BoxRay8::Mixed(b)) => any8_blas(nodes, mesh, &local, s, b, q),
+                    (Shear8::Mixed(s), BoxRay8::Octant(b)) => any8_blas(nodes, mesh, &local, s, b, q),
+                    (Shear8::Mixed(s), BoxRay8::Mixed(b)) => any8_blas(nodes, mesh, &local, s, b, q),
                 }
                 if q.active.none() {
                     return;
                 }
             }
-        });
+        };
+        match &world.boxes {
+            BoxRay8::Octant(b) => walk8(&self.tlas.nodes, b, &mut q, tlas),
+            BoxRay8::Mixed(b) => walk8(&self.tlas.nodes, b, &mut q, tlas),
+        }
         active.and_not(q.active)
     }
 
@@ -354,13 +366,14 @@ impl Query1 for Any1 {
 #[derive(Clone, Copy)]
 struct Local8 {
     org: [F32x8; 3],
+    tnear: F32x8,
     shear: Shear8,
     boxes: BoxRay8,
 }
 
 impl Local8 {
     fn new(org: Vec3x8, dir: Vec3x8, tnear: F32x8, active: M32x8) -> Self {
-        Self { org: [org.x, org.y, org.z], shear: Shear8::new(&dir, active), boxes: BoxRay8::new(&org, &dir, tnear) }
+        Self { org: [org.x, org.y, org.z], tnear, shear: Shear8::new(&dir, active), boxes: BoxRay8::new(&org, &dir, tnear, active) }
     }
 
     fn transformed(&self, rays: &RayPacket8, m: &Affine3A, active: M32x8) -> Self {
@@ -389,6 +402,7 @@ struct Closest8 {
 }
 
 impl Query8 for Closest8 {
+    const SHRINKS: bool = true;
     #[inline(always)]
     fn tfar(&self) -> F32x8 {
         self.t
@@ -405,6 +419,7 @@ struct Any8 {
 }
 
 impl Query8 for Any8 {
+    const SHRINKS: bool = false;
     #[inline(always)]
     fn tfar(&self) -> F32x8 {
         self.tfar
@@ -417,17 +432,18 @@ impl Query8 for Any8 {
 
 /// Closest-hit packet traversal of one bottom-level BVH.
 #[inline(always)]
-fn closest8_blas<S: Shear<F32x8>>(
+fn closest8_blas<S: Shear<F32x8>, B: Boxes8>(
     nodes: &[Node],
     mesh: &TriangleMesh,
     local: &Local8,
     shear: &S,
-    tnear: F32x8,
+    boxes: &B,
     inst: u32,
     q: &mut Closest8,
 ) {
     let inst_v = I32x8::splat(inst as i32);
-    walk8(nodes, &local.boxes, q, |q, leaf| {
+    let tnear = local.tnear;
+    walk8(nodes, boxes, q, |q, leaf| {
         for prim in leaf.offset..leaf.offset + leaf.count {
             let [a, b, c] = mesh.triangle(prim);
             let h = intersect(local.org, shear, a, b, c, tnear, q.t);
@@ -456,8 +472,16 @@ fn lt_u32(a: I32x8, b: I32x8) -> M32x8 {
 
 /// Any-hit packet traversal of one bottom-level BVH.
 #[inline(always)]
-fn any8_blas<S: Shear<F32x8>>(nodes: &[Node], mesh: &TriangleMesh, local: &Local8, shear: &S, tnear: F32x8, q: &mut Any8) {
-    walk8(nodes, &local.boxes, q, |q, leaf| {
+fn any8_blas<S: Shear<F32x8>, B: Boxes8>(
+    nodes: &[Node],
+    mesh: &TriangleMesh,
+    local: &Local8,
+    shear: &S,
+    boxes: &B,
+    q: &mut Any8,
+) {
+    let tnear = local.tnear;
+    walk8(nodes, boxes, q, |q, leaf| {
         for prim in leaf.offset..leaf.offset + leaf.count {
             let [a, b, c] = mesh.triangle(prim);
             let h = intersect(local.org, shear, a, b, c, tnear, q.tfar);

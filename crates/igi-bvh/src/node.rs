@@ -27,6 +27,15 @@ impl Node {
         self.count != 0
     }
 
+    /// The box corners as eight floats: `min` at indices 0..3, `max` at 4..7 (indices 3 and 7
+    /// hold `offset` and `count` and must not be read as coordinates).
+    #[inline(always)]
+    pub(crate) fn coords(&self) -> &[f32; 8] {
+        // SAFETY: `Node` is `repr(C)` with eight 4-byte fields and no padding (size 32, checked
+        // below), and every bit pattern is a valid f32.
+        unsafe { &*(self as *const Node as *const [f32; 8]) }
+    }
+
     /// The node's bounding box.
     #[inline]
     pub fn bounds(&self) -> crate::Aabb {

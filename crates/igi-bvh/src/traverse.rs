@@ -118,41 +118,111 @@ pub(crate) fn walk1<Q: Query1>(nodes: &[Node], ray: &BoxRay1, q: &mut Q, mut lea
     }
 }
 
-/// Eight rays prepared for box tests.
+/// Box tests for eight rays. Two implementations: [`OctantBoxes8`] when the active rays'
+/// directions share their signs on every axis (nearly always for coherent packets: primary
+/// rays of a tile, shadow rays of neighbouring pixels to one VPL), which reads each slab's near
+/// and far plane directly, and [`MixedBoxes8`] otherwise, which orders the planes per lane.
+pub(crate) trait Boxes8: Copy {
+    /// Lanes overlapping `n`'s box within `[tnear, tfar]`, and their entry distances.
+    fn enter(&self, n: &Node, tfar: F32x8) -> (M32x8, F32x8);
+}
+
+/// Origins, safe reciprocal directions and `tnear` of eight rays.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct BoxRay8 {
-    pub org: [F32x8; 3],
-    pub inv: [F32x8; 3],
-    pub tnear: F32x8,
+pub(crate) struct Slabs8 {
+    org: [F32x8; 3],
+    inv: [F32x8; 3],
+    tnear: F32x8,
+}
+
+/// Box tests of a packet whose active rays all point into one octant.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct OctantBoxes8 {
+    s: Slabs8,
+    /// Per axis: index into [`Node::coords`] of the near plane (0..3 = min, 4..7 = max).
+    near: [usize; 3],
+}
+
+/// Box tests of a packet whose rays point into different octants.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct MixedBoxes8 {
+    s: Slabs8,
+    /// Per axis: lanes whose direction is negative (they enter through the max plane).
+    neg: [M32x8; 3],
+}
+
+/// The box tests of one packet.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum BoxRay8 {
+    Octant(OctantBoxes8),
+    Mixed(MixedBoxes8),
 }
 
 impl BoxRay8 {
-    pub(crate) fn new(org: &Vec3x8, dir: &Vec3x8, tnear: F32x8) -> Self {
+    pub(crate) fn new(org: &Vec3x8, dir: &Vec3x8, tnear: F32x8, active: M32x8) -> Self {
         // `safe_rcp` lane by lane, in SIMD.
         let tiny = F32x8::splat(SAFE_RCP_TINY);
         let rcp = |d: F32x8| F32x8::splat(1.0) / F32x8::select(d.abs().lt(tiny), tiny.xor_sign(d), d);
-        Self { org: [org.x, org.y, org.z], inv: [rcp(dir.x), rcp(dir.y), rcp(dir.z)], tnear }
+        let inv = [rcp(dir.x), rcp(dir.y), rcp(dir.z)];
+        let s = Slabs8 { org: [org.x, org.y, org.z], inv, tnear };
+        let neg = inv.map(|i| i.lt(F32x8::ZERO));
+        let active_bits = active.bitmask();
+        let octant = neg.map(|n| {
+            let bits = n.bitmask() & active_bits;
+            (bits == 0 || bits == active_bits).then_some(bits != 0)
+        });
+        match octant {
+            [Some(x), Some(y), Some(z)] => {
+                let near = [x, y, z].map(|negative| if negative { 4 } else { 0 });
+                BoxRay8::Octant(OctantBoxes8 { s, near: [near[0], near[1] + 1, near[2] + 2] })
+            }
+            _ => BoxRay8::Mixed(MixedBoxes8 { s, neg }),
+        }
+    }
+}
+
+impl Slabs8 {
+    /// The overlap test from per-axis entry and exit distances.
+    #[inline(always)]
+    fn overlap(&self, near: [F32x8; 3], far: [F32x8; 3], tfar: F32x8) -> (M32x8, F32x8) {
+        let tmin = near[0].max(near[1]).max(near[2].max(self.tnear));
+        let tmax = far[0].min(far[1]).min(far[2].min(tfar)) * F32x8::splat(EXIT_SCALE);
+        (tmin.le(tmax), tmin)
     }
 
-    /// Lanes overlapping `n`'s box within `[tnear, tfar]`, and their entry distances.
+    #[inline(always)]
+    fn dist(&self, plane: f32, axis: usize) -> F32x8 {
+        (F32x8::splat(plane) - self.org[axis]) * self.inv[axis]
+    }
+}
+
+impl Boxes8 for OctantBoxes8 {
     #[inline(always)]
     fn enter(&self, n: &Node, tfar: F32x8) -> (M32x8, F32x8) {
-        let slab = |a: usize| {
-            let t0 = (F32x8::splat(n.min[a]) - self.org[a]) * self.inv[a];
-            let t1 = (F32x8::splat(n.max[a]) - self.org[a]) * self.inv[a];
-            (t0.min(t1), t0.max(t1))
-        };
-        let (x0, x1) = slab(0);
-        let (y0, y1) = slab(1);
-        let (z0, z1) = slab(2);
-        let tmin = x0.max(y0).max(z0.max(self.tnear));
-        let tmax = x1.min(y1).min(z1.min(tfar)) * F32x8::splat(EXIT_SCALE);
-        (tmin.le(tmax), tmin)
+        let c = n.coords();
+        // The far plane of an axis is the other corner's: index ^ 4.
+        let near = std::array::from_fn(|a| self.s.dist(c[self.near[a]], a));
+        let far = std::array::from_fn(|a| self.s.dist(c[self.near[a] ^ 4], a));
+        self.s.overlap(near, far, tfar)
+    }
+}
+
+impl Boxes8 for MixedBoxes8 {
+    #[inline(always)]
+    fn enter(&self, n: &Node, tfar: F32x8) -> (M32x8, F32x8) {
+        let lo: [F32x8; 3] = std::array::from_fn(|a| self.s.dist(n.min[a], a));
+        let hi: [F32x8; 3] = std::array::from_fn(|a| self.s.dist(n.max[a], a));
+        let near = std::array::from_fn(|a| F32x8::select(self.neg[a], hi[a], lo[a]));
+        let far = std::array::from_fn(|a| F32x8::select(self.neg[a], lo[a], hi[a]));
+        self.s.overlap(near, far, tfar)
     }
 }
 
 /// What a packet walk needs from its query.
 pub(crate) trait Query8 {
+    /// True if `tfar` shrinks during the walk (closest hit), so that subtrees on the stack may
+    /// become too far to visit; any-hit queries skip that bookkeeping.
+    const SHRINKS: bool;
     /// Current ends of the rays' intervals.
     fn tfar(&self) -> F32x8;
     /// Rays still looking for an answer.
@@ -162,7 +232,7 @@ pub(crate) trait Query8 {
 /// Walks `nodes` with eight rays, calling `leaf` for every leaf that any active ray reaches.
 /// Returns early when no ray is left active.
 #[inline(always)]
-pub(crate) fn walk8<Q: Query8>(nodes: &[Node], ray: &BoxRay8, q: &mut Q, mut leaf: impl FnMut(&mut Q, &Node)) {
+pub(crate) fn walk8<Q: Query8, B: Boxes8>(nodes: &[Node], ray: &B, q: &mut Q, mut leaf: impl FnMut(&mut Q, &Node)) {
     let Some(root) = nodes.first() else { return };
     let (m, _) = ray.enter(root, q.tfar());
     if (m & q.active()).none() {
@@ -194,7 +264,11 @@ pub(crate) fn walk8<Q: Query8>(nodes: &[Node], ray: &BoxRay8, q: &mut Q, mut lea
                     } else {
                         (r, node.offset, ml, tl)
                     };
-                    let entry = F32x8::select(far_m, far_t, F32x8::splat(f32::INFINITY)).reduce_min();
+                    let entry = if Q::SHRINKS {
+                        F32x8::select(far_m, far_t, F32x8::splat(f32::INFINITY)).reduce_min()
+                    } else {
+                        f32::NEG_INFINITY
+                    };
                     stack[sp] = (far, entry);
                     sp += 1;
                     node = near;
@@ -217,8 +291,11 @@ pub(crate) fn walk8<Q: Query8>(nodes: &[Node], ray: &BoxRay8, q: &mut Q, mut lea
             }
             sp -= 1;
             let (n, entry) = stack[sp];
-            let reach = F32x8::select(q.active(), q.tfar(), F32x8::splat(f32::NEG_INFINITY)).reduce_max();
-            if entry <= reach * EXIT_SCALE {
+            if !Q::SHRINKS
+                || entry
+                    <= F32x8::select(q.active(), q.tfar(), F32x8::splat(f32::NEG_INFINITY)).reduce_max()
+                        * EXIT_SCALE
+            {
                 node = &nodes[n as usize];
                 break;
             }

@@ -203,27 +203,38 @@ impl Shear8 {
     /// The constants for the lanes of `dir`; lanes outside `active` are given the permutation of
     /// an active lane, so that they do not force the mixed path.
     pub(crate) fn new(dir: &Vec3x8, active: M32x8) -> Self {
-        let first = (0..8).find(|&i| active.lane(i)).unwrap_or(0);
-        let k_first = permutation(Vec3::from(dir.lane(first)));
-        let ks: [[usize; 3]; 8] = std::array::from_fn(|i| {
-            if active.lane(i) { permutation(Vec3::from(dir.lane(i))) } else { k_first }
-        });
+        // `permutation` lane by lane in SIMD: the dominant axis kz (first of the largest), then
+        // (kx, ky) swapped where the direction points backwards along kz.
+        let (ax, ay, az) = (dir.x.abs(), dir.y.abs(), dir.z.abs());
+        let kz0 = ax.ge(ay) & ax.ge(az);
+        let kz1 = !kz0 & ay.ge(az);
+        let kz2 = !(kz0 | kz1);
+        let neg = F32x8::select(kz0, dir.x, F32x8::select(kz1, dir.y, dir.z)).lt(F32x8::ZERO);
         let d = [dir.x, dir.y, dir.z];
-        // The shear is computed in SIMD from the permuted direction, with the same divisions as
+        // The shear is computed from the permuted direction with the same divisions as
         // `shear_of`, so each lane equals the single-ray constants bit for bit.
         let shear_from = |[dx, dy, dz]: [F32x8; 3]| [dx / dz, dy / dz, F32x8::splat(1.0) / dz];
-        if ks.iter().all(|k| *k == k_first) {
-            let s = ShearUniform8 { k: k_first, s: [F32x8::ZERO; 3] };
-            Shear8::Uniform(ShearUniform8 { s: shear_from(s.permute(d)), ..s })
-        } else {
-            let mut s = ShearMixed8 {
-                is0: std::array::from_fn(|c| M32x8::from_bools(ks.map(|k| k[c] == 0))),
-                is1: std::array::from_fn(|c| M32x8::from_bools(ks.map(|k| k[c] == 1))),
-                s: [F32x8::ZERO; 3],
-            };
-            s.s = shear_from(s.permute(d));
-            Shear8::Mixed(s)
+        let a = active.bitmask();
+        let all_or_none = |m: M32x8| {
+            let b = m.bitmask() & a;
+            b == 0 || b == a
+        };
+        let uniform_kz = [kz0, kz1, kz2].iter().position(|m| m.bitmask() & a == a);
+        if let (Some(kz), true) = (uniform_kz, all_or_none(neg)) {
+            let backwards = a != 0 && neg.bitmask() & a == a;
+            let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
+            let k = if backwards { [ky, kx, kz] } else { [kx, ky, kz] };
+            let s = ShearUniform8 { k, s: [F32x8::ZERO; 3] };
+            return Shear8::Uniform(ShearUniform8 { s: shear_from(s.permute(d)), ..s });
         }
+        let pos = !neg;
+        let mut s = ShearMixed8 {
+            is0: [(kz1 & neg) | (kz2 & pos), (kz1 & pos) | (kz2 & neg), kz0],
+            is1: [(kz0 & pos) | (kz2 & neg), (kz0 & neg) | (kz2 & pos), kz1],
+            s: [F32x8::ZERO; 3],
+        };
+        s.s = shear_from(s.permute(d));
+        Shear8::Mixed(s)
     }
 }
 
