@@ -16,13 +16,33 @@ pub struct Mesh {
     pub positions: Vec<Vec3>,
     /// Optional per-vertex shading normals (same length as `positions`, unit length).
     pub normals: Option<Vec<Vec3>>,
-    /// Optional per-vertex texture coordinates (same length as `positions`).
+    /// Optional per-vertex texture coordinates (same length as `positions`), with v = 0 at the
+    /// top row of the texture as in glTF (the OBJ and PLY loaders flip v).
     pub uvs: Option<Vec<Vec2>>,
     /// Triangles as indices into the vertex arrays. Every index is in range and every triangle
     /// has a non-zero area: loaders drop degenerate triangles (and count them).
     pub indices: Vec<[u32; 3]>,
     /// Per-triangle index into [`Scene::materials`].
     pub material_ids: Vec<u32>,
+}
+
+impl Mesh {
+    /// The object-space corners of triangle `t`.
+    pub fn triangle(&self, t: usize) -> [Vec3; 3] {
+        self.indices[t].map(|i| self.positions[i as usize])
+    }
+
+    /// The unit geometric normal of triangle `t`: the right-hand rule on its winding, the side
+    /// an emissive triangle emits to.
+    pub fn triangle_normal(&self, t: usize) -> Vec3 {
+        let [a, b, c] = self.triangle(t);
+        (b - a).cross(c - a).normalize_or_zero()
+    }
+
+    /// Object-space bounds of the vertices.
+    pub fn bounds(&self) -> Bounds {
+        self.positions.iter().fold(Bounds::EMPTY, |b, &p| b.including(p))
+    }
 }
 
 /// How a surface scatters light. Parameters follow the OBJ/MTL reading of them; the renderer's
@@ -152,6 +172,40 @@ pub struct Instance {
     pub transform: Affine3A,
 }
 
+/// An axis-aligned box. [`Bounds::EMPTY`] (min = +∞, max = −∞) is the box of nothing.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bounds {
+    /// Smallest corner.
+    pub min: Vec3,
+    /// Largest corner.
+    pub max: Vec3,
+}
+
+impl Bounds {
+    /// The empty box, neutral for [`Bounds::including`] and [`Bounds::union`].
+    pub const EMPTY: Self = Self { min: Vec3::INFINITY, max: Vec3::NEG_INFINITY };
+
+    /// True if the box contains no point.
+    pub fn is_empty(&self) -> bool {
+        self.min.cmpgt(self.max).any()
+    }
+
+    /// The smallest box containing this one and `p`.
+    pub fn including(self, p: Vec3) -> Self {
+        Self { min: self.min.min(p), max: self.max.max(p) }
+    }
+
+    /// The smallest box containing both boxes.
+    pub fn union(self, other: Self) -> Self {
+        Self { min: self.min.min(other.min), max: self.max.max(other.max) }
+    }
+
+    /// Extent along each axis (negative for the empty box).
+    pub fn size(&self) -> Vec3 {
+        self.max - self.min
+    }
+}
+
 /// Everything a renderer needs besides its own settings.
 #[derive(Clone, Debug, Default)]
 pub struct Scene {
@@ -167,4 +221,42 @@ pub struct Scene {
     pub lights: Vec<Light>,
     /// The scene's own camera, if its file has one.
     pub camera: Option<Camera>,
+}
+
+impl Scene {
+    /// World-space bounds of every instance, exact (each vertex is transformed, so rotated
+    /// instances do not inflate it). [`Bounds::EMPTY`] for a scene without geometry.
+    pub fn bounds(&self) -> Bounds {
+        self.instances
+            .iter()
+            .filter_map(|instance| Some((instance, self.meshes.get(instance.mesh as usize)?)))
+            .fold(Bounds::EMPTY, |bounds, (instance, mesh)| {
+                mesh.positions
+                    .iter()
+                    .fold(bounds, |b, &p| b.including(instance.transform.transform_point3(p)))
+            })
+    }
+
+    /// Triangles the renderer intersects: each mesh counted once per instance.
+    pub fn triangle_count(&self) -> usize {
+        self.instances
+            .iter()
+            .filter_map(|instance| self.meshes.get(instance.mesh as usize))
+            .map(|mesh| mesh.indices.len())
+            .sum()
+    }
+
+    /// Area-light triangles (emissive material), each mesh counted once per instance.
+    pub fn emissive_triangle_count(&self) -> usize {
+        self.instances
+            .iter()
+            .filter_map(|instance| self.meshes.get(instance.mesh as usize))
+            .map(|mesh| {
+                mesh.material_ids
+                    .iter()
+                    .filter(|&&m| self.materials.get(m as usize).is_some_and(Material::is_emissive))
+                    .count()
+            })
+            .sum()
+    }
 }

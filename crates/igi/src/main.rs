@@ -1,1 +1,47 @@
-fn main() {}
+//! `igi`: the command line of the interactive global-illumination renderer.
+//!
+//! `main` only checks the CPU and hands over: this build may use AVX2/FMA instructions anywhere
+//! in its own code, so nothing of it runs before [`cpu_check::require_cpu_features`].
+
+mod bench;
+mod cli;
+mod cmd_info;
+mod cmd_render;
+mod cpu_check;
+
+use std::process::ExitCode;
+
+fn main() -> ExitCode {
+    cpu_check::require_cpu_features();
+    run()
+}
+
+/// Everything after the CPU check: arguments, logging, the subcommand, error reporting.
+#[inline(never)]
+fn run() -> ExitCode {
+    let cli = <cli::Cli as clap::Parser>::parse();
+    cli::init_logging();
+    match cli::dispatch(cli.command) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(err) => {
+            eprintln!("igi: error: {}", one_line(&err));
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// The error and its causes on one line, `a: b: c`, without a backtrace. A cause whose text
+/// the message already ends with (errors that print their source themselves) is not repeated.
+fn one_line(err: &anyhow::Error) -> String {
+    let mut line = String::new();
+    for cause in err.chain() {
+        let text = cause.to_string();
+        if line.is_empty() {
+            line = text;
+        } else if !line.ends_with(&text) {
+            line.push_str(": ");
+            line.push_str(&text);
+        }
+    }
+    line.replace('\n', " ")
+}

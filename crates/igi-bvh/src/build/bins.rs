@@ -1,38 +1,72 @@
-//! Centroid binning and the binned SAH split search of Wald 2007, "On fast Construction of
-//! SAH-based Bounding Volume Hierarchies", section 3.
+//! Binning and the binned SAH split search of Wald 2007, "On fast Construction of SAH-based
+//! Bounding Volume Hierarchies", section 3, extended by a size axis.
 //!
 //! A node's primitives are sorted by centroid into K equally wide bins per axis over the node's
 //! centroid bounds; each bin keeps the union of its primitives' boxes and their number. The K - 1
 //! planes between bins are the split candidates, evaluated in two sweeps over the bins.
+//!
+//! A fourth "axis" bins primitives by size: bin k holds the boxes whose surface area is a
+//! fraction in `(2^-(k+1), 2^-k]` of the node's. Its candidates split off the largest primitives,
+//! at most a few leaves' worth, from the rest. Plane splits cannot isolate a handful of
+//! primitives that span the node (the walls, floor and ceiling of a room): those inflate
+//! whichever child they land in, level after level. The full-sweep reference finds such splits
+//! only where exact coordinate ties happen to line them up. On the conference room, this takes
+//! the binned SAH cost from 12.6 % above the full sweep to 1 % above; elsewhere it changes little.
+//! Larger groups are not offered: splitting big from small primitives makes two children that
+//! overlap everywhere, which the greedy SAH underestimates.
+//!
 //! Bins merge exactly (min, max and integer sums are associative and commutative), so binning
 //! chunks of a node in parallel gives the same bins, bit for bit, as binning it in one go.
 
 use glam::Vec3A;
 
 use super::box3a::Box3A;
+use super::prim_box::PrimBox;
 
 /// The largest supported number of bins per axis.
 pub(crate) const MAX_BINS: usize = 32;
+/// Binning axes: x, y and z by centroid, then size.
+const AXES: usize = 4;
+/// The axis that bins primitives by size, largest first.
+const SIZE_AXIS: usize = 3;
 
-/// Maps a centroid to its bin on each axis (Wald 2007, section 3.1):
-/// `bin = ⌊K (1 - ε) (c - c_min) / (c_max - c_min)⌋` over the node's centroid bounds.
+/// Maps a primitive to its bin on each axis. On the centroid axes, the bin coordinate is
+/// `u = K (1 - ε) (c - c_min) / (c_max - c_min)` over the node's centroid bounds (Wald 2007,
+/// section 3.1) and the bin is `⌊u⌋`, computed as `u - 1/2` rounded to nearest (a float add of
+/// 1.5 · 2²³ leaves the rounded integer in the low mantissa bits): no float-to-integer
+/// conversion, no branches. A centroid exactly on an inner boundary goes to the even bin, not
+/// the upper one, which is as good a bin as any: all that matters is that binning and
+/// partitioning agree, and both use this one mapping.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct BinMapping {
-    origin: Vec3A,
     scale: Vec3A,
+    offset: Vec3A,
+    last: Vec3A,
+    inv_area: f32,
     count: usize,
 }
 
+/// 1.5 · 2²³: adding it to a float in [-2²², 2²²] rounds that float to an integer and leaves the
+/// integer in the low bits of the sum.
+const ROUNDING_BIAS: f32 = 12_582_912.0;
+
 impl BinMapping {
-    /// The mapping of `count` bins (2 ..= [`MAX_BINS`]) over `centroid_bounds`. An axis on which
-    /// all centroids coincide maps everything to bin 0, so it offers no split.
-    pub fn new(centroid_bounds: &Box3A, count: usize) -> Self {
+    /// The mapping of `count` bins (2 ..= [`MAX_BINS`]) for a node with these bounds and
+    /// centroid bounds. An axis on which all centroids coincide maps everything to bin 0, so it
+    /// offers no split.
+    pub fn new(bounds: &Box3A, centroid_bounds: &Box3A, count: usize) -> Self {
         debug_assert!((2..=MAX_BINS).contains(&count));
         let extent = centroid_bounds.max - centroid_bounds.min;
         // The factor 1 - ε keeps the largest centroid in bin K - 1 rather than K.
         let k = count as f32 * (1.0 - 1e-6);
         let scale = Vec3A::select(extent.cmpgt(Vec3A::ZERO), k / extent, Vec3A::ZERO);
-        Self { origin: centroid_bounds.min, scale, count }
+        Self {
+            scale,
+            offset: -centroid_bounds.min * scale - 0.5,
+            last: Vec3A::splat((count - 1) as f32),
+            inv_area: 1.0 / bounds.half_area(),
+            count,
+        }
     }
 
     /// Number of bins per axis.
@@ -41,30 +75,49 @@ impl BinMapping {
         self.count
     }
 
-    /// The bin of centroid `c` on each axis. Binning and partitioning both go through this one
-    /// computation, so they agree exactly on which side of a split plane a primitive lies.
+    /// The centroid bins of a primitive on x, y and z, still as the low bits of floats.
     #[inline(always)]
-    pub fn bins_of(&self, c: Vec3A) -> [usize; 3] {
-        let b = (c - self.origin) * self.scale;
-        let last = self.count - 1;
-        // `as` saturates: NaN (0 · ∞ on a degenerate axis) becomes 0, +∞ becomes usize::MAX.
-        [(b.x as usize).min(last), (b.y as usize).min(last), (b.z as usize).min(last)]
+    fn centroid_bins(&self, prim: &PrimBox) -> [f32; 3] {
+        let u = prim.centroid().mul_add(self.scale, self.offset).max(Vec3A::ZERO).min(self.last);
+        (u + ROUNDING_BIAS).to_array()
     }
 
-    /// The bin of centroid `c` on one axis; the same value as `bins_of(c)[axis]`.
+    /// The bins of a primitive on all axes.
     #[inline(always)]
-    pub fn bin_of(&self, c: Vec3A, axis: usize) -> usize {
-        let b = (c - self.origin) * self.scale;
-        (b[axis] as usize).min(self.count - 1)
+    fn bins_of(&self, prim: &PrimBox) -> [usize; AXES] {
+        let [x, y, z] = self.centroid_bins(prim).map(|b| b.to_bits() as usize & (MAX_BINS - 1));
+        [x, y, z, self.size_bin(prim)]
+    }
+
+    /// The bin of a primitive on axis `AXIS`; the same value as `bins_of(prim)[AXIS]`.
+    #[inline(always)]
+    pub fn bin_of<const AXIS: usize>(&self, prim: &PrimBox) -> usize {
+        if AXIS == SIZE_AXIS {
+            self.size_bin(prim)
+        } else {
+            self.centroid_bins(prim)[AXIS].to_bits() as usize & (MAX_BINS - 1)
+        }
+    }
+
+    /// The size bin: `⌊-log₂ r⌋` for the area ratio `r` of primitive to node, read off the
+    /// binary exponent of `r` (biased exponent 126 for `r` in [1/2, 1)), clamped to the bins.
+    /// Degenerate ratios land in a valid bin: 0 (exponent 0) in the last, ∞ (an empty primitive
+    /// or a flat node) in the first.
+    #[inline(always)]
+    fn size_bin(&self, prim: &PrimBox) -> usize {
+        let ratio = prim.half_area() * self.inv_area;
+        let exponent = (ratio.to_bits() >> 23) as i32;
+        (126 - exponent).clamp(0, self.count as i32 - 1) as usize & (MAX_BINS - 1)
     }
 }
 
-/// The best split plane found by [`Bins::best_split`].
+/// The best split found by [`Bins::best_split`]: the primitives in bins `< bin` on `axis` go
+/// left.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct BinSplit {
-    /// Split axis (0 = x, 1 = y, 2 = z).
+    /// Split axis: 0, 1, 2 for x, y, z by centroid, 3 by size.
     pub axis: usize,
-    /// First bin of the right side: primitives in bins `< bin` go left.
+    /// First bin of the right side.
     pub bin: usize,
     /// `A(L) N(L) + A(R) N(R)` with half areas, the variable part of the split's SAH cost.
     pub area_count_sum: f32,
@@ -79,22 +132,22 @@ pub(crate) struct BinSplit {
 /// Per-axis bins: the union of the boxes and the number of the primitives in each bin.
 #[derive(Clone, Debug)]
 pub(crate) struct Bins {
-    boxes: [[Box3A; MAX_BINS]; 3],
-    counts: [[u32; MAX_BINS]; 3],
+    boxes: [[Box3A; MAX_BINS]; AXES],
+    counts: [[u32; MAX_BINS]; AXES],
 }
 
 impl Bins {
     /// Empty bins.
     pub fn new() -> Self {
-        Self { boxes: [[Box3A::EMPTY; MAX_BINS]; 3], counts: [[0; MAX_BINS]; 3] }
+        Self { boxes: [[Box3A::EMPTY; MAX_BINS]; AXES], counts: [[0; MAX_BINS]; AXES] }
     }
 
-    /// Adds primitives, given by their boxes, to the bins of their centroids.
-    pub fn add(&mut self, prims: &[Box3A], mapping: &BinMapping) {
+    /// Adds primitives, given by their boxes, to their bins.
+    pub fn add(&mut self, prims: &[PrimBox], mapping: &BinMapping) {
         for p in prims {
-            let bins = mapping.bins_of(p.centroid());
-            for (axis, &bin) in bins.iter().enumerate() {
-                self.boxes[axis][bin] = self.boxes[axis][bin].union(*p);
+            let bounds = p.bounds();
+            for (axis, bin) in mapping.bins_of(p).into_iter().enumerate() {
+                self.boxes[axis][bin] = self.boxes[axis][bin].union(bounds);
                 self.counts[axis][bin] += 1;
             }
         }
@@ -102,7 +155,7 @@ impl Bins {
 
     /// The bins of two disjoint sets of primitives combined.
     pub fn merge(mut self, other: &Self) -> Self {
-        for axis in 0..3 {
+        for axis in 0..AXES {
             for bin in 0..MAX_BINS {
                 self.boxes[axis][bin] = self.boxes[axis][bin].union(other.boxes[axis][bin]);
                 self.counts[axis][bin] += other.counts[axis][bin];
@@ -111,17 +164,19 @@ impl Bins {
         self
     }
 
-    /// The split plane between bins with the lowest `A(L) N(L) + A(R) N(R)` over all axes, or
-    /// `None` if every axis has all primitives in one bin (then all centroids coincide).
-    /// Ties go to the lowest axis, then the leftmost plane.
-    pub fn best_split(&self, bin_count: usize) -> Option<BinSplit> {
+    /// The split between bins with the lowest `A(L) N(L) + A(R) N(R)` over all axes, where a
+    /// split on the size axis may isolate at most `max_isolated` primitives; `None` if no split
+    /// has primitives on both sides (then all centroids coincide). Ties go to the lowest axis,
+    /// then the leftmost split.
+    pub fn best_split(&self, bin_count: usize, max_isolated: usize) -> Option<BinSplit> {
         let mut best: Option<BinSplit> = None;
-        for axis in 0..3 {
+        for axis in 0..AXES {
             let boxes = &self.boxes[axis][..bin_count];
             let counts = &self.counts[axis][..bin_count];
             let total: u32 = counts.iter().sum();
+            let max_left = if axis == SIZE_AXIS { max_isolated as u32 } else { total };
 
-            // Sweep right to left: area times count of the bins [i, K) for every plane i.
+            // Sweep right to left: area times count of the bins [i, K) for every split i.
             let mut right_cost = [0.0f32; MAX_BINS];
             let (mut right, mut right_count) = (Box3A::EMPTY, 0u32);
             for i in (1..bin_count).rev() {
@@ -132,7 +187,7 @@ impl Bins {
                 }
             }
 
-            // Sweep left to right, completing the cost of each plane with both sides non-empty.
+            // Sweep left to right, completing the cost of each split with both sides non-empty.
             let (mut left, mut left_count) = (Box3A::EMPTY, 0u32);
             for i in 1..bin_count {
                 left = left.union(boxes[i - 1]);
@@ -140,7 +195,7 @@ impl Bins {
                 if left_count == 0 {
                     continue;
                 }
-                if left_count == total {
+                if left_count == total || left_count > max_left {
                     break;
                 }
                 let cost = left.half_area() * left_count as f32 + right_cost[i];

@@ -3,6 +3,12 @@
 //! [`Aabb`] stores `Vec3`s (24 bytes) for a compact public API; the builders copy primitive
 //! bounds into this form once so that growing, merging and centroid computations run on whole
 //! registers and two boxes share a 64-byte cache line.
+//!
+//! Empty primitive boxes (an instance of an empty mesh, say) are copied as [`Box3A::VOID`],
+//! an empty box with finite corners: its centroid is the origin rather than NaN
+//! (`0.5 · (∞ - ∞)`), so binning, partitioning and centroid bounds need no NaN handling, and its
+//! union with any finite box is still that box. Node boxes are written back with
+//! [`Aabb::EMPTY`]'s corners whenever they are empty.
 
 use glam::Vec3A;
 
@@ -23,21 +29,25 @@ impl Box3A {
     /// The empty box, identity of [`Box3A::union`].
     pub const EMPTY: Self = Self { min: Vec3A::INFINITY, max: Vec3A::NEG_INFINITY };
 
+    /// The empty box with finite corners that stands in for empty primitive boxes.
+    pub const VOID: Self = Self { min: Vec3A::MAX, max: Vec3A::MIN };
+
     /// The smallest box containing both boxes.
     #[inline(always)]
     pub fn union(self, o: Self) -> Self {
         Self { min: self.min.min(o.min), max: self.max.max(o.max) }
     }
 
-    /// This box grown to contain the point `p`. NaN coordinates are ignored: they come from the
-    /// centroids of empty (or infinite) primitive boxes, which take no room.
+    /// This box grown to contain the point `p`.
     #[inline(always)]
     pub fn grow(self, p: Vec3A) -> Self {
-        let nan = p.is_nan_mask();
-        Self {
-            min: Vec3A::select(nan, self.min, self.min.min(p)),
-            max: Vec3A::select(nan, self.max, self.max.max(p)),
-        }
+        Self { min: self.min.min(p), max: self.max.max(p) }
+    }
+
+    /// True if the box contains no point.
+    #[inline(always)]
+    pub fn is_empty(&self) -> bool {
+        self.min.cmpgt(self.max).any()
     }
 
     /// Centre point.
@@ -59,28 +69,34 @@ impl Box3A {
         boxes.iter().fold(Self::EMPTY, |acc, b| acc.union(*b))
     }
 
-    /// The bounds of the centroids of a slice of boxes.
-    pub fn centroid_bounds_of(boxes: &[Self]) -> Self {
-        boxes.iter().fold(Self::EMPTY, |acc, b| acc.grow(b.centroid()))
-    }
-
     /// A leaf node with this box over `count` primitives starting at leaf-order index `first`.
     #[inline]
     pub fn leaf(&self, first: u32, count: u32) -> Node {
         debug_assert!(count > 0, "a leaf holds at least one primitive");
-        Node { min: self.min.to_array(), offset: first, max: self.max.to_array(), count }
+        let (min, max) = self.node_corners();
+        Node { min, offset: first, max, count }
     }
 
     /// An inner node with this box whose children are nodes `children` and `children + 1`.
     #[inline]
     pub fn inner(&self, children: u32) -> Node {
-        Node { min: self.min.to_array(), offset: children, max: self.max.to_array(), count: 0 }
+        let (min, max) = self.node_corners();
+        Node { min, offset: children, max, count: 0 }
+    }
+
+    /// The corners as stored in a node: those of [`Aabb::EMPTY`] if the box is empty.
+    #[inline]
+    fn node_corners(&self) -> ([f32; 3], [f32; 3]) {
+        let b = if self.is_empty() { Self::EMPTY } else { *self };
+        (b.min.to_array(), b.max.to_array())
     }
 }
 
 impl From<&Aabb> for Box3A {
+    /// The box of `b`, or [`Box3A::VOID`] if `b` is empty.
     #[inline(always)]
     fn from(b: &Aabb) -> Self {
-        Self { min: b.min.into(), max: b.max.into() }
+        let b = Self { min: b.min.into(), max: b.max.into() };
+        if b.is_empty() { Self::VOID } else { b }
     }
 }

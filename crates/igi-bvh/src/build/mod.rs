@@ -13,7 +13,9 @@ mod binned_sah;
 mod bins;
 mod box3a;
 mod partition;
+mod prim_box;
 mod refit;
+mod small_sweep;
 mod sweep_sah;
 
 pub use binned_sah::build_binned_sah;
@@ -37,7 +39,7 @@ impl BuildParams {
     /// Upper limit of [`BuildParams::max_leaf_size`], so that a leaf's count fits in 4 bits.
     pub const MAX_LEAF_SIZE: u32 = 15;
     /// Upper limit of [`BuildParams::bins`].
-    pub const MAX_BINS: u32 = bins::MAX_BINS as u32;
+    pub const MAX_BINS: u32 = 32;
 
     /// Panics with a message naming the field if a parameter is out of range.
     fn assert_valid(&self) {

@@ -5,18 +5,34 @@ use std::cmp::Ordering;
 
 use super::bins::BinMapping;
 use super::box3a::Box3A;
+use super::prim_box::PrimBox;
 
-/// Moves the primitives whose centroid lies in a bin below `bin` on `axis` to the front
-/// (Hoare's scheme: swap pairs that are on the wrong sides). Returns their number and the
-/// centroid bounds of both sides.
+/// Moves the primitives in a bin below `bin` on `axis` to the front. Returns their number and
+/// the centroid bounds of both sides.
 pub(crate) fn partition_at_plane(
-    boxes: &mut [Box3A],
+    boxes: &mut [PrimBox],
     ids: &mut [u32],
     mapping: &BinMapping,
     axis: usize,
     bin: usize,
 ) -> (usize, Box3A, Box3A) {
-    let goes_left = |b: &Box3A| mapping.bin_of(b.centroid(), axis) < bin;
+    // One instance per axis, so that picking the axis's bin is not a run-time index.
+    match axis {
+        0 => partition(boxes, ids, |b| mapping.bin_of::<0>(b) < bin),
+        1 => partition(boxes, ids, |b| mapping.bin_of::<1>(b) < bin),
+        2 => partition(boxes, ids, |b| mapping.bin_of::<2>(b) < bin),
+        _ => partition(boxes, ids, |b| mapping.bin_of::<3>(b) < bin),
+    }
+}
+
+/// Moves the primitives for which `goes_left` holds to the front (Hoare's scheme: swap pairs
+/// that are on the wrong sides). Returns their number and the centroid bounds of both sides.
+#[inline(always)]
+fn partition(
+    boxes: &mut [PrimBox],
+    ids: &mut [u32],
+    goes_left: impl Fn(&PrimBox) -> bool,
+) -> (usize, Box3A, Box3A) {
     let (mut left_centroids, mut right_centroids) = (Box3A::EMPTY, Box3A::EMPTY);
     let (mut i, mut j) = (0, boxes.len());
     loop {
@@ -38,10 +54,9 @@ pub(crate) fn partition_at_plane(
 
 /// Reorders the primitives so that the `len / 2` with the smallest centroids on `axis` come
 /// first (quickselect with a median-of-three pivot and three-way partitioning, so that equal
-/// centroids cost one pass). Centroids compare by [`f32::total_cmp`], so NaN centroids (of
-/// empty boxes) order consistently. Returns `len / 2`.
-pub(crate) fn partition_at_median(boxes: &mut [Box3A], ids: &mut [u32], axis: usize) -> usize {
-    let key = |b: &Box3A| b.centroid()[axis];
+/// centroids cost one pass). Returns `len / 2`.
+pub(crate) fn partition_at_median(boxes: &mut [PrimBox], ids: &mut [u32], axis: usize) -> usize {
+    let key = |b: &PrimBox| b.centroid()[axis];
     let median = boxes.len() / 2;
     let (mut lo, mut hi) = (0, boxes.len());
     while hi - lo > 1 {

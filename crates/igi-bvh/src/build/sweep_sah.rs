@@ -6,8 +6,8 @@
 
 use glam::Vec3A;
 
-use super::{BuildParams, levels_to_split};
 use super::box3a::Box3A;
+use super::{BuildParams, levels_to_split};
 use crate::aabb::Aabb;
 use crate::bvh::Bvh;
 use crate::node::Node;
@@ -92,9 +92,7 @@ impl SweepBuilder {
         let max_leaf = self.params.max_leaf_size as usize;
         let leaf_allowed = count <= max_leaf;
         let mut split = self.best_split(first, count);
-        if leaf_allowed
-            && self.params.leaf_is_cheaper(count, bounds.half_area(), split.area_count_sum)
-        {
+        if leaf_allowed && self.params.leaf_is_cheaper(count, bounds.half_area(), split.area_count_sum) {
             return bounds.leaf(first as u32, count as u32);
         }
         let larger = split.left_count.max(count - split.left_count);
@@ -114,16 +112,14 @@ impl SweepBuilder {
         let pair = self.nodes.len();
         self.nodes.extend([Node::default(); 2]);
         self.nodes[pair] = self.subtree(first, split.left_count, depth + 1, left_bounds);
-        self.nodes[pair + 1] =
-            self.subtree(mid, count - split.left_count, depth + 1, right_bounds);
+        self.nodes[pair + 1] = self.subtree(mid, count - split.left_count, depth + 1, right_bounds);
         bounds.inner(pair as u32)
     }
 
     /// The split with the lowest `A(L) N(L) + A(R) N(R)` over all `count - 1` positions of all
     /// three axes (ties to the lowest axis, then the leftmost position).
     fn best_split(&mut self, first: usize, count: usize) -> Split {
-        let mut best =
-            Split { axis: 0, left_count: count / 2, area_count_sum: f32::INFINITY };
+        let mut best = Split { axis: 0, left_count: count / 2, area_count_sum: f32::INFINITY };
         for axis in 0..3 {
             let order = &self.orders[axis][first..first + count];
             let mut right = Box3A::EMPTY;

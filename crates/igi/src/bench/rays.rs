@@ -104,11 +104,10 @@ struct Report {
     results: Vec<Measurement>,
 }
 
-/// A primary hit as the shadow pass needs it: position, normal facing the camera.
+/// A primary hit as the shadow pass needs it: the position, or none.
 #[derive(Clone, Copy, Debug, Default)]
 struct HitRec {
     p: Vec3,
-    n: Vec3,
     valid: bool,
 }
 
@@ -164,12 +163,8 @@ fn median_run(reps: usize, mut f: impl FnMut() -> (f64, u64, u64)) -> (f64, u64,
     (times[times.len() / 2], warm.1, warm.2)
 }
 
-fn hit_record(accel: &Accel, ray: &Ray, t: f32, instance: u32, prim: u32) -> HitRec {
-    let mut n = accel.geometric_normal(instance, prim);
-    if n.dot(ray.dir) > 0.0 {
-        n = -n;
-    }
-    HitRec { p: ray.origin + ray.dir * t, n, valid: true }
+fn hit_record(ray: &Ray, t: f32) -> HitRec {
+    HitRec { p: ray.at(t), valid: true }
 }
 
 /// Runs the benchmark and prints (and optionally writes) the results.
@@ -283,7 +278,7 @@ fn primary_single(accel: &Accel, cam: &PinholeCamera, tiling: &Tiling, tile: usi
             let ray = cam.ray(x, y);
             let h = accel.intersect(&ray);
             let i = ((y - y0) * tiling.size + (x - x0)) as usize;
-            out[i] = if h.is_hit() { hit_record(accel, &ray, h.t, h.instance, h.prim) } else { HitRec::default() };
+            out[i] = if h.is_hit() { hit_record(&ray, h.t) } else { HitRec::default() };
             rays += 1;
             hits += h.is_hit() as u64;
         }
@@ -315,8 +310,7 @@ fn primary_packet8(accel: &Accel, cam: &PinholeCamera, tiling: &Tiling, tile: us
                 }
                 let p = ((by + i as u32 / 4) * tiling.size + bx + i as u32 % 4) as usize;
                 out[p] = if hit_mask.lane(i) {
-                    let h = hp.hit(i);
-                    hit_record(accel, ray, h.t, h.instance, h.prim)
+                    hit_record(ray, hp.t.lane(i))
                 } else {
                     HitRec::default()
                 };
@@ -355,7 +349,8 @@ fn shadow_single(c: &ShadowCtx, tile: usize, hits: &[HitRec]) -> (u64, u64) {
             for l in &c.vpls[set * c.k..(set + 1) * c.k] {
                 let d = l.p - h.p;
                 let dist = d.length();
-                let dir = if dist > 0.0 { d / dist } else { Vec3::ZERO };
+                // d · (1/dist), as the packet set-up and embree-bench compute it.
+                let dir = if dist > 0.0 { d * (1.0 / dist) } else { Vec3::ZERO };
                 let ray = Ray { origin: h.p, dir, tnear: c.eps_abs, tfar: dist * SHADOW_TFAR_SCALE };
                 rays += 1;
                 blocked += c.accel.occluded(&ray) as u64;

@@ -1,0 +1,325 @@
+//! The BVH builders: every documented invariant of `Bvh` on many input distributions (down to
+//! one primitive, coincident centroids, flat clusters, empty boxes, depth-hostile spacing), the
+//! same tree at any thread count, SAH cost within 5 % of the full-sweep reference, and refitting.
+
+#[path = "../benches/triangle_soup/mod.rs"]
+mod triangle_soup;
+
+use glam::Vec3;
+use igi_bvh::{Aabb, BuildParams, Bvh, MAX_DEPTH, build_binned_sah, build_sweep_sah};
+use triangle_soup::{Rng, SCENES, Triangle, load_scene, random_triangles, triangle_bounds};
+
+/// Checks every invariant documented on [`Bvh`], with `context` in the panic messages.
+fn check_invariants(bvh: &Bvh, prims: &[Aabb], params: &BuildParams, context: &str) {
+    let n = prims.len();
+    assert_eq!(bvh.prim_order.len(), n, "{context}: prim_order length");
+    if n == 0 {
+        assert!(bvh.is_empty() && bvh.nodes.is_empty(), "{context}: empty input gives no nodes");
+        return;
+    }
+    let mut seen = vec![false; n];
+    for &p in &bvh.prim_order {
+        assert!(!std::mem::replace(&mut seen[p as usize], true), "{context}: {p} twice in prim_order");
+    }
+
+    let mut reached = vec![false; bvh.nodes.len()];
+    let mut covered = vec![false; n];
+    let mut leaves = 0;
+    let (_, depth) = check_node(bvh, prims, params, 0, 1, &mut reached, &mut covered, &mut leaves, context);
+    assert!(reached.iter().all(|&r| r), "{context}: unreachable nodes");
+    assert!(covered.iter().all(|&c| c), "{context}: primitives in no leaf");
+    assert!(depth <= MAX_DEPTH, "{context}: depth {depth} > MAX_DEPTH");
+    assert_eq!(bvh.depth(), depth, "{context}: Bvh::depth");
+    assert_eq!(bvh.leaf_count(), leaves, "{context}: Bvh::leaf_count");
+    if n == 1 {
+        assert_eq!(bvh.nodes.len(), 1, "{context}: one primitive gives a single leaf");
+    }
+}
+
+/// Checks node `i` at `depth` and its subtree; returns the exact union of its primitives' boxes
+/// and the subtree's depth.
+#[allow(clippy::too_many_arguments)]
+fn check_node(
+    bvh: &Bvh,
+    prims: &[Aabb],
+    params: &BuildParams,
+    i: usize,
+    depth: usize,
+    reached: &mut [bool],
+    covered: &mut [bool],
+    leaves: &mut usize,
+    context: &str,
+) -> (Aabb, usize) {
+    assert!(!std::mem::replace(&mut reached[i], true), "{context}: node {i} reached twice");
+    let node = bvh.nodes[i];
+    let (union, subtree_depth) = if node.is_leaf() {
+        *leaves += 1;
+        assert!(node.count <= params.max_leaf_size, "{context}: leaf {i} holds {} > max", node.count);
+        let range = node.offset as usize..(node.offset + node.count) as usize;
+        assert!(range.end <= prims.len(), "{context}: leaf {i} range {range:?} out of bounds");
+        let mut union = Aabb::EMPTY;
+        for j in range {
+            assert!(!std::mem::replace(&mut covered[j], true), "{context}: leaf-order {j} in two leaves");
+            let prim = prims[bvh.prim_order[j] as usize];
+            assert!(node.bounds().contains(&prim), "{context}: leaf {i} misses primitive {j}");
+            union = union.union(prim);
+        }
+        (union, depth)
+    } else {
+        let children = node.offset as usize;
+        assert!(children > i, "{context}: node {i} has children {children} before it");
+        assert!(children + 1 < bvh.nodes.len(), "{context}: node {i} children out of bounds");
+        let mut union = Aabb::EMPTY;
+        let mut deepest = 0;
+        for c in [children, children + 1] {
+            let (child, d) = check_node(bvh, prims, params, c, depth + 1, reached, covered, leaves, context);
+            assert!(node.bounds().contains(&bvh.nodes[c].bounds()), "{context}: node {i} misses child {c}");
+            union = union.union(child);
+            deepest = deepest.max(d);
+        }
+        (union, deepest)
+    };
+    let expected = if union.is_empty() { Aabb::EMPTY } else { union };
+    assert_eq!(node.bounds(), expected, "{context}: node {i} box is not the union of its primitives");
+    (union, subtree_depth)
+}
+
+/// Builds with both builders and checks both results.
+fn check_builds(prims: &[Aabb], params: &BuildParams, context: &str) {
+    check_invariants(&build_binned_sah(prims, params), prims, params, &format!("binned, {context}"));
+    check_invariants(&build_sweep_sah(prims, params), prims, params, &format!("sweep, {context}"));
+}
+
+/// A box of half extent `size` around `centre`.
+fn cube(centre: Vec3, size: f32) -> Aabb {
+    Aabb::new(centre - size, centre + size)
+}
+
+/// Named box distributions that stress the builders in different ways.
+fn distributions() -> Vec<(&'static str, Vec<Aabb>)> {
+    let mut rng = Rng::new(7);
+    let mut d: Vec<(&'static str, Vec<Aabb>)> = Vec::new();
+    d.push(("one", vec![cube(Vec3::ONE, 0.5)]));
+    d.push(("two", vec![cube(Vec3::ZERO, 0.1), cube(Vec3::X, 0.1)]));
+    d.push(("three", vec![cube(Vec3::ZERO, 1.0), cube(Vec3::X, 0.1), cube(Vec3::Y, 0.1)]));
+    d.push(("uniform", (0..2000).map(|_| cube(rng.vec3(), 0.01 * rng.f32())).collect()));
+    d.push(("same centroid, growing sizes", (1..=100).map(|i| cube(Vec3::splat(3.0), i as f32)).collect()));
+    d.push(("identical boxes", vec![cube(Vec3::new(1.0, -2.0, 3.0), 0.25); 77]));
+    d.push(("points", (0..500).map(|_| cube(rng.vec3(), 0.0)).collect()));
+    d.push(("coincident points", vec![cube(Vec3::splat(-1.0), 0.0); 40]));
+    d.push(("flat cluster and huge boxes", {
+        let mut boxes: Vec<Aabb> = (0..3000)
+            .map(|_| {
+                let p = Vec3::new(1000.0 + rng.f32(), 1000.0 + rng.f32(), 0.0);
+                Aabb::new(p, p + Vec3::new(1e-3, 1e-3, 0.0))
+            })
+            .collect();
+        boxes.extend((0..6).map(|i| Aabb::new(Vec3::splat(-1e4), Vec3::new(1e4, 1e4, i as f32))));
+        boxes
+    }));
+    d.push((
+        "lines along x",
+        (0..300).map(|i| Aabb::new(Vec3::new(0.0, i as f32, 0.0), Vec3::new(50.0, i as f32, 0.0))).collect(),
+    ));
+    d.push((
+        "empty boxes mixed in",
+        (0..400).map(|i| if i % 3 == 0 { Aabb::EMPTY } else { cube(rng.vec3(), 0.02) }).collect(),
+    ));
+    d.push(("only empty boxes", vec![Aabb::EMPTY; 20]));
+    d.push((
+        "exponential spacing",
+        (0..120).map(|i| cube(Vec3::splat(1.3f32.powi(i)), 1.3f32.powi(i) * 0.1)).collect(),
+    ));
+    d.push(("huge coordinates", (0..300).map(|_| cube(1e30 * (rng.vec3() - 0.5), 1e28)).collect()));
+    d
+}
+
+#[test]
+fn empty_input_gives_an_empty_bvh() {
+    let params = BuildParams::default();
+    for bvh in [build_binned_sah(&[], &params), build_sweep_sah(&[], &params)] {
+        assert!(bvh.is_empty());
+        assert_eq!((bvh.nodes.len(), bvh.prim_order.len()), (0, 0));
+        assert_eq!((bvh.depth(), bvh.leaf_count(), bvh.bytes()), (0, 0, 0));
+        assert_eq!(bvh.sah_cost(&params), 0.0);
+    }
+}
+
+#[test]
+fn invariants_hold_on_all_distributions() {
+    let params = [
+        BuildParams::default(),
+        BuildParams { max_leaf_size: 1, ..Default::default() },
+        BuildParams { max_leaf_size: BuildParams::MAX_LEAF_SIZE, bins: 2, ..Default::default() },
+        BuildParams { bins: BuildParams::MAX_BINS, traversal_cost: 0.0, ..Default::default() },
+        BuildParams { max_leaf_size: 4, intersection_cost: 20.0, ..Default::default() },
+    ];
+    for (name, prims) in distributions() {
+        for (k, p) in params.iter().enumerate() {
+            check_builds(&prims, p, &format!("{name}, params #{k}"));
+        }
+    }
+}
+
+#[test]
+fn invariants_hold_on_large_inputs() {
+    // Large enough for parallel binning and parallel subtrees.
+    let triangles = random_triangles(60_000, 11);
+    let mut prims = triangle_bounds(&triangles);
+    check_invariants(
+        &build_binned_sah(&prims, &BuildParams::default()),
+        &prims,
+        &BuildParams::default(),
+        "random 60k",
+    );
+    // A dense cluster inside a sparse scene, like the conference room's tiny detailed object.
+    let mut rng = Rng::new(3);
+    prims.extend((0..40_000).map(|_| cube(Vec3::splat(0.5) + 1e-4 * rng.vec3(), 1e-6)));
+    check_invariants(
+        &build_binned_sah(&prims, &BuildParams::default()),
+        &prims,
+        &BuildParams::default(),
+        "cluster",
+    );
+}
+
+#[test]
+fn depth_stays_within_the_traversal_stack() {
+    // Boxes at powers of two: SAH splits peel off the largest box, so unbounded this would be
+    // a chain 240 levels deep.
+    let prims: Vec<Aabb> =
+        (0..240).map(|i| cube(Vec3::splat(2f32.powi(i - 120)), 2f32.powi(i - 122))).collect();
+    let params = BuildParams { max_leaf_size: 1, ..Default::default() };
+    for bvh in [build_binned_sah(&prims, &params), build_sweep_sah(&prims, &params)] {
+        check_invariants(&bvh, &prims, &params, "powers of two");
+        assert!(bvh.depth() > MAX_DEPTH - 8, "the input reaches the depth limit");
+    }
+}
+
+#[test]
+fn build_is_identical_at_any_thread_count() {
+    let mut prims = triangle_bounds(&random_triangles(120_000, 5));
+    prims.extend(vec![cube(Vec3::splat(0.25), 0.01); 5000]);
+    let params = BuildParams::default();
+    let build = |threads| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| build_binned_sah(&prims, &params))
+    };
+    let one = build(1);
+    assert_eq!(one, build(2), "1 vs 2 threads");
+    assert_eq!(one, build(3), "1 vs 3 threads");
+}
+
+#[test]
+fn sah_cost_of_a_single_leaf_is_its_intersection_cost() {
+    let prims = [cube(Vec3::ZERO, 1.0), cube(Vec3::ZERO, 0.9), cube(Vec3::ZERO, 0.8)];
+    let params = BuildParams { intersection_cost: 1.5, ..Default::default() };
+    let bvh = build_binned_sah(&prims, &params);
+    assert_eq!(bvh.nodes.len(), 1);
+    assert_eq!(bvh.sah_cost(&params), 4.5);
+}
+
+/// Asserts that the binned build's SAH cost is at most 5 % above the full sweep's.
+fn assert_sah_close_to_sweep(prims: &[Aabb], context: &str) {
+    let params = BuildParams::default();
+    let binned = build_binned_sah(prims, &params).sah_cost(&params);
+    let sweep = build_sweep_sah(prims, &params).sah_cost(&params);
+    println!("{context}: SAH binned {binned:.3}, sweep {sweep:.3}, ratio {:.4}", binned / sweep);
+    assert!(binned <= 1.05 * sweep, "{context}: binned SAH {binned} > 1.05 × sweep {sweep}");
+}
+
+#[test]
+fn binned_sah_is_within_5_percent_of_the_sweep_on_random_soups() {
+    for (n, seed) in [(1_000, 1), (20_000, 2), (50_000, 3)] {
+        assert_sah_close_to_sweep(&triangle_bounds(&random_triangles(n, seed)), &format!("random {n}"));
+    }
+    // Triangles of very different sizes.
+    let mut rng = Rng::new(4);
+    let triangles: Vec<Triangle> = (0..20_000)
+        .map(|_| {
+            let (centre, size) = (rng.vec3(), 0.3 * rng.f32().powi(4));
+            [0; 3].map(|_| centre + size * (rng.vec3() - 0.5))
+        })
+        .collect();
+    assert_sah_close_to_sweep(&triangle_bounds(&triangles), "random sizes");
+}
+
+#[test]
+fn binned_sah_is_within_5_percent_of_the_sweep_on_real_scenes() {
+    for (name, path) in SCENES {
+        if let Some(triangles) = load_scene(path) {
+            assert_sah_close_to_sweep(&triangle_bounds(&triangles), name);
+        }
+    }
+}
+
+/// The exact union of each node's primitives over the BVH's topology, computed from scratch.
+fn fresh_bounds(bvh: &Bvh, leaf_order_bounds: &[Aabb]) -> Vec<Aabb> {
+    fn visit(bvh: &Bvh, prims: &[Aabb], i: usize, out: &mut [Aabb]) -> Aabb {
+        let node = bvh.nodes[i];
+        let union = if node.is_leaf() {
+            prims[node.offset as usize..(node.offset + node.count) as usize]
+                .iter()
+                .fold(Aabb::EMPTY, |a, &b| a.union(b))
+        } else {
+            let left = visit(bvh, prims, node.offset as usize, out);
+            left.union(visit(bvh, prims, node.offset as usize + 1, out))
+        };
+        out[i] = union;
+        union
+    }
+    let mut out = vec![Aabb::EMPTY; bvh.nodes.len()];
+    visit(bvh, leaf_order_bounds, 0, &mut out);
+    out
+}
+
+#[test]
+fn refit_recomputes_exact_boxes_for_moved_primitives() {
+    let mut triangles = random_triangles(5_000, 9);
+    let params = BuildParams::default();
+    let mut bvh = build_binned_sah(&triangle_bounds(&triangles), &params);
+    let built = bvh.clone();
+
+    // Refitting unmoved primitives reproduces the build.
+    let order = built.prim_order.clone();
+    let leaf_order = |triangles: &[Triangle]| -> Vec<Aabb> {
+        order.iter().map(|&p| Aabb::from_points(triangles[p as usize])).collect()
+    };
+    let unmoved = leaf_order(&triangles);
+    bvh.refit(|i| unmoved[i as usize]);
+    assert_eq!(bvh, built);
+
+    // Move every triangle, some far away.
+    let mut rng = Rng::new(10);
+    for (k, t) in triangles.iter_mut().enumerate() {
+        let shift = if k % 17 == 0 { 10.0 * rng.vec3() } else { 0.01 * rng.vec3() };
+        for v in t.iter_mut() {
+            *v += shift + 0.001 * rng.vec3();
+        }
+    }
+    let moved = leaf_order(&triangles);
+    bvh.refit(|i| moved[i as usize]);
+    assert_eq!(bvh.prim_order, built.prim_order);
+    let fresh = fresh_bounds(&bvh, &moved);
+    for (i, node) in bvh.nodes.iter().enumerate() {
+        assert_eq!(
+            (node.offset, node.count),
+            (built.nodes[i].offset, built.nodes[i].count),
+            "topology of node {i}"
+        );
+        assert_eq!(node.bounds(), fresh[i], "box of node {i}");
+    }
+    check_invariants(&bvh, &triangle_bounds(&triangles), &params, "refit");
+}
+
+#[test]
+#[should_panic(expected = "max_leaf_size")]
+fn leaves_larger_than_15_are_rejected() {
+    build_binned_sah(&[], &BuildParams { max_leaf_size: 16, ..Default::default() });
+}
+
+#[test]
+#[should_panic(expected = "bins")]
+fn too_many_bins_are_rejected() {
+    build_binned_sah(&[], &BuildParams { bins: BuildParams::MAX_BINS + 1, ..Default::default() });
+}

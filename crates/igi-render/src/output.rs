@@ -1,0 +1,94 @@
+//! Writing a [`Film`] to disk: OpenEXR with the linear radiance (32-bit float RGB, through the
+//! `exr` crate, written deterministically), or PNG with tone-mapped, sRGB-encoded 8-bit RGB (through `image`). The file
+//! extension picks the format.
+
+use crate::film::Film;
+use crate::tonemap::{ToneMap, ToneMapper};
+use std::path::{Path, PathBuf};
+
+/// Why an image could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    /// The extension names no supported format.
+    #[error("{}: unknown image format (use .png or .exr)", .0.display())]
+    UnknownFormat(PathBuf),
+    /// Encoding or writing the PNG failed.
+    #[error("{}: cannot write PNG: {error}", path.display())]
+    Png {
+        /// The output file.
+        path: PathBuf,
+        /// The encoder's error (part of the message, so not also reported as the source).
+        error: image::ImageError,
+    },
+    /// Encoding or writing the EXR failed.
+    #[error("{}: cannot write EXR: {error}", path.display())]
+    Exr {
+        /// The output file.
+        path: PathBuf,
+        /// The encoder's error (part of the message, so not also reported as the source).
+        error: exr::error::Error,
+    },
+}
+
+/// Output file formats.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ImageFormat {
+    /// Tone-mapped 8-bit sRGB PNG.
+    Png,
+    /// Linear 32-bit float OpenEXR.
+    Exr,
+}
+
+impl ImageFormat {
+    /// The format named by `path`'s extension (case-insensitive `.png` or `.exr`).
+    pub fn from_path(path: &Path) -> Result<Self, OutputError> {
+        match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
+            Some("png") => Ok(Self::Png),
+            Some("exr") => Ok(Self::Exr),
+            _ => Err(OutputError::UnknownFormat(path.to_owned())),
+        }
+    }
+}
+
+/// Writes `film` to `path` in the format of its extension; `tone_map` applies to PNG only.
+pub fn write_image(film: &Film, path: &Path, tone_map: ToneMap) -> Result<(), OutputError> {
+    match ImageFormat::from_path(path)? {
+        ImageFormat::Png => write_png(film, path, tone_map),
+        ImageFormat::Exr => write_exr(film, path),
+    }
+}
+
+/// The tone-mapped 8-bit sRGB pixels of `film`, row-major RGB, row 0 at the top.
+pub fn to_srgb8(film: &Film, tone_map: ToneMap) -> Vec<u8> {
+    let mapper = ToneMapper::for_film(tone_map, film);
+    film.pixels().iter().flat_map(|&p| mapper.to_srgb8(p)).collect()
+}
+
+/// Writes `film` as a tone-mapped sRGB PNG.
+pub fn write_png(film: &Film, path: &Path, tone_map: ToneMap) -> Result<(), OutputError> {
+    let bytes = to_srgb8(film, tone_map);
+    image::save_buffer_with_format(
+        path,
+        &bytes,
+        film.width(),
+        film.height(),
+        image::ExtendedColorType::Rgb8,
+        image::ImageFormat::Png,
+    )
+    .map_err(|error| OutputError::Png { path: path.to_owned(), error })
+}
+
+/// Writes `film` as a linear 32-bit float RGB OpenEXR file. Blocks are compressed and written
+/// in order on the calling thread, so the same film always gives the same bytes.
+pub fn write_exr(film: &Film, path: &Path) -> Result<(), OutputError> {
+    use exr::prelude::{Image, SpecificChannels, Vec2, WritableImage};
+    let channels = SpecificChannels::rgb(|Vec2(x, y): Vec2<usize>| {
+        let p = film.get(x as u32, y as u32);
+        (p.x, p.y, p.z)
+    });
+    Image::from_channels((film.width() as usize, film.height() as usize), channels)
+        .write()
+        .non_parallel()
+        .to_file(path)
+        .map_err(|error| OutputError::Exr { path: path.to_owned(), error })
+}

@@ -1,0 +1,94 @@
+//! The small pieces: light-selection CDF, triangle sampling, tile grid, texture filtering.
+
+use glam::{Vec2, Vec4};
+use igi_render::sampling::{Cdf, hash_combine, pixel_seed, sobol4, uniform_triangle};
+use igi_render::texture::{Filter, sample};
+use igi_render::{Tile, TileGrid};
+use igi_scene::Texture;
+
+#[test]
+fn cdf_picks_in_proportion_and_skips_zero_weights() {
+    let cdf = Cdf::new([1.0, 0.0, 3.0, 0.0]);
+    assert_eq!(cdf.len(), 4);
+    assert_eq!(cdf.sample(0.0), (0, 0.25));
+    assert_eq!(cdf.sample(0.2499), (0, 0.25));
+    assert_eq!(cdf.sample(0.25), (2, 0.75));
+    assert_eq!(cdf.sample(0.999_999_9), (2, 0.75));
+    assert_eq!(cdf.pmf(1), 0.0);
+    assert!(Cdf::new([0.0, -1.0, f32::NAN]).is_empty());
+}
+
+#[test]
+fn triangle_samples_are_uniform_barycentrics() {
+    let n = 4096u32;
+    let (mut mean, mut inside) = (Vec2::ZERO, 0);
+    for i in 0..n {
+        let [u, v, _, _] = sobol4(i, 0, 12345);
+        let b = uniform_triangle(Vec2::new(u, v));
+        if b.x >= 0.0 && b.y >= 0.0 && b.x + b.y <= 1.0 {
+            inside += 1;
+        }
+        mean += b;
+    }
+    mean /= n as f32;
+    assert_eq!(inside, n);
+    // The centroid has barycentrics (1/3, 1/3).
+    assert!((mean - Vec2::splat(1.0 / 3.0)).length() < 2e-3, "{mean}");
+}
+
+#[test]
+fn seeds_differ_between_neighbouring_pixels() {
+    assert_ne!(pixel_seed(0, 0, 0), pixel_seed(1, 0, 0));
+    assert_ne!(pixel_seed(1, 0, 0), pixel_seed(0, 1, 0));
+    assert_ne!(pixel_seed(3, 4, 0), pixel_seed(3, 4, 1));
+    assert_ne!(hash_combine(1, 2), hash_combine(2, 1));
+}
+
+#[test]
+fn tile_grid_covers_every_pixel_once() {
+    let grid = TileGrid::new(37, 21, 16);
+    assert_eq!(grid.len(), 3 * 2);
+    let mut covered = vec![0u8; 37 * 21];
+    for Tile { x0, y0, x1, y1, .. } in grid.tiles() {
+        for y in y0..y1 {
+            for x in x0..x1 {
+                covered[(y * 37 + x) as usize] += 1;
+            }
+        }
+    }
+    assert!(covered.iter().all(|&c| c == 1));
+    assert_eq!(grid.tile(5), Tile { index: 5, x0: 32, y0: 16, x1: 37, y1: 21 });
+}
+
+fn checker() -> Texture {
+    // 2 × 2: top row red, green; bottom row blue, white.
+    Texture {
+        name: "checker".into(),
+        width: 2,
+        height: 2,
+        texels: vec![[1.0, 0.0, 0.0, 1.0], [0.0, 1.0, 0.0, 1.0], [0.0, 0.0, 1.0, 1.0], [1.0, 1.0, 1.0, 1.0]],
+    }
+}
+
+#[test]
+fn nearest_lookup_has_v_down_and_wraps() {
+    let t = checker();
+    let at = |u: f32, v: f32| sample(&t, Vec2::new(u, v), Filter::Nearest);
+    assert_eq!(at(0.25, 0.25), Vec4::new(1.0, 0.0, 0.0, 1.0), "top left");
+    assert_eq!(at(0.75, 0.25), Vec4::new(0.0, 1.0, 0.0, 1.0), "top right");
+    assert_eq!(at(0.25, 0.75), Vec4::new(0.0, 0.0, 1.0, 1.0), "bottom left");
+    assert_eq!(at(3.75, -1.25), at(0.75, 0.75), "repeat");
+}
+
+#[test]
+fn bilinear_lookup_blends_neighbours() {
+    let t = checker();
+    // The centre of the texture is the average of all four texels.
+    let c = sample(&t, Vec2::new(0.5, 0.5), Filter::Bilinear);
+    assert!((c - Vec4::new(0.5, 0.5, 0.5, 1.0)).abs().max_element() < 1e-6, "{c}");
+    // A texel centre is that texel.
+    assert_eq!(sample(&t, Vec2::new(0.25, 0.25), Filter::Bilinear), Vec4::new(1.0, 0.0, 0.0, 1.0));
+    // The corner (0, 0) blends across the wrap: all four texels again.
+    let w = sample(&t, Vec2::new(0.0, 0.0), Filter::Bilinear);
+    assert!((w - Vec4::new(0.5, 0.5, 0.5, 1.0)).abs().max_element() < 1e-6, "{w}");
+}

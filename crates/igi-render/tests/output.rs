@@ -1,0 +1,112 @@
+//! Image files: EXR keeps the linear values exactly, PNG holds the tone-mapped sRGB bytes.
+
+use glam::Vec3;
+use igi_render::output::{ImageFormat, to_srgb8};
+use igi_render::tonemap::{LuminanceStats, ToneMapper, linear_to_srgb, srgb_to_linear};
+use igi_render::{Film, ToneMap, write_exr, write_image, write_png};
+use std::path::PathBuf;
+
+fn test_film() -> Film {
+    let (w, h) = (13u32, 7u32);
+    let pixels = (0..w * h)
+        .map(|i| {
+            let f = i as f32;
+            Vec3::new(f * 0.037, (f * 0.61).sin().abs() * 3.0, 1.0 / (1.0 + f))
+                * if i % 5 == 0 { 40.0 } else { 1.0 }
+        })
+        .collect();
+    Film::from_pixels(w, h, pixels)
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("igi-render-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+#[test]
+fn exr_round_trip_is_exact() {
+    let film = test_film();
+    let path = tmp("round.exr");
+    write_exr(&film, &path).unwrap();
+
+    // Read back with the exr crate.
+    let image = exr::prelude::read_first_rgba_layer_from_file(
+        &path,
+        |res, _| (res.width(), vec![Vec3::ZERO; res.width() * res.height()]),
+        |(w, px), pos, (r, g, b, _a): (f32, f32, f32, f32)| px[pos.y() * *w + pos.x()] = Vec3::new(r, g, b),
+    )
+    .unwrap();
+    let (_, pixels) = image.layer_data.channel_data.pixels;
+    assert_eq!(pixels, film.pixels());
+
+    // And with the image crate.
+    let img = image::open(&path).unwrap().into_rgb32f();
+    assert_eq!((img.width(), img.height()), (film.width(), film.height()));
+    for (x, y, p) in img.enumerate_pixels() {
+        assert_eq!(Vec3::from_array(p.0), film.get(x, y));
+    }
+}
+
+#[test]
+fn png_round_trip_holds_the_tone_mapped_bytes() {
+    let film = test_film();
+    for tone_map in [ToneMap::default(), ToneMap::Exposure { stops: -1.5 }] {
+        let path = tmp("round.png");
+        write_png(&film, &path, tone_map).unwrap();
+        let img = image::open(&path).unwrap().into_rgb8();
+        assert_eq!((img.width(), img.height()), (film.width(), film.height()));
+        assert_eq!(img.into_raw(), to_srgb8(&film, tone_map));
+    }
+}
+
+#[test]
+fn write_image_picks_the_format_from_the_extension() {
+    let film = test_film();
+    assert_eq!(ImageFormat::from_path("a.PNG".as_ref()).unwrap(), ImageFormat::Png);
+    assert_eq!(ImageFormat::from_path("a.exr".as_ref()).unwrap(), ImageFormat::Exr);
+    let err = write_image(&film, &tmp("bad.jpg"), ToneMap::default()).unwrap_err();
+    assert!(err.to_string().contains("bad.jpg"), "{err}");
+    let path = tmp("pick.exr");
+    write_image(&film, &path, ToneMap::default()).unwrap();
+    assert!(image::open(&path).unwrap().into_rgb32f().width() == film.width());
+}
+
+#[test]
+fn reinhard_maps_the_log_average_to_the_key() {
+    // A uniform grey image: log-average = its luminance, so it maps to key / (1 + key).
+    let film = Film::from_pixels(4, 4, vec![Vec3::splat(3.7); 16]);
+    let m = ToneMapper::for_film(ToneMap::Reinhard { key: 0.18 }, &film);
+    let v = m.map(Vec3::splat(3.7));
+    assert!((v.x - 0.18 / 1.18).abs() < 1e-5, "{v}");
+    // Black pixels do not drag the average down.
+    let mut px = vec![Vec3::splat(3.7); 16];
+    px[..8].fill(Vec3::ZERO);
+    let stats = LuminanceStats::of_pixels(&px);
+    assert_eq!(stats.count, 8);
+    assert!((stats.log_average().unwrap() - 3.7).abs() < 1e-4);
+}
+
+#[test]
+fn exposure_is_a_plain_scale_and_srgb_round_trips() {
+    let m = ToneMapper::new(ToneMap::Exposure { stops: 1.0 }, &LuminanceStats::default());
+    assert_eq!(m.map(Vec3::splat(0.25)), Vec3::splat(0.5));
+    assert_eq!(m.map(Vec3::splat(4.0)), Vec3::ONE);
+    assert_eq!(m.map(Vec3::new(-1.0, f32::NAN, f32::INFINITY)), Vec3::ZERO);
+    for c in [0.0, 0.001, 0.2, 0.5, 1.0] {
+        assert!((srgb_to_linear(linear_to_srgb(c)) - c).abs() < 1e-6);
+    }
+    assert_eq!(m.to_srgb8(Vec3::splat(0.5)), [255, 255, 255]);
+    assert_eq!(m.to_srgb8(Vec3::ZERO), [0, 0, 0]);
+}
+
+#[test]
+fn files_are_byte_for_byte_reproducible() {
+    let film = test_film();
+    for name in ["a.exr", "a.png"] {
+        let (p1, p2) = (tmp(&format!("1{name}")), tmp(&format!("2{name}")));
+        write_image(&film, &p1, ToneMap::default()).unwrap();
+        write_image(&film, &p2, ToneMap::default()).unwrap();
+        assert!(std::fs::read(&p1).unwrap() == std::fs::read(&p2).unwrap(), "{name} differs between writes");
+    }
+}

@@ -1,0 +1,49 @@
+//! Scenes compiled into the binary, so that tests, benchmarks and a first `igi render` need no
+//! files: [`builtin`] by name, [`builtin_names`] to list them.
+//!
+//! They are built from the same pieces as loaded scenes and pass through the same
+//! [`MeshBuilder`](crate::validate::MeshBuilder), so they keep the same invariants.
+
+mod cornell_box;
+mod shapes;
+mod shirley_room;
+
+use crate::model::Scene;
+
+/// Names accepted by [`builtin`], in the order `igi` lists them.
+const NAMES: &[&str] = &["cornell-box", "shirley-room"];
+
+/// The built-in scene called `name`, if there is one:
+/// - `cornell-box`: the geometry, materials, light and camera of the McGuire archive's
+///   `CornellBox-Original` (36 triangles), the project's reference scene;
+/// - `shirley-room`: a closed 5 × 3 × 5 m room lit by a ceiling quad, with boxes, a table and
+///   a sphere, in the spirit of the "Shirley" test scenes of the interactive GI papers
+///   (about 700 triangles).
+pub fn builtin(name: &str) -> Option<Scene> {
+    match name {
+        "cornell-box" => Some(cornell_box::scene()),
+        "shirley-room" => Some(shirley_room::scene()),
+        _ => None,
+    }
+}
+
+/// The names [`builtin`] accepts.
+pub fn builtin_names() -> &'static [&'static str] {
+    NAMES
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_name_builds() {
+        for name in builtin_names() {
+            let scene = builtin(name).unwrap();
+            assert!(scene.triangle_count() > 0, "{name}");
+            assert!(scene.camera.is_some(), "{name}");
+            assert!(scene.emissive_triangle_count() > 0, "{name} has a light");
+        }
+        assert!(builtin("cornell").is_none());
+    }
+}

@@ -1,0 +1,697 @@
+//! glTF 2.0 (`.gltf` with external or `data:` buffers, `.glb`), parsed and validated by the
+//! `gltf` crate.
+//!
+//! What becomes of a glTF file:
+//! - Every glTF mesh used by the scene becomes one [`Mesh`](crate::Mesh) (its primitives merged, a material
+//!   per primitive); every node that uses it becomes an [`Instance`] with the node's composed
+//!   world transform, so a mesh used by two nodes is stored once. Only `TRIANGLES`
+//!   primitives are loaded (others are skipped with a warning). Skinned and morphed meshes are
+//!   loaded in their bind pose (the base positions), with a warning.
+//! - The scene is the `scene` property, else `scenes[0]`, else every root node.
+//! - Materials (metallic-roughness mapped onto the Phong-style model simply):
+//!   `diffuse` = baseColor·(1 − metallic), `specular` = mix(0.04, baseColor, metallic),
+//!   `exponent` = 2/α² − 2 with α = roughness² (the Blinn-Phong exponent matching a GGX lobe
+//!   of that width), `diffuse_texture` = baseColorTexture (sRGB); metallic ≥ 0.99 with
+//!   roughness ≤ 0.01 is a [`MaterialKind::Mirror`], a KHR_materials_transmission factor > 0
+//!   a [`MaterialKind::Glass`] with the KHR_materials_ior index (default 1.5).
+//!   `emission` = emissiveFactor × KHR_materials_emissive_strength × the *average* of the
+//!   emissiveTexture: the model has no emission maps, and the average keeps the emitted power
+//!   right, which is what instant radiosity's light sampling needs (an emissive map that
+//!   cannot be read gives no emission rather than a uniform glow). Metallic-roughness,
+//!   normal and occlusion maps are not used. Primitives without a material get the grey
+//!   default of the other formats rather than glTF's white metal.
+//! - KHR_lights_punctual: colour × intensity, with candela read as W/sr and lux as W/m² (the
+//!   renderer works in unitless linear RGB, so no 683 lm/W factor); a spot's full cone angle
+//!   is twice its outer cone angle (the inner angle is dropped); `range` is ignored. Lights
+//!   point down their node's −Z.
+//! - The first perspective camera met in the node hierarchy: position from its node, target
+//!   one unit down the node's −Z, up the node's +Y, `yfov` converted to degrees.
+//!
+//! Robustness: the `gltf` crate panics on some malformed documents (an out-of-range POSITION
+//! accessor index in its own validation, accessors whose data does not fit their buffer view
+//! or have an unexpected type, `count = 0`, URIs that percent-decode to invalid UTF-8). So the
+//! POSITION indices are checked before validation, every accessor is checked against its
+//! buffer before it is read, and URIs are resolved here, not by the crate.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use glam::{Affine3A, Mat4, Quat, Vec2, Vec3, Vec4};
+use gltf::accessor::{DataType, Dimensions};
+use gltf::khr_lights_punctual::Kind;
+use gltf::mesh::Mode;
+
+use crate::error::{Location, SceneError};
+use crate::model::{Camera, Instance, Light, Material, MaterialKind, Scene};
+use crate::report::LoadReport;
+use crate::resources;
+use crate::texture::{self, ColorSpace, TextureSet};
+use crate::validate::{MeshBuilder, Part};
+
+/// Extensions that only change appearance in ways the model cannot express anyway: a file
+/// that *requires* one of them still loads, with a warning. Any other required extension we
+/// do not implement (Draco or meshopt compression, quantized attributes, GPU instancing)
+/// changes the geometry and is an error.
+const APPEARANCE_ONLY_EXTENSIONS: &[&str] = &[
+    "KHR_texture_transform",
+    "KHR_texture_basisu",
+    "EXT_texture_webp",
+    "KHR_materials_unlit",
+    "KHR_materials_specular",
+    "KHR_materials_volume",
+    "KHR_materials_clearcoat",
+    "KHR_materials_sheen",
+    "KHR_materials_variants",
+    "KHR_materials_pbrSpecularGlossiness",
+];
+
+/// Extensions this loader reads.
+const SUPPORTED_EXTENSIONS: &[&str] = &[
+    "KHR_lights_punctual",
+    "KHR_materials_emissive_strength",
+    "KHR_materials_ior",
+    "KHR_materials_transmission",
+];
+
+/// Loads a `.gltf` or `.glb` file and the buffers and images it references.
+pub fn load(path: &Path, report: &mut LoadReport) -> Result<Scene, SceneError> {
+    let bytes = resources::read(path)?;
+    parse_file(&bytes, path, Some(&resources::base_dir(path)), report)
+}
+
+/// Parses a glTF document or GLB container held in memory; `name` is used in messages.
+/// External buffers and images are looked up in `base_dir`; with `None` only embedded data
+/// (GLB chunks, `data:` URIs) is available and an external buffer is an error.
+pub fn parse(
+    bytes: &[u8],
+    name: &str,
+    base_dir: Option<&Path>,
+    report: &mut LoadReport,
+) -> Result<Scene, SceneError> {
+    parse_file(bytes, Path::new(name), base_dir, report)
+}
+
+fn parse_file(
+    bytes: &[u8],
+    file: &Path,
+    base_dir: Option<&Path>,
+    report: &mut LoadReport,
+) -> Result<Scene, SceneError> {
+    let gltf::Gltf { document, blob } = gltf::Gltf::from_slice_without_validation(bytes)
+        .map_err(|e| SceneError::parse(file, Location::File, e.to_string()))?;
+    let mut root = document.into_json();
+    check_position_indices(&root, file)?;
+    check_extensions(&mut root, file, report)?;
+    let document = gltf::Document::from_json(root).map_err(|e| validation_error(e, file))?;
+    let buffers = load_buffers(&document, blob, file, base_dir)?;
+    let mut loader = Loader {
+        file,
+        base_dir,
+        buffers: &buffers,
+        report,
+        scene: Scene::default(),
+        textures: TextureSet::default(),
+        meshes: HashMap::new(),
+        materials: HashMap::new(),
+        emissive_means: HashMap::new(),
+    };
+    loader.walk(&document)?;
+    let mut scene = loader.scene;
+    scene.textures = loader.textures.into_textures();
+    Ok(scene)
+}
+
+/// The `gltf` crate's validation indexes `accessors` with the POSITION index unchecked.
+fn check_position_indices(root: &gltf::json::Root, file: &Path) -> Result<(), SceneError> {
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            let position =
+                primitive.attributes.get(&gltf::json::validation::Checked::Valid(gltf::Semantic::Positions));
+            if let Some(index) = position {
+                if index.value() >= root.accessors.len() {
+                    return Err(SceneError::invalid(
+                        file,
+                        Location::Json(format!("meshes[{m}].primitives[{p}].attributes.POSITION")),
+                        format!("accessor {} does not exist", index.value()),
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+fn validation_error(error: gltf::Error, file: &Path) -> SceneError {
+    match error {
+        gltf::Error::Validation(errors) => {
+            let at = errors.first().map_or(Location::File, |(path, _)| Location::Json(path.to_string()));
+            let mut message =
+                errors.first().map_or_else(|| "invalid document".to_owned(), |(_, e)| e.to_string());
+            if errors.len() > 1 {
+                message.push_str(&format!(" (and {} more problems)", errors.len() - 1));
+            }
+            SceneError::invalid(file, at, message)
+        }
+        other => SceneError::parse(file, Location::File, other.to_string()),
+    }
+}
+
+/// Rejects required extensions that change geometry and that this loader does not read, and
+/// lets the appearance-only ones through with a warning (the `gltf` crate's validation would
+/// reject those too, so they are taken off the required list first).
+fn check_extensions(
+    root: &mut gltf::json::Root,
+    file: &Path,
+    report: &mut LoadReport,
+) -> Result<(), SceneError> {
+    let mut result = Ok(());
+    root.extensions_required.retain(|extension| {
+        if SUPPORTED_EXTENSIONS.contains(&extension.as_str()) {
+            true
+        } else if APPEARANCE_ONLY_EXTENSIONS.contains(&extension.as_str()) {
+            report.warn(file, format!("required extension `{extension}` is ignored"));
+            false
+        } else {
+            if result.is_ok() {
+                result = Err(SceneError::unsupported(
+                    file,
+                    Location::Json("extensionsRequired".into()),
+                    format!("requires extension `{extension}`, which igi does not support"),
+                ));
+            }
+            true
+        }
+    });
+    result
+}
+
+/// Decodes `%XX` escapes of a relative URI.
+fn percent_decode(uri: &str) -> Option<String> {
+    let bytes = uri.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i] == b'%' {
+            let hex = std::str::from_utf8(bytes.get(i + 1..i + 3)?).ok()?;
+            out.push(u8::from_str_radix(hex, 16).ok()?);
+            i += 3;
+        } else {
+            out.push(bytes[i]);
+            i += 1;
+        }
+    }
+    String::from_utf8(out).ok()
+}
+
+/// Where the bytes of a buffer or image come from.
+enum Uri {
+    /// A `data:` URI, decoded.
+    Data(Vec<u8>),
+    /// A file, relative to the document.
+    File(String),
+}
+
+fn classify_uri(uri: &str) -> Result<Uri, String> {
+    if uri.starts_with("data:") {
+        let data = gltf::buffer::Data::from_source(gltf::buffer::Source::Uri(uri), None)
+            .map_err(|e| format!("bad data URI: {e}"))?;
+        Ok(Uri::Data(data.0))
+    } else if uri.contains(':') {
+        Err(format!("unsupported URI scheme in `{uri}`"))
+    } else {
+        percent_decode(uri)
+            .map(Uri::File)
+            .ok_or_else(|| format!("URI `{uri}` is not valid percent-encoded UTF-8"))
+    }
+}
+
+fn load_buffers(
+    document: &gltf::Document,
+    mut blob: Option<Vec<u8>>,
+    file: &Path,
+    base_dir: Option<&Path>,
+) -> Result<Vec<Vec<u8>>, SceneError> {
+    let mut buffers = Vec::new();
+    for buffer in document.buffers() {
+        let at = || Location::Json(format!("buffers[{}]", buffer.index()));
+        let data = match buffer.source() {
+            gltf::buffer::Source::Bin => blob
+                .take()
+                .ok_or_else(|| SceneError::invalid(file, at(), "refers to a missing GLB BIN chunk"))?,
+            gltf::buffer::Source::Uri(uri) => {
+                match classify_uri(uri).map_err(|m| SceneError::invalid(file, at(), m))? {
+                    Uri::Data(data) => data,
+                    Uri::File(relative) => {
+                        let Some(dir) = base_dir else {
+                            return Err(SceneError::unsupported(
+                                file,
+                                at(),
+                                format!(
+                                    "external buffer `{relative}` cannot be read when parsing from memory"
+                                ),
+                            ));
+                        };
+                        let path =
+                            resources::resolve(dir, &relative).ok_or_else(|| SceneError::MissingFile {
+                                file: file.to_path_buf(),
+                                at: at(),
+                                missing: dir.join(&relative),
+                            })?;
+                        resources::read(&path)?
+                    }
+                }
+            }
+        };
+        if data.len() < buffer.length() {
+            return Err(SceneError::invalid(
+                file,
+                at(),
+                format!("byteLength is {} but only {} bytes are present", buffer.length(), data.len()),
+            ));
+        }
+        buffers.push(data);
+    }
+    Ok(buffers)
+}
+
+/// Checks that an accessor has one of the `allowed` types and that all of its elements lie
+/// inside its buffer view and buffer, so that the `gltf` crate's reader can neither panic nor
+/// silently return fewer elements than `count`.
+fn check_accessor(
+    accessor: &gltf::Accessor,
+    allowed: &[(DataType, Dimensions)],
+    buffers: &[Vec<u8>],
+) -> Result<(), String> {
+    let kind = (accessor.data_type(), accessor.dimensions());
+    if !allowed.contains(&kind) {
+        return Err(format!(
+            "accessor {}: type {:?} {:?} is not supported here",
+            accessor.index(),
+            kind.0,
+            kind.1
+        ));
+    }
+    let count = accessor.count();
+    if count == 0 {
+        return Err(format!("accessor {}: count is 0", accessor.index()));
+    }
+    let element = accessor.size();
+    let fits = |view: gltf::buffer::View, offset: usize, count: usize, element: usize| {
+        let stride = view.stride().unwrap_or(element);
+        let end = stride
+            .checked_mul(count - 1)
+            .and_then(|n| n.checked_add(offset))
+            .and_then(|n| n.checked_add(element));
+        let view_end = view.offset().checked_add(view.length());
+        let buffer_len = buffers.get(view.buffer().index()).map_or(0, Vec::len);
+        stride >= element
+            && end.is_some_and(|end| end <= view.length())
+            && view_end.is_some_and(|end| end <= buffer_len)
+    };
+    if let Some(view) = accessor.view() {
+        if !fits(view, accessor.offset(), count, element) {
+            return Err(format!("accessor {}: data extends past its buffer view", accessor.index()));
+        }
+    }
+    if let Some(sparse) = accessor.sparse() {
+        let n = sparse.count();
+        let indices = sparse.indices();
+        let values = sparse.values();
+        if n == 0
+            || n > count
+            || !fits(indices.view(), indices.offset(), n, indices.index_type().size())
+            || !fits(values.view(), values.offset(), n, element)
+        {
+            return Err(format!("accessor {}: sparse data extends past its buffer view", accessor.index()));
+        }
+    }
+    Ok(())
+}
+
+/// glTF node transform as a matrix, with the rotation quaternion normalised (exporters write
+/// slightly non-unit ones, e.g. the Cameras sample).
+fn local_transform(node: &gltf::Node) -> Option<Mat4> {
+    match node.transform() {
+        gltf::scene::Transform::Matrix { matrix } => Some(Mat4::from_cols_array_2d(&matrix)),
+        gltf::scene::Transform::Decomposed { translation, rotation, scale } => {
+            let rotation = Quat::from_vec4(Vec4::from(rotation).try_normalize()?);
+            Some(Mat4::from_scale_rotation_translation(Vec3::from(scale), rotation, Vec3::from(translation)))
+        }
+    }
+}
+
+/// State of one glTF load.
+struct Loader<'a> {
+    file: &'a Path,
+    base_dir: Option<&'a Path>,
+    buffers: &'a [Vec<u8>],
+    report: &'a mut LoadReport,
+    scene: Scene,
+    textures: TextureSet,
+    /// glTF mesh index → scene mesh index (`None`: the mesh has no triangles).
+    meshes: HashMap<usize, Option<u32>>,
+    /// glTF material index (`None`: the default material) → scene material index.
+    materials: HashMap<Option<usize>, u32>,
+    /// glTF image index → average linear colour.
+    emissive_means: HashMap<usize, Option<Vec3>>,
+}
+
+impl Loader<'_> {
+    /// Visits the scene's node forest depth-first with an explicit stack (a hostile file can
+    /// nest nodes deeper than the call stack) and rejects cycles and shared children.
+    fn walk(&mut self, document: &gltf::Document) -> Result<(), SceneError> {
+        let roots: Vec<gltf::Node> = match document.default_scene().or_else(|| document.scenes().next()) {
+            Some(scene) => scene.nodes().collect(),
+            None => {
+                let mut is_child = vec![false; document.nodes().count()];
+                for node in document.nodes() {
+                    for child in node.children() {
+                        is_child[child.index()] = true;
+                    }
+                }
+                document.nodes().filter(|n| !is_child[n.index()]).collect()
+            }
+        };
+        let mut visited = vec![false; document.nodes().count()];
+        let mut stack: Vec<(gltf::Node, Mat4)> =
+            roots.into_iter().rev().map(|n| (n, Mat4::IDENTITY)).collect();
+        while let Some((node, parent)) = stack.pop() {
+            let at = || Location::Json(format!("nodes[{}]", node.index()));
+            if std::mem::replace(&mut visited[node.index()], true) {
+                return Err(SceneError::invalid(
+                    self.file,
+                    at(),
+                    "node is reached twice (the node hierarchy must be a forest)",
+                ));
+            }
+            let local = local_transform(&node)
+                .ok_or_else(|| SceneError::invalid(self.file, at(), "rotation is a zero quaternion"))?;
+            let world = parent * local;
+            if !world.is_finite() {
+                return Err(SceneError::invalid(self.file, at(), "transform is not finite"));
+            }
+            if let Some(mesh) = node.mesh() {
+                self.instance(&node, mesh, world)?;
+            }
+            if let Some(light) = node.light() {
+                self.light(&node, light, world);
+            }
+            if let Some(camera) = node.camera() {
+                self.camera(&node, camera, world);
+            }
+            stack.extend(node.children().collect::<Vec<_>>().into_iter().rev().map(|c| (c, world)));
+        }
+        Ok(())
+    }
+
+    fn instance(&mut self, node: &gltf::Node, mesh: gltf::Mesh, world: Mat4) -> Result<(), SceneError> {
+        let index = match self.meshes.get(&mesh.index()) {
+            Some(&index) => index,
+            None => {
+                let index = self.load_mesh(&mesh, node.skin().is_some())?;
+                self.meshes.insert(mesh.index(), index);
+                index
+            }
+        };
+        let Some(index) = index else { return Ok(()) };
+        let transform = Affine3A::from_mat4(world);
+        if !transform.inverse().is_finite() {
+            self.report
+                .warn(self.file, format!("nodes[{}]: scale is zero; the instance is left out", node.index()));
+            return Ok(());
+        }
+        self.scene.instances.push(Instance { mesh: index, transform });
+        Ok(())
+    }
+
+    fn load_mesh(&mut self, mesh: &gltf::Mesh, skinned: bool) -> Result<Option<u32>, SceneError> {
+        let path = format!("meshes[{}]", mesh.index());
+        if skinned {
+            self.report.warn(self.file, format!("{path}: skinned mesh loaded in its bind pose"));
+        }
+        if mesh.primitives().any(|p| p.morph_targets().next().is_some()) {
+            self.report.warn(self.file, format!("{path}: morph targets ignored (base shape loaded)"));
+        }
+        let name = mesh.name().map_or_else(|| path.clone(), str::to_owned);
+        let mut builder = MeshBuilder::new(name);
+        for primitive in mesh.primitives() {
+            let at = format!("{path}.primitives[{}]", primitive.index());
+            if primitive.mode() != Mode::Triangles {
+                self.report.warn(
+                    self.file,
+                    format!("{at}: mode {:?} skipped (only TRIANGLES is supported)", primitive.mode()),
+                );
+                continue;
+            }
+            let part = self
+                .primitive(&primitive, &at)
+                .map_err(|m| SceneError::invalid(self.file, Location::Json(at.clone()), m))?;
+            builder.add(part).map_err(|defect| {
+                SceneError::invalid(self.file, Location::Json(at.clone()), defect.to_string())
+            })?;
+        }
+        let built = builder.finish();
+        self.report.degenerate(self.file, built.degenerate);
+        if built.normals_dropped {
+            self.report.warn(self.file, format!("{path}: normals dropped: only some primitives have them"));
+        }
+        if built.mesh.indices.is_empty() {
+            self.report.warn(self.file, format!("{path}: no triangles"));
+            return Ok(None);
+        }
+        self.scene.meshes.push(built.mesh);
+        Ok(Some((self.scene.meshes.len() - 1) as u32))
+    }
+
+    fn primitive(&mut self, primitive: &gltf::Primitive, at: &str) -> Result<Part, String> {
+        const VEC3: &[(DataType, Dimensions)] = &[(DataType::F32, Dimensions::Vec3)];
+        const UV: &[(DataType, Dimensions)] = &[
+            (DataType::F32, Dimensions::Vec2),
+            (DataType::U8, Dimensions::Vec2),
+            (DataType::U16, Dimensions::Vec2),
+        ];
+        const INDEX: &[(DataType, Dimensions)] = &[
+            (DataType::U8, Dimensions::Scalar),
+            (DataType::U16, Dimensions::Scalar),
+            (DataType::U32, Dimensions::Scalar),
+        ];
+        let buffers = self.buffers;
+        let reader = primitive.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
+        let position_accessor = primitive.get(&gltf::Semantic::Positions).ok_or("no POSITION attribute")?;
+        check_accessor(&position_accessor, VEC3, buffers)?;
+        let positions: Vec<Vec3> =
+            reader.read_positions().ok_or("POSITION data is missing")?.map(Vec3::from).collect();
+        let normals = match primitive.get(&gltf::Semantic::Normals) {
+            Some(accessor) => {
+                check_accessor(&accessor, VEC3, buffers)?;
+                reader.read_normals().map(|n| n.map(Vec3::from).collect())
+            }
+            None => None,
+        };
+        let material = self.material(primitive.material());
+        let textured = self.scene.materials[material as usize].diffuse_texture.is_some();
+        let uvs = match primitive.get(&gltf::Semantic::TexCoords(0)) {
+            Some(accessor) if textured => {
+                check_accessor(&accessor, UV, buffers)?;
+                reader.read_tex_coords(0).map(|uv| uv.into_f32().map(Vec2::from).collect())
+            }
+            _ => None,
+        };
+        let indices: Vec<u32> = match primitive.indices() {
+            Some(accessor) => {
+                check_accessor(&accessor, INDEX, buffers)?;
+                reader.read_indices().ok_or("index data is missing")?.into_u32().collect()
+            }
+            None => (0..u32::try_from(positions.len()).map_err(|_| "too many vertices")?).collect(),
+        };
+        if indices.len() % 3 != 0 {
+            self.report.warn(
+                self.file,
+                format!(
+                    "{at}: {} indices are not a multiple of 3; the incomplete last triangle is left out",
+                    indices.len()
+                ),
+            );
+        }
+        Ok(Part {
+            positions,
+            normals,
+            uvs,
+            triangles: indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect(),
+            material,
+        })
+    }
+
+    fn material(&mut self, material: gltf::Material) -> u32 {
+        if let Some(&index) = self.materials.get(&material.index()) {
+            return index;
+        }
+        let converted = match material.index() {
+            None => Material::default(),
+            Some(index) => self.convert_material(&material, index),
+        };
+        self.scene.materials.push(converted);
+        let index = (self.scene.materials.len() - 1) as u32;
+        self.materials.insert(material.index(), index);
+        index
+    }
+
+    fn convert_material(&mut self, material: &gltf::Material, index: usize) -> Material {
+        let pbr = material.pbr_metallic_roughness();
+        let [r, g, b, a] = pbr.base_color_factor();
+        let base = Vec3::new(r, g, b).clamp(Vec3::ZERO, Vec3::ONE);
+        let metallic = pbr.metallic_factor().clamp(0.0, 1.0);
+        let roughness = pbr.roughness_factor().clamp(0.0, 1.0);
+        let alpha = (roughness * roughness).max(1e-3);
+        let transmission = material.transmission().map_or(0.0, |t| t.transmission_factor());
+        let kind = if transmission > 0.0 {
+            MaterialKind::Glass
+        } else if metallic >= 0.99 && roughness <= 0.01 {
+            MaterialKind::Mirror
+        } else {
+            MaterialKind::Plastic
+        };
+        let diffuse_texture = pbr.base_color_texture().and_then(|info| {
+            if info.tex_coord() != 0 {
+                self.report.warn(
+                    self.file,
+                    format!(
+                        "materials[{index}]: base colour texture uses TEXCOORD_{}; ignored",
+                        info.tex_coord()
+                    ),
+                );
+                return None;
+            }
+            self.image(info.texture().source(), ColorSpace::Srgb)
+        });
+        let mut emission =
+            Vec3::from(material.emissive_factor()) * material.emissive_strength().unwrap_or(1.0);
+        if let Some(info) = material.emissive_texture() {
+            // An emissive map that cannot be read gives no emission rather than turning the
+            // whole surface into a uniform emitter of `emissiveFactor`.
+            emission *= self.emissive_mean(info.texture().source()).unwrap_or(Vec3::ZERO);
+        }
+        Material {
+            name: material.name().map_or_else(|| format!("materials[{index}]"), str::to_owned),
+            diffuse: base * (1.0 - metallic),
+            diffuse_texture,
+            specular: Vec3::splat(0.04).lerp(base, metallic),
+            exponent: 2.0 / (alpha * alpha) - 2.0,
+            emission: emission.max(Vec3::ZERO),
+            bump_texture: None,
+            transparency: if material.alpha_mode() == gltf::material::AlphaMode::Blend {
+                (1.0 - a).clamp(0.0, 1.0)
+            } else {
+                0.0
+            },
+            ior: material.ior().filter(|&ior| ior > 0.0).unwrap_or(1.5),
+            kind,
+        }
+    }
+
+    /// The encoded bytes of an image, or where to find them.
+    fn image_source(&mut self, image: &gltf::Image) -> Option<Result<Vec<u8>, PathBuf>> {
+        let at = format!("images[{}]", image.index());
+        match image.source() {
+            gltf::image::Source::View { view, .. } => {
+                let data = self.buffers.get(view.buffer().index())?;
+                let end = view.offset().checked_add(view.length())?;
+                match data.get(view.offset()..end) {
+                    Some(bytes) => Some(Ok(bytes.to_vec())),
+                    None => {
+                        self.report.warn(self.file, format!("{at}: buffer view out of range; image skipped"));
+                        None
+                    }
+                }
+            }
+            gltf::image::Source::Uri { uri, .. } => match classify_uri(uri) {
+                Ok(Uri::Data(bytes)) => Some(Ok(bytes)),
+                Ok(Uri::File(relative)) => Some(Err(PathBuf::from(relative))),
+                Err(message) => {
+                    self.report.warn(self.file, format!("{at}: {message}; image skipped"));
+                    None
+                }
+            },
+        }
+    }
+
+    fn image(&mut self, image: gltf::Image, space: ColorSpace) -> Option<u32> {
+        match self.image_source(&image)? {
+            Ok(bytes) => {
+                let key = format!("{}#images[{}]", self.file.display(), image.index());
+                self.textures.bytes(&key, &bytes, space, self.file, self.report)
+            }
+            Err(relative) => {
+                let dir = self.base_dir?;
+                self.textures.file(dir, &relative.to_string_lossy(), space, self.file, self.report)
+            }
+        }
+    }
+
+    fn emissive_mean(&mut self, image: gltf::Image) -> Option<Vec3> {
+        if let Some(&mean) = self.emissive_means.get(&image.index()) {
+            return mean;
+        }
+        let bytes = match self.image_source(&image)? {
+            Ok(bytes) => Some(bytes),
+            Err(relative) => self
+                .base_dir
+                .and_then(|dir| resources::resolve(dir, &relative.to_string_lossy()))
+                .and_then(|path| resources::read(&path).ok()),
+        };
+        let name = format!("images[{}]", image.index());
+        let mean = bytes.and_then(|bytes| match texture::mean_rgb(&bytes, &name, ColorSpace::Srgb) {
+            Ok(mean) => Some(mean),
+            Err(message) => {
+                self.report.warn(self.file, format!("{name}: emissive texture skipped: {message}"));
+                None
+            }
+        });
+        self.emissive_means.insert(image.index(), mean);
+        mean
+    }
+
+    fn light(&mut self, node: &gltf::Node, light: gltf::khr_lights_punctual::Light, world: Mat4) {
+        let power = Vec3::from(light.color()) * light.intensity();
+        let position = world.transform_point3(Vec3::ZERO);
+        let direction = world.transform_vector3(Vec3::NEG_Z).try_normalize();
+        let converted = match (light.kind(), direction) {
+            (Kind::Point, _) => Some(Light::Point { position, intensity: power }),
+            (Kind::Spot { outer_cone_angle, .. }, Some(direction)) => Some(Light::Spot {
+                position,
+                direction,
+                angle_deg: 2.0 * outer_cone_angle.clamp(0.0, std::f32::consts::FRAC_PI_2).to_degrees(),
+                intensity: power,
+            }),
+            (Kind::Directional, Some(direction)) => Some(Light::Directional { direction, irradiance: power }),
+            _ => None,
+        };
+        match converted {
+            Some(light) if power.is_finite() => self.scene.lights.push(light),
+            _ => self.report.warn(
+                self.file,
+                format!("nodes[{}]: light with a degenerate transform or intensity skipped", node.index()),
+            ),
+        }
+    }
+
+    fn camera(&mut self, node: &gltf::Node, camera: gltf::Camera, world: Mat4) {
+        if self.scene.camera.is_some() {
+            return;
+        }
+        let gltf::camera::Projection::Perspective(perspective) = camera.projection() else {
+            self.report.warn(self.file, format!("nodes[{}]: orthographic camera skipped", node.index()));
+            return;
+        };
+        let position = world.transform_point3(Vec3::ZERO);
+        let forward = world.transform_vector3(Vec3::NEG_Z).try_normalize();
+        let up = world.transform_vector3(Vec3::Y).try_normalize();
+        let fov_y_deg = perspective.yfov().to_degrees();
+        match (forward, up) {
+            (Some(forward), Some(up)) if fov_y_deg > 0.0 && fov_y_deg < 180.0 => {
+                self.scene.camera = Some(Camera { position, target: position + forward, up, fov_y_deg });
+            }
+            _ => self.report.warn(self.file, format!("nodes[{}]: degenerate camera skipped", node.index())),
+        }
+    }
+}

@@ -1,0 +1,669 @@
+//! Scene files: a TOML description that places mesh files, adds lights and sets the camera.
+//!
+//! ```toml
+//! [camera]
+//! position = [0, 1, 3.5]
+//! target = [0, 1, 0]
+//! up = [0, 1, 0]                 # optional, default +Y
+//! fov = 39.3                     # vertical, degrees
+//!
+//! [[mesh]]
+//! file = "CornellBox-Original.obj"          # .obj .gltf .glb .ply, relative to this file
+//! translate = [0, 0, 0]                     # optional
+//! rotate = [0, 90, 0]                       # optional, degrees about X, Y, Z
+//! scale = 2.0                               # optional, or [sx, sy, sz]
+//! instances = [ { translate = [3, 0, 0] }, { rotate = [0, 45, 0] } ]   # optional
+//! material = { diffuse = [0.8, 0.8, 0.8] }  # optional: replaces every material of the file
+//!
+//! [[light]]
+//! type = "quad"                  # quad | point | spot | directional
+//! position = [350, 640, -210]    # quad: centre
+//! u = [400, 0, 0]                # quad: half-edge vectors; emits toward normalize(u × v)
+//! v = [0, 0, 200]
+//! radiance = [10, 10, 10]        # W/(sr m²)
+//! # point: position, intensity = [r, g, b] (W/sr)
+//! # spot: position, direction, angle (full cone, degrees), intensity
+//! # directional: direction (the way the light travels), irradiance = [r, g, b] (W/m²)
+//! ```
+//!
+//! Transforms: `translate`, `rotate` and `scale` make T·R·S, with R = Rz·Ry·Rx, i.e. the
+//! rotation about X is applied first, then Y, then Z, all about the fixed world axes. Each
+//! entry of `instances` is a transform of the same form applied *after* the mesh's own, so a
+//! placement is `instance · mesh`: the mesh transform fits the file into the scene (units,
+//! up axis), the instances then place copies of it. A mesh file's own instances (glTF nodes)
+//! come first of all, and its lights and camera move with it. Without `instances` the mesh
+//! is placed once. A `material` replaces every material of the file (useful for PLY, which has
+//! none), and then the file's own materials and textures are dropped.
+//!
+//! The camera of the scene file wins; without one, the first mesh file's camera (glTF) is
+//! used. A quad light becomes a mesh of two one-sided emissive triangles whose geometric
+//! normal is normalize(u × v), with a black diffuse emissive material and an identity instance.
+//!
+//! Unknown fields are errors (a typo like `rotation` must not be silently ignored), and every
+//! error names the scene file, the line and the field.
+
+use std::ops::Range;
+use std::path::Path;
+
+use glam::{Affine3A, Quat, Vec3};
+use serde::Deserialize;
+use toml::Spanned;
+
+use crate::error::{Location, SceneError};
+use crate::model::{Camera, Instance, Light, Material, Mesh, Scene};
+use crate::report::LoadReport;
+use crate::resources;
+
+/// Loads a scene file and every mesh file it names.
+pub fn load(path: &Path, report: &mut LoadReport) -> Result<Scene, SceneError> {
+    let bytes = resources::read(path)?;
+    let text = std::str::from_utf8(&bytes)
+        .map_err(|e| SceneError::parse(path, Location::File, format!("not UTF-8 text: {e}")))?;
+    parse_file(text, path, Some(&resources::base_dir(path)), report)
+}
+
+/// Parses scene-file text; `name` is used in messages. Mesh files are looked up in
+/// `base_dir`; with `None` their entries are checked but no file is read (with a warning).
+pub fn parse(
+    text: &str,
+    name: &str,
+    base_dir: Option<&Path>,
+    report: &mut LoadReport,
+) -> Result<Scene, SceneError> {
+    parse_file(text, Path::new(name), base_dir, report)
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SceneSpec {
+    camera: Option<Spanned<CameraSpec>>,
+    #[serde(default)]
+    mesh: Vec<Spanned<MeshSpec>>,
+    #[serde(default)]
+    light: Vec<Spanned<LightSpec>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CameraSpec {
+    position: [f32; 3],
+    target: [f32; 3],
+    #[serde(default = "up_y")]
+    up: [f32; 3],
+    fov: f32,
+}
+
+fn up_y() -> [f32; 3] {
+    [0.0, 1.0, 0.0]
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MeshSpec {
+    file: Spanned<String>,
+    translate: Option<[f32; 3]>,
+    rotate: Option<[f32; 3]>,
+    scale: Option<Scale>,
+    instances: Option<Vec<TransformSpec>>,
+    material: Option<MaterialSpec>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TransformSpec {
+    translate: Option<[f32; 3]>,
+    rotate: Option<[f32; 3]>,
+    scale: Option<Scale>,
+}
+
+#[derive(Clone, Copy, Deserialize)]
+#[serde(untagged, expecting = "expected a number or an array of three numbers")]
+enum Scale {
+    Uniform(f32),
+    Axes([f32; 3]),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MaterialSpec {
+    diffuse: Option<[f32; 3]>,
+    specular: Option<[f32; 3]>,
+    exponent: Option<f32>,
+    emission: Option<[f32; 3]>,
+}
+
+/// A `[[light]]` table. One flat struct rather than an enum tagged by `type`: serde buffers
+/// tagged enums, which loses the spans that make `toml` errors point at a line.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LightSpec {
+    #[serde(rename = "type")]
+    kind: LightKind,
+    position: Option<[f32; 3]>,
+    u: Option<[f32; 3]>,
+    v: Option<[f32; 3]>,
+    radiance: Option<[f32; 3]>,
+    intensity: Option<[f32; 3]>,
+    direction: Option<[f32; 3]>,
+    angle: Option<f32>,
+    irradiance: Option<[f32; 3]>,
+}
+
+#[derive(Clone, Copy, Deserialize)]
+#[serde(rename_all = "lowercase")]
+enum LightKind {
+    Quad,
+    Point,
+    Spot,
+    Directional,
+}
+
+impl LightKind {
+    fn name(self) -> &'static str {
+        match self {
+            Self::Quad => "quad",
+            Self::Point => "point",
+            Self::Spot => "spot",
+            Self::Directional => "directional",
+        }
+    }
+
+    /// The fields a light of this kind takes besides `type`.
+    fn fields(self) -> &'static [&'static str] {
+        match self {
+            Self::Quad => &["position", "u", "v", "radiance"],
+            Self::Point => &["position", "intensity"],
+            Self::Spot => &["position", "direction", "angle", "intensity"],
+            Self::Directional => &["direction", "irradiance"],
+        }
+    }
+}
+
+/// Turns semantic problems into errors that point at a field of the file.
+struct Checker<'a> {
+    file: &'a Path,
+    text: &'a str,
+}
+
+impl Checker<'_> {
+    fn error(&self, span: &Range<usize>, path: String, message: impl Into<String>) -> SceneError {
+        SceneError::invalid(
+            self.file,
+            Location::Field { line: Some(line_of(self.text, span.start)), path },
+            message,
+        )
+    }
+
+    fn vector(&self, span: &Range<usize>, path: String, v: [f32; 3]) -> Result<Vec3, SceneError> {
+        let v = Vec3::from(v);
+        if v.is_finite() { Ok(v) } else { Err(self.error(span, path, "values must be finite")) }
+    }
+
+    fn colour(&self, span: &Range<usize>, path: String, v: [f32; 3]) -> Result<Vec3, SceneError> {
+        let c = self.vector(span, path.clone(), v)?;
+        if c.min_element() < 0.0 {
+            return Err(self.error(span, path, "values must not be negative"));
+        }
+        Ok(c)
+    }
+
+    fn direction(&self, span: &Range<usize>, path: String, v: [f32; 3]) -> Result<Vec3, SceneError> {
+        self.vector(span, path.clone(), v)?
+            .try_normalize()
+            .ok_or_else(|| self.error(span, path, "direction must not be zero"))
+    }
+
+    fn transform(
+        &self,
+        span: &Range<usize>,
+        path: &str,
+        translate: Option<[f32; 3]>,
+        rotate: Option<[f32; 3]>,
+        scale: Option<Scale>,
+    ) -> Result<Affine3A, SceneError> {
+        let translation = self.vector(span, format!("{path}translate"), translate.unwrap_or_default())?;
+        let degrees = self.vector(span, format!("{path}rotate"), rotate.unwrap_or_default())?;
+        let scale = match scale.unwrap_or(Scale::Uniform(1.0)) {
+            Scale::Uniform(s) => Vec3::splat(s),
+            Scale::Axes(axes) => Vec3::from(axes),
+        };
+        if !scale.is_finite() || scale.cmpeq(Vec3::ZERO).any() {
+            return Err(self.error(span, format!("{path}scale"), "scale must be finite and non-zero"));
+        }
+        let [x, y, z] = degrees.to_array().map(f32::to_radians);
+        let rotation = Quat::from_rotation_z(z) * Quat::from_rotation_y(y) * Quat::from_rotation_x(x);
+        Ok(Affine3A::from_scale_rotation_translation(scale, rotation, translation))
+    }
+}
+
+fn parse_file(
+    text: &str,
+    file: &Path,
+    base_dir: Option<&Path>,
+    report: &mut LoadReport,
+) -> Result<Scene, SceneError> {
+    let spec: SceneSpec = toml::from_str(text).map_err(|e| toml_error(&e, text, file))?;
+    let check = Checker { file, text };
+    let mut scene = Scene::default();
+
+    for (index, entry) in spec.mesh.iter().enumerate() {
+        let span = entry.span();
+        let path = format!("mesh[{index}].");
+        let mesh = entry.get_ref();
+        let own = check.transform(&span, &path, mesh.translate, mesh.rotate, mesh.scale)?;
+        let placements = match &mesh.instances {
+            None => vec![own],
+            Some(instances) => instances
+                .iter()
+                .enumerate()
+                .map(|(i, t)| {
+                    let path = format!("{path}instances[{i}].");
+                    check
+                        .transform(&span, &path, t.translate, t.rotate, t.scale)
+                        .map(|placement| placement * own)
+                })
+                .collect::<Result<_, _>>()?,
+        };
+        let material = mesh
+            .material
+            .as_ref()
+            .map(|m| material_override(&check, &span, &path, m, &mesh.file))
+            .transpose()?;
+        let Some(dir) = base_dir else {
+            report
+                .warn(file, format!("{path}file `{}` not loaded: parsing from memory", mesh.file.get_ref()));
+            continue;
+        };
+        let sub = load_mesh_file(&check, dir, index, &mesh.file, report)?;
+        append(&mut scene, sub, &placements, material);
+    }
+
+    for (index, entry) in spec.light.iter().enumerate() {
+        add_light(&check, &mut scene, index, entry)?;
+    }
+
+    if let Some(camera) = &spec.camera {
+        scene.camera = Some(camera_from(&check, camera)?);
+    }
+    Ok(scene)
+}
+
+fn load_mesh_file(
+    check: &Checker,
+    dir: &Path,
+    index: usize,
+    file: &Spanned<String>,
+    report: &mut LoadReport,
+) -> Result<Scene, SceneError> {
+    let name = file.get_ref();
+    let at = || Location::Field {
+        line: Some(line_of(check.text, file.span().start)),
+        path: format!("mesh[{index}].file"),
+    };
+    let path = resources::resolve(dir, name).ok_or_else(|| SceneError::MissingFile {
+        file: check.file.to_path_buf(),
+        at: at(),
+        missing: dir.join(name),
+    })?;
+    if crate::is_scene_file(&path) {
+        return Err(SceneError::unsupported(
+            check.file,
+            at(),
+            "a scene file cannot include another scene file",
+        ));
+    }
+    crate::load_model_file(&path, report)
+}
+
+fn material_override(
+    check: &Checker,
+    span: &Range<usize>,
+    path: &str,
+    spec: &MaterialSpec,
+    file: &Spanned<String>,
+) -> Result<Material, SceneError> {
+    let defaults = Material::default();
+    let colour = |name: &str, value: Option<[f32; 3]>, default: Vec3| {
+        value.map_or(Ok(default), |v| check.colour(span, format!("{path}material.{name}"), v))
+    };
+    let diffuse = colour("diffuse", spec.diffuse, defaults.diffuse)?;
+    if diffuse.max_element() > 1.0 {
+        return Err(check.error(span, format!("{path}material.diffuse"), "reflectance must be at most 1"));
+    }
+    let exponent = spec.exponent.unwrap_or(defaults.exponent);
+    if !(exponent.is_finite() && exponent >= 0.0) {
+        return Err(check.error(span, format!("{path}material.exponent"), "must be finite and not negative"));
+    }
+    Ok(Material {
+        name: file.get_ref().clone(),
+        diffuse,
+        specular: colour("specular", spec.specular, defaults.specular)?,
+        exponent,
+        emission: colour("emission", spec.emission, defaults.emission)?,
+        ..defaults
+    })
+}
+
+/// Appends the scene of one mesh file, placed once per entry of `placements`.
+fn append(scene: &mut Scene, sub: Scene, placements: &[Affine3A], material: Option<Material>) {
+    let mesh_base = scene.meshes.len() as u32;
+    let material_base = scene.materials.len() as u32;
+    let texture_base = scene.textures.len() as u32;
+    let mut meshes = sub.meshes;
+    match material {
+        Some(material) => {
+            scene.materials.push(material);
+            for mesh in &mut meshes {
+                mesh.material_ids.fill(material_base);
+            }
+        }
+        None => {
+            for mesh in &mut meshes {
+                for id in &mut mesh.material_ids {
+                    *id += material_base;
+                }
+            }
+            scene.materials.extend(sub.materials.into_iter().map(|mut m| {
+                m.diffuse_texture = m.diffuse_texture.map(|t| t + texture_base);
+                m.bump_texture = m.bump_texture.map(|t| t + texture_base);
+                m
+            }));
+            scene.textures.extend(sub.textures);
+        }
+    }
+    scene.meshes.extend(meshes);
+    for placement in placements {
+        scene.instances.extend(sub.instances.iter().map(|instance| Instance {
+            mesh: instance.mesh + mesh_base,
+            transform: *placement * instance.transform,
+        }));
+        scene.lights.extend(sub.lights.iter().map(|light| transform_light(light, placement)));
+    }
+    if scene.camera.is_none() {
+        if let (Some(camera), Some(placement)) = (sub.camera, placements.first()) {
+            scene.camera = Some(Camera {
+                position: placement.transform_point3(camera.position),
+                target: placement.transform_point3(camera.target),
+                up: placement.transform_vector3(camera.up).normalize_or(camera.up),
+                fov_y_deg: camera.fov_y_deg,
+            });
+        }
+    }
+}
+
+fn transform_light(light: &Light, placement: &Affine3A) -> Light {
+    let direction = |d: Vec3| placement.transform_vector3(d).normalize_or(d);
+    match *light {
+        Light::Point { position, intensity } => {
+            Light::Point { position: placement.transform_point3(position), intensity }
+        }
+        Light::Spot { position, direction: d, angle_deg, intensity } => Light::Spot {
+            position: placement.transform_point3(position),
+            direction: direction(d),
+            angle_deg,
+            intensity,
+        },
+        Light::Directional { direction: d, irradiance } => {
+            Light::Directional { direction: direction(d), irradiance }
+        }
+    }
+}
+
+fn add_light(
+    check: &Checker,
+    scene: &mut Scene,
+    index: usize,
+    entry: &Spanned<LightSpec>,
+) -> Result<(), SceneError> {
+    let span = entry.span();
+    let spec = entry.get_ref();
+    let path = |field: &str| format!("light[{index}].{field}");
+    let present = [
+        ("position", spec.position.is_some()),
+        ("u", spec.u.is_some()),
+        ("v", spec.v.is_some()),
+        ("radiance", spec.radiance.is_some()),
+        ("intensity", spec.intensity.is_some()),
+        ("direction", spec.direction.is_some()),
+        ("angle", spec.angle.is_some()),
+        ("irradiance", spec.irradiance.is_some()),
+    ];
+    for (field, is_present) in present {
+        if is_present && !spec.kind.fields().contains(&field) {
+            return Err(check.error(
+                &span,
+                path(field),
+                format!("a {} light has no `{field}`", spec.kind.name()),
+            ));
+        }
+    }
+    let required = |field: &str, value: Option<[f32; 3]>| {
+        value.ok_or_else(|| {
+            check.error(&span, path(field), format!("a {} light needs `{field}`", spec.kind.name()))
+        })
+    };
+    let light = match spec.kind {
+        LightKind::Quad => {
+            let centre = check.vector(&span, path("position"), required("position", spec.position)?)?;
+            let u = check.vector(&span, path("u"), required("u", spec.u)?)?;
+            let v = check.vector(&span, path("v"), required("v", spec.v)?)?;
+            if u.cross(v) == Vec3::ZERO {
+                return Err(check.error(&span, path("v"), "u and v must span a quad (u × v is zero)"));
+            }
+            let radiance = check.colour(&span, path("radiance"), required("radiance", spec.radiance)?)?;
+            scene.materials.push(Material {
+                name: format!("light[{index}]"),
+                diffuse: Vec3::ZERO,
+                emission: radiance,
+                ..Material::default()
+            });
+            scene.meshes.push(quad_mesh(
+                format!("light[{index}]"),
+                centre,
+                u,
+                v,
+                scene.materials.len() as u32 - 1,
+            ));
+            scene
+                .instances
+                .push(Instance { mesh: scene.meshes.len() as u32 - 1, transform: Affine3A::IDENTITY });
+            return Ok(());
+        }
+        LightKind::Point => Light::Point {
+            position: check.vector(&span, path("position"), required("position", spec.position)?)?,
+            intensity: check.colour(&span, path("intensity"), required("intensity", spec.intensity)?)?,
+        },
+        LightKind::Spot => {
+            let angle =
+                spec.angle.ok_or_else(|| check.error(&span, path("angle"), "a spot light needs `angle`"))?;
+            if !(angle > 0.0 && angle <= 180.0) {
+                return Err(check.error(
+                    &span,
+                    path("angle"),
+                    "the full cone angle must be in (0, 180] degrees",
+                ));
+            }
+            Light::Spot {
+                position: check.vector(&span, path("position"), required("position", spec.position)?)?,
+                direction: check.direction(
+                    &span,
+                    path("direction"),
+                    required("direction", spec.direction)?,
+                )?,
+                angle_deg: angle,
+                intensity: check.colour(&span, path("intensity"), required("intensity", spec.intensity)?)?,
+            }
+        }
+        LightKind::Directional => Light::Directional {
+            direction: check.direction(&span, path("direction"), required("direction", spec.direction)?)?,
+            irradiance: check.colour(&span, path("irradiance"), required("irradiance", spec.irradiance)?)?,
+        },
+    };
+    scene.lights.push(light);
+    Ok(())
+}
+
+/// Two triangles c−u−v, c+u−v, c+u+v and c−u−v, c+u+v, c−u+v: counter-clockwise seen from
+/// the side u × v points to, so that is the side they face and emit to.
+fn quad_mesh(name: String, centre: Vec3, u: Vec3, v: Vec3, material: u32) -> Mesh {
+    Mesh {
+        name,
+        positions: vec![centre - u - v, centre + u - v, centre + u + v, centre - u + v],
+        normals: None,
+        uvs: None,
+        indices: vec![[0, 1, 2], [0, 2, 3]],
+        material_ids: vec![material; 2],
+    }
+}
+
+fn camera_from(check: &Checker, camera: &Spanned<CameraSpec>) -> Result<Camera, SceneError> {
+    let span = camera.span();
+    let spec = camera.get_ref();
+    let position = check.vector(&span, "camera.position".into(), spec.position)?;
+    let target = check.vector(&span, "camera.target".into(), spec.target)?;
+    let up = check.direction(&span, "camera.up".into(), spec.up)?;
+    let forward = (target - position)
+        .try_normalize()
+        .ok_or_else(|| check.error(&span, "camera.target".into(), "target must differ from position"))?;
+    if forward.cross(up).length() < 1e-6 {
+        return Err(check.error(&span, "camera.up".into(), "up must not be parallel to the view direction"));
+    }
+    if !(spec.fov > 0.0 && spec.fov < 180.0) {
+        return Err(check.error(
+            &span,
+            "camera.fov".into(),
+            "the vertical field of view must be in (0, 180) degrees",
+        ));
+    }
+    Ok(Camera { position, target, up, fov_y_deg: spec.fov })
+}
+
+/// 1-based line of a byte offset.
+fn line_of(text: &str, offset: usize) -> usize {
+    text.as_bytes()[..offset.min(text.len())].iter().filter(|&&b| b == b'\n').count() + 1
+}
+
+/// A `toml` error as a [`SceneError`] pointing at the line and, where it can be told, the
+/// field (`mesh[1].scale`): the table headers before the error are replayed to name it.
+fn toml_error(error: &toml::de::Error, text: &str, file: &Path) -> SceneError {
+    let message = error.message().trim().to_owned();
+    let Some(span) = error.span() else {
+        return SceneError::parse(file, Location::File, message);
+    };
+    let line = line_of(text, span.start);
+    let location = match field_at(text, line) {
+        Some(path) => Location::Field { line: Some(line), path },
+        None => Location::Line(line),
+    };
+    SceneError::parse(file, location, message)
+}
+
+/// The dotted path of the key assigned on `line` (1-based), e.g. `mesh[1].scale`.
+fn field_at(text: &str, line: usize) -> Option<String> {
+    let mut table = String::new();
+    let mut counts: std::collections::HashMap<String, usize> = std::collections::HashMap::new();
+    for raw in text.lines().take(line.saturating_sub(1)) {
+        let header = raw.trim();
+        if let Some(name) = header.strip_prefix("[[").and_then(|h| h.split("]]").next()) {
+            let name = name.trim().to_owned();
+            let count = counts.entry(name.clone()).or_insert(0);
+            table = format!("{name}[{count}]");
+            *count += 1;
+        } else if let Some(name) = header.strip_prefix('[').and_then(|h| h.split(']').next()) {
+            table = name.trim().to_owned();
+        }
+    }
+    let current = text.lines().nth(line - 1)?;
+    let key = current.split_once('=')?.0.trim();
+    if key.is_empty() || key.starts_with('[') || key.starts_with('#') {
+        return None;
+    }
+    Some(if table.is_empty() { key.to_owned() } else { format!("{table}.{key}") })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse_str(text: &str) -> Result<Scene, SceneError> {
+        parse(text, "s.toml", None, &mut LoadReport::default())
+    }
+
+    #[test]
+    fn unknown_fields_are_named_with_their_line() {
+        let err = parse_str("[camera]\nposition = [0, 1, 3.5]\ntarget = [0, 1, 0]\nfov = 39.3\nzoom = 2\n")
+            .unwrap_err();
+        let text = err.to_string();
+        assert!(text.starts_with("s.toml: line 5, field `camera.zoom`: "), "{text}");
+        assert!(text.contains("unknown field `zoom`"), "{text}");
+
+        let err = parse_str("[[light]]\ntype = \"point\"\nposition = [0, 0, 0]\nintensity = [1, 1, 1]\n\n[[light]]\ntype = \"point\"\nposition = [0, 0, 0]\npower = [1, 1, 1]\n").unwrap_err();
+        let text = err.to_string();
+        assert!(text.contains("line 9, field `light[1].power`"), "{text}");
+    }
+
+    #[test]
+    fn malformed_toml_names_the_line() {
+        let err = parse_str("[camera]\nposition = [0, 1,\n").unwrap_err();
+        assert!(err.to_string().starts_with("s.toml: line "), "{err}");
+        let err =
+            parse_str("[camera]\nposition = [0, 1, 3]\ntarget = [0, 1, 0]\nfov = \"wide\"\n").unwrap_err();
+        assert!(err.to_string().contains("line 4, field `camera.fov`"), "{err}");
+        let err = parse_str("[[mesh]]\nfile = \"a.obj\"\nscale = \"big\"\n").unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "s.toml: line 3, field `mesh[0].scale`: expected a number or an array of three numbers"
+        );
+    }
+
+    #[test]
+    fn semantic_errors_name_the_field() {
+        let err = parse_str("[[light]]\ntype = \"spot\"\nposition = [0, 0, 0]\ndirection = [0, 0, 0]\nangle = 30\nintensity = [1, 1, 1]\n").unwrap_err();
+        assert!(err.to_string().contains("field `light[0].direction`: direction must not be zero"), "{err}");
+        let err = parse_str("[camera]\nposition = [0, 1, 0]\ntarget = [0, 1, 0]\nfov = 40\n").unwrap_err();
+        assert!(err.to_string().contains("camera.target"), "{err}");
+        let err = parse_str("[[light]]\ntype = \"point\"\nposition = [0, 0, 0]\nradiance = [1, 1, 1]\n")
+            .unwrap_err();
+        assert!(err.to_string().contains("a point light has no `radiance`"), "{err}");
+        let err = parse_str("[[light]]\ntype = \"area\"\n").unwrap_err();
+        assert!(err.to_string().contains("line 2, field `light[0].type`"), "{err}");
+        let err = parse_str("[[light]]\ntype = \"point\"\nposition = [0, nan, 0]\nintensity = [1, 1, 1]\n")
+            .unwrap_err();
+        assert!(err.to_string().contains("light[0].position"), "{err}");
+    }
+
+    #[test]
+    fn quad_light_faces_u_cross_v() {
+        let scene = parse_str("[[light]]\ntype = \"quad\"\nposition = [0, 2, 0]\nu = [0.5, 0, 0]\nv = [0, 0, 0.25]\nradiance = [10, 10, 10]\n").unwrap();
+        let mesh = &scene.meshes[0];
+        let normal = mesh.triangle_normal(0);
+        let expected = Vec3::X.cross(Vec3::Z);
+        assert_eq!(expected, -Vec3::Y);
+        for t in 0..2 {
+            assert!((mesh.triangle_normal(t) - expected).length() < 1e-6);
+        }
+        assert!((normal - expected).length() < 1e-6);
+        assert_eq!(scene.materials[0].emission, Vec3::splat(10.0));
+        assert_eq!(scene.materials[0].diffuse, Vec3::ZERO);
+        assert_eq!(scene.emissive_triangle_count(), 2);
+    }
+
+    #[test]
+    fn rotation_order_is_x_then_y_then_z() {
+        let check = Checker { file: Path::new("s.toml"), text: "" };
+        let t = check.transform(&(0..0), "", None, Some([90.0, 90.0, 0.0]), None).unwrap();
+        // X first takes +Y to +Z, then Y takes +Z to +X.
+        assert!((t.transform_vector3(Vec3::Y) - Vec3::X).length() < 1e-6);
+        let t = check
+            .transform(
+                &(0..0),
+                "",
+                Some([1.0, 2.0, 3.0]),
+                Some([0.0, 0.0, 90.0]),
+                Some(Scale::Axes([2.0, 1.0, 1.0])),
+            )
+            .unwrap();
+        // Scale, then rotate, then translate: +X → (2,0,0) → (0,2,0) → (1,4,3).
+        assert!((t.transform_point3(Vec3::X) - Vec3::new(1.0, 4.0, 3.0)).length() < 1e-5);
+    }
+}

@@ -1,0 +1,100 @@
+//! Helpers shared by the integration tests.
+
+// Every test crate includes this module and uses a different part of it.
+#![allow(dead_code)]
+
+use std::path::PathBuf;
+
+use glam::Vec3;
+use igi_scene::Bounds;
+
+/// `shared/scenes` beside the repository, or `None` (with a message saying the test is
+/// skipped) when this checkout has no shared scenes.
+pub fn scenes_dir(test: &str) -> Option<PathBuf> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes");
+    if dir.is_dir() {
+        Some(dir)
+    } else {
+        println!("{test}: skipped, {} not found", dir.display());
+        None
+    }
+}
+
+/// Asserts that `bounds` equals `min`..`max` to within `tolerance` per coordinate.
+#[track_caller]
+pub fn assert_bounds(bounds: Bounds, min: [f32; 3], max: [f32; 3], tolerance: f32) {
+    let close = |a: Vec3, b: [f32; 3]| (a - Vec3::from(b)).abs().max_element() <= tolerance;
+    assert!(
+        close(bounds.min, min) && close(bounds.max, max),
+        "bounds {:?}..{:?}, expected {min:?}..{max:?} (± {tolerance})",
+        bounds.min,
+        bounds.max
+    );
+}
+
+/// Standard base64 with padding (for `data:` URIs in test documents).
+pub fn base64(bytes: &[u8]) -> String {
+    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::new();
+    for chunk in bytes.chunks(3) {
+        let b = [chunk[0], *chunk.get(1).unwrap_or(&0), *chunk.get(2).unwrap_or(&0)];
+        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
+        for i in 0..4 {
+            if i <= chunk.len() {
+                out.push(char::from(ALPHABET[(n >> (18 - 6 * i) & 63) as usize]));
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
+}
+
+/// A one-mesh glTF document with the given triangles, and its binary buffer. With `embed`,
+/// the buffer is a `data:` URI in the JSON; otherwise the buffer has no URI (a GLB's BIN).
+pub fn gltf_document(positions: &[[f32; 3]], indices: &[u16], embed: bool) -> (String, Vec<u8>) {
+    let mut bin: Vec<u8> = positions.iter().flatten().flat_map(|c| c.to_le_bytes()).collect();
+    let index_offset = bin.len();
+    bin.extend(indices.iter().flat_map(|i| i.to_le_bytes()));
+    while bin.len() % 4 != 0 {
+        bin.push(0);
+    }
+    let uri = if embed {
+        format!(r#","uri":"data:application/octet-stream;base64,{}""#, base64(&bin))
+    } else {
+        String::new()
+    };
+    let json = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"indices":1}}]}}],
+"buffers":[{{"byteLength":{len}{uri}}}],
+"bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":{index_offset}}},{{"buffer":0,"byteOffset":{index_offset},"byteLength":{index_len}}}],
+"accessors":[{{"bufferView":0,"componentType":5126,"count":{count},"type":"VEC3","min":[0,0,0],"max":[1,1,1]}},
+{{"bufferView":1,"componentType":5123,"count":{index_count},"type":"SCALAR"}}]}}"#,
+        len = bin.len(),
+        count = positions.len(),
+        index_len = indices.len() * 2,
+        index_count = indices.len(),
+    );
+    (json, bin)
+}
+
+/// A binary glTF container of `json` and `bin`.
+pub fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
+    let mut json = json.as_bytes().to_vec();
+    while json.len() % 4 != 0 {
+        json.push(b' ');
+    }
+    let total = 12 + 8 + json.len() + 8 + bin.len();
+    let mut out = Vec::with_capacity(total);
+    out.extend(b"glTF");
+    out.extend(2u32.to_le_bytes());
+    out.extend((total as u32).to_le_bytes());
+    out.extend((json.len() as u32).to_le_bytes());
+    out.extend(b"JSON");
+    out.extend(&json);
+    out.extend((bin.len() as u32).to_le_bytes());
+    out.extend(b"BIN\0");
+    out.extend(bin);
+    out
+}

@@ -1,0 +1,204 @@
+//! Scene files: placement of mesh files (transforms, instances), lights, camera, material
+//! overrides, and errors that name the scene file, line and field.
+
+mod common;
+
+use std::fs;
+use std::path::PathBuf;
+
+use common::{assert_bounds, gltf_document, scenes_dir};
+use glam::Vec3;
+use igi_scene::{Light, SceneError, load, load_with_report};
+
+/// A fresh directory holding `files` (name, contents).
+fn directory(test: &str, files: &[(&str, &str)]) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("igi-scene-{test}-{}", std::process::id()));
+    let _ = fs::remove_dir_all(&dir);
+    fs::create_dir_all(&dir).unwrap();
+    for (name, contents) in files {
+        fs::write(dir.join(name), contents).unwrap();
+    }
+    dir
+}
+
+/// A unit cube's corners, [0, 1]³, as one OBJ face list (only the bounds matter here).
+const CUBE: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
+                    f 1 2 3 4\nf 5 6 7 8\n";
+
+#[test]
+fn transforms_and_instances_place_meshes() {
+    let scene_toml = r#"
+[[mesh]]
+file = "cube.obj"
+scale = [2, 1, 1]
+rotate = [0, 0, 90]
+translate = [10, 0, 0]
+
+[[mesh]]
+file = "cube.obj"
+translate = [0, 0, -1]
+instances = [ { }, { translate = [0, 5, 0] }, { rotate = [90, 0, 0], scale = 3 } ]
+"#;
+    let dir = directory("placement", &[("cube.obj", CUBE), ("scene.toml", scene_toml)]);
+    let scene = load(dir.join("scene.toml")).unwrap();
+    assert_eq!(scene.meshes.len(), 2, "each [[mesh]] entry loads its file");
+    assert_eq!(scene.instances.len(), 4);
+    assert_eq!(scene.triangle_count(), 16);
+    // First entry: S then Rz(90°) then T: x ∈ [0, 2] → y ∈ [0, 2]; y ∈ [0, 1] → x ∈ [-1, 0].
+    let first = scene.meshes[scene.instances[0].mesh as usize].bounds();
+    let placed = |i: usize| {
+        let instance = &scene.instances[i];
+        let mesh = &scene.meshes[instance.mesh as usize];
+        mesh.positions
+            .iter()
+            .fold(igi_scene::Bounds::EMPTY, |b, &p| b.including(instance.transform.transform_point3(p)))
+    };
+    assert_eq!(first.size(), Vec3::ONE);
+    assert_bounds(placed(0), [9.0, 0.0, 0.0], [10.0, 2.0, 1.0], 1e-5);
+    // Instances apply after the mesh's own transform: `instance · mesh`.
+    assert_bounds(placed(1), [0.0, 0.0, -1.0], [1.0, 1.0, 0.0], 1e-5);
+    assert_bounds(placed(2), [0.0, 5.0, -1.0], [1.0, 6.0, 0.0], 1e-5);
+    // Translate by −1 in z first, then scale by 3 and rotate 90° about X (y → z, z → −y).
+    assert_bounds(placed(3), [0.0, 0.0, 0.0], [3.0, 3.0, 3.0], 1e-5);
+    assert_bounds(scene.bounds(), [-0.0, 0.0, -1.0], [10.0, 6.0, 3.0], 1e-5);
+}
+
+#[test]
+fn lights_camera_and_material_override() {
+    let scene_toml = r#"
+[camera]
+position = [0, 1, 3.5]
+target = [0, 1, 0]
+fov = 39.3
+
+[[mesh]]
+file = "cube.obj"
+material = { diffuse = [0.2, 0.4, 0.6], emission = [1, 1, 1] }
+
+[[light]]
+type = "quad"
+position = [350, 640, -210]
+u = [400, 0, 0]
+v = [0, 0, 200]
+radiance = [10, 10, 10]
+
+[[light]]
+type = "spot"
+position = [0, 5, 0]
+direction = [0, -2, 0]
+angle = 60
+intensity = [5, 5, 5]
+
+[[light]]
+type = "directional"
+direction = [0.3, -1, 0.2]
+irradiance = [2, 2, 2]
+"#;
+    let dir = directory("lights", &[("cube.obj", CUBE), ("scene.toml", scene_toml)]);
+    let scene = load(dir.join("scene.toml")).unwrap();
+    let camera = scene.camera.unwrap();
+    assert_eq!((camera.position, camera.up, camera.fov_y_deg), (Vec3::new(0.0, 1.0, 3.5), Vec3::Y, 39.3));
+    // The override replaces the OBJ's own (default) material.
+    let cube_material = &scene.materials[scene.meshes[0].material_ids[0] as usize];
+    assert_eq!(cube_material.diffuse, Vec3::new(0.2, 0.4, 0.6));
+    assert_eq!(cube_material.emission, Vec3::ONE);
+    // The quad: 800 × 400 units at y = 640, facing u × v = −Y.
+    let quad = scene.meshes.iter().position(|m| m.name == "light[0]").unwrap();
+    let mesh = &scene.meshes[quad];
+    assert_eq!(mesh.indices.len(), 2);
+    for t in 0..2 {
+        assert_eq!(mesh.triangle_normal(t), Vec3::NEG_Y);
+    }
+    assert_bounds(mesh.bounds(), [-50.0, 640.0, -410.0], [750.0, 640.0, -10.0], 1e-3);
+    assert_eq!(scene.materials[mesh.material_ids[0] as usize].emission, Vec3::splat(10.0));
+    assert_eq!(scene.emissive_triangle_count(), 4 + 2, "the emissive cube and the quad");
+    assert_eq!(scene.lights.len(), 2);
+    assert!(
+        matches!(scene.lights[0], Light::Spot { direction, angle_deg: 60.0, .. } if direction == Vec3::NEG_Y)
+    );
+    let Light::Directional { direction, .. } = scene.lights[1] else { panic!("{:?}", scene.lights[1]) };
+    assert!((direction.length() - 1.0).abs() < 1e-6);
+}
+
+#[test]
+fn gltf_files_bring_their_lights_and_camera_along() {
+    let (json, _) = gltf_document(&[[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], &[0, 1, 2], true);
+    let json = json
+        .replace(
+            r#""nodes":[{"mesh":0}]"#,
+            r#""nodes":[{"mesh":0},{"translation":[0,0,5],"camera":0},{"translation":[1,2,3],"extensions":{"KHR_lights_punctual":{"light":0}}}]"#,
+        )
+        .replace(r#""scenes":[{"nodes":[0]}]"#, r#""scenes":[{"nodes":[0,1,2]}]"#)
+        .replace(
+            r#""asset""#,
+            r#""cameras":[{"type":"perspective","perspective":{"yfov":0.5,"znear":0.1}}],"extensionsUsed":["KHR_lights_punctual"],"extensions":{"KHR_lights_punctual":{"lights":[{"type":"point","intensity":4,"color":[1,0.5,0.25]}]}},"asset""#,
+        );
+    let scene_toml = "[[mesh]]\nfile = \"thing.gltf\"\ntranslate = [10, 0, 0]\ninstances = [ {}, { translate = [0, 100, 0] } ]\n";
+    let dir = directory("gltf", &[("thing.gltf", &json), ("scene.toml", scene_toml)]);
+    let (scene, report) = load_with_report(dir.join("scene.toml")).unwrap();
+    assert!(report.warnings.is_empty(), "{report:?}");
+    assert_eq!(scene.instances.len(), 2);
+    let camera = scene.camera.expect("the glTF's camera, placed by the first instance");
+    assert!((camera.position - Vec3::new(10.0, 0.0, 5.0)).length() < 1e-5);
+    assert!((camera.fov_y_deg - 0.5f32.to_degrees()).abs() < 1e-4);
+    let positions: Vec<Vec3> = scene
+        .lights
+        .iter()
+        .map(|l| match l {
+            Light::Point { position, intensity } => {
+                assert_eq!(*intensity, Vec3::new(4.0, 2.0, 1.0), "colour × intensity");
+                *position
+            }
+            other => panic!("{other:?}"),
+        })
+        .collect();
+    assert_eq!(positions, vec![Vec3::new(11.0, 2.0, 3.0), Vec3::new(11.0, 102.0, 3.0)]);
+}
+
+#[test]
+fn missing_mesh_file_names_scene_file_line_and_path() {
+    let scene_toml = "[camera]\nposition = [0, 0, 5]\ntarget = [0, 0, 0]\nfov = 40\n\n[[mesh]]\nfile = \"cube.obj\"\n\n[[mesh]]\nfile = \"gone.ply\"\n";
+    let dir = directory("missing", &[("cube.obj", CUBE), ("scene.toml", scene_toml)]);
+    let err = load(dir.join("scene.toml")).unwrap_err();
+    assert!(matches!(err, SceneError::MissingFile { .. }), "{err}");
+    let text = err.to_string();
+    let scene_path = dir.join("scene.toml");
+    assert_eq!(
+        text,
+        format!(
+            "{}: line 10, field `mesh[1].file`: {} not found",
+            scene_path.display(),
+            dir.join("gone.ply").display()
+        )
+    );
+}
+
+#[test]
+fn shared_meshes_in_a_scene_file() {
+    let Some(scenes) = scenes_dir("shared_meshes_in_a_scene_file") else { return };
+    let scene_toml = format!(
+        r#"
+[[mesh]]
+file = "{box}"
+
+[[mesh]]
+file = "{bunny}"
+scale = 4
+translate = [0, -0.13, 0]
+material = {{ diffuse = [0.7, 0.7, 0.7] }}
+"#,
+        box = scenes.join("cornell-box/CornellBox-Original.obj").display(),
+        bunny = scenes.join("stanford-bunny/bun_zipper_res4.ply").display(),
+    );
+    let dir = directory("shared", &[("scene.toml", &scene_toml)]);
+    let scene = load(dir.join("scene.toml")).unwrap();
+    assert_eq!(scene.triangle_count(), 36 + 948);
+    assert_eq!(scene.materials.len(), 8 + 1);
+    assert_eq!(scene.emissive_triangle_count(), 2);
+    let bunny = &scene.instances[1];
+    let bunny_bounds = scene.meshes[bunny.mesh as usize]
+        .positions
+        .iter()
+        .fold(igi_scene::Bounds::EMPTY, |b, &p| b.including(bunny.transform.transform_point3(p)));
+    assert_bounds(bunny_bounds, [-0.3724, 0.0044, -0.2264], [0.2328, 0.5976, 0.2312], 1e-3);
+}

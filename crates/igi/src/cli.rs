@@ -1,0 +1,108 @@
+//! The command line: argument types (clap derive), logging set-up, subcommand dispatch, and
+//! helpers the subcommands share (vector arguments, camera overrides).
+
+use crate::{bench, cmd_info, cmd_render};
+use anyhow::Result;
+use clap::{Parser, Subcommand};
+use glam::Vec3;
+use igi_bvh::Aabb;
+use igi_render::default_camera;
+use igi_scene::{Camera, Scene};
+
+/// Interactive global illumination (Benthin, Wald & Slusallek 2003) on the CPU.
+#[derive(Debug, Parser)]
+#[command(name = "igi", version, about, propagate_version = true)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Render a scene to a PNG (tone-mapped) or EXR (linear) file.
+    Render(cmd_render::RenderArgs),
+    /// Print what a scene contains: geometry, materials, lights, bounds, camera.
+    Info(cmd_info::InfoArgs),
+    /// Measure throughput (`igi bench rays`).
+    #[command(subcommand)]
+    Bench(bench::BenchCommand),
+}
+
+/// Runs one subcommand.
+pub fn dispatch(command: Command) -> Result<()> {
+    match command {
+        Command::Render(args) => cmd_render::run(&args),
+        Command::Info(args) => cmd_info::run(&args),
+        Command::Bench(cmd) => bench::run(cmd),
+    }
+}
+
+/// Logs to stderr, filtered by `RUST_LOG` (default: warnings and errors).
+pub fn init_logging() {
+    let filter = tracing_subscriber::EnvFilter::try_from_default_env()
+        .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("warn"));
+    tracing_subscriber::fmt().with_env_filter(filter).with_writer(std::io::stderr).with_target(false).init();
+}
+
+/// Parses `x,y,z` into a vector (for `--camera-position` and friends).
+pub fn parse_vec3(s: &str) -> Result<Vec3, String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let [x, y, z] = parts.as_slice() else {
+        return Err(format!("{s:?} is not three comma-separated numbers x,y,z"));
+    };
+    let num = |v: &str| v.parse::<f32>().ok().filter(|f| f.is_finite());
+    match (num(x), num(y), num(z)) {
+        (Some(x), Some(y), Some(z)) => Ok(Vec3::new(x, y, z)),
+        _ => Err(format!("{s:?} is not three finite numbers x,y,z")),
+    }
+}
+
+/// World bounds of the scene as the BVH crate's box type.
+pub fn scene_bounds(scene: &Scene) -> Aabb {
+    let b = scene.bounds();
+    if b.is_empty() { Aabb::EMPTY } else { Aabb { min: b.min, max: b.max } }
+}
+
+/// The scene's camera (or a default one framing its bounds) with the given fields replaced.
+pub fn camera_with_overrides(
+    scene: &Scene,
+    position: Option<Vec3>,
+    target: Option<Vec3>,
+    up: Option<Vec3>,
+    fov: Option<f32>,
+) -> Camera {
+    let mut camera = scene.camera.unwrap_or_else(|| default_camera(&scene_bounds(scene)));
+    if let Some(p) = position {
+        camera.position = p;
+    }
+    if let Some(t) = target {
+        camera.target = t;
+    }
+    if let Some(u) = up {
+        camera.up = u;
+    }
+    if let Some(f) = fov {
+        camera.fov_y_deg = f;
+    }
+    camera
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn vec3_arguments() {
+        assert_eq!(parse_vec3("1,-2.5, 3e1"), Ok(Vec3::new(1.0, -2.5, 30.0)));
+        assert!(parse_vec3("1,2").is_err());
+        assert!(parse_vec3("1,2,x").is_err());
+        assert!(parse_vec3("1,2,inf").is_err());
+    }
+
+    #[test]
+    fn cli_is_consistent() {
+        <Cli as clap::CommandFactory>::command().debug_assert();
+    }
+}

@@ -1,0 +1,95 @@
+//! `igi info`: what a scene contains (geometry, materials, textures, lights, bounds, camera)
+//! and what its loading cost and repaired.
+
+use anyhow::{Context, Result};
+use clap::Args;
+use glam::Vec3;
+use igi_scene::{Light, Scene};
+use std::time::Instant;
+
+/// Arguments of `igi info`.
+#[derive(Debug, Args)]
+pub struct InfoArgs {
+    /// Built-in scene name (e.g. cornell-box) or scene file.
+    pub scene: String,
+}
+
+fn v(p: Vec3) -> String {
+    format!("({}, {}, {})", p.x, p.y, p.z)
+}
+
+/// Emissive triangles of all instances and their total world-space area.
+fn emissive(scene: &Scene) -> (usize, f32) {
+    let (mut count, mut area) = (0, 0.0);
+    for inst in &scene.instances {
+        let Some(mesh) = scene.meshes.get(inst.mesh as usize) else { continue };
+        for (tri, &m) in mesh.indices.iter().zip(&mesh.material_ids) {
+            if scene.materials.get(m as usize).is_some_and(|m| m.is_emissive()) {
+                let [a, b, c] = tri.map(|i| inst.transform.transform_point3(mesh.positions[i as usize]));
+                count += 1;
+                area += 0.5 * (b - a).cross(c - a).length();
+            }
+        }
+    }
+    (count, area)
+}
+
+/// Runs `igi info`.
+pub fn run(args: &InfoArgs) -> Result<()> {
+    let t = Instant::now();
+    let (scene, report) = igi_scene::load_named_with_report(&args.scene)
+        .with_context(|| format!("cannot load scene {}", args.scene))?;
+    let load = t.elapsed();
+
+    let instanced = scene.triangle_count();
+    let stored: usize = scene.meshes.iter().map(|m| m.indices.len()).sum();
+    let with_normals = scene.meshes.iter().filter(|m| m.normals.is_some()).count();
+    let with_uvs = scene.meshes.iter().filter(|m| m.uvs.is_some()).count();
+    let (mut point, mut spot, mut directional) = (0, 0, 0);
+    for light in &scene.lights {
+        match light {
+            Light::Point { .. } => point += 1,
+            Light::Spot { .. } => spot += 1,
+            Light::Directional { .. } => directional += 1,
+        }
+    }
+    let (emissive_tris, emissive_area) = emissive(&scene);
+    let textured = scene.materials.iter().filter(|m| m.diffuse_texture.is_some()).count();
+    let bounds = crate::cli::scene_bounds(&scene);
+
+    println!("scene        {}", args.scene);
+    println!("triangles    {instanced} ({stored} stored in meshes)");
+    println!(
+        "meshes       {} ({with_normals} with normals, {with_uvs} with texture coordinates)",
+        scene.meshes.len()
+    );
+    println!("instances    {}", scene.instances.len());
+    println!("materials    {} ({textured} with a diffuse texture)", scene.materials.len());
+    println!("textures     {}", scene.textures.len());
+    println!(
+        "lights       {point} point, {spot} spot, {directional} directional; \
+         {emissive_tris} emissive triangles (area {emissive_area})"
+    );
+    if bounds.is_empty() {
+        println!("bounds       empty");
+    } else {
+        println!("bounds       {} .. {} (diagonal {})", v(bounds.min), v(bounds.max), bounds.diagonal());
+    }
+    match &scene.camera {
+        Some(c) => println!(
+            "camera       position {} target {} up {} fov {} deg",
+            v(c.position),
+            v(c.target),
+            v(c.up),
+            c.fov_y_deg
+        ),
+        None => println!("camera       none (renders use a default camera framing the bounds)"),
+    }
+    println!("load time    {:.3} s", load.as_secs_f64());
+    println!("degenerate   {} triangles dropped", report.degenerate_dropped);
+    println!("warnings     {}", report.warnings.len());
+    for w in &report.warnings {
+        println!("  {w}");
+    }
+    Ok(())
+}
