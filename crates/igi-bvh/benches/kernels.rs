@@ -80,7 +80,16 @@ fn bench(c: &mut Criterion) {
     });
     g.bench_function("primary/packet8", |b| {
         b.iter(|| {
-            packets.iter().map(|p| accel.intersect8(&RayPacket8::from_rays(black_box(p)), M32x8::ALL).hit_mask().bitmask().count_ones()).sum::<u32>()
+            packets
+                .iter()
+                .map(|p| {
+                    accel
+                        .intersect8(&RayPacket8::from_rays(black_box(p)), M32x8::ALL)
+                        .hit_mask()
+                        .bitmask()
+                        .count_ones()
+                })
+                .sum::<u32>()
         })
     });
     g.bench_function("shadow/single", |b| {
@@ -88,7 +97,12 @@ fn bench(c: &mut Criterion) {
     });
     g.bench_function("shadow/packet8", |b| {
         b.iter(|| {
-            shadow.iter().map(|p| accel.occluded8(&RayPacket8::from_rays(black_box(p)), M32x8::ALL).bitmask().count_ones()).sum::<u32>()
+            shadow
+                .iter()
+                .map(|p| {
+                    accel.occluded8(&RayPacket8::from_rays(black_box(p)), M32x8::ALL).bitmask().count_ones()
+                })
+                .sum::<u32>()
         })
     });
     g.finish();

@@ -36,7 +36,8 @@ impl TriangleMesh {
 
     /// Bytes of vertex and index data.
     pub fn bytes(&self) -> usize {
-        self.positions.len() * std::mem::size_of::<Vec3>() + self.indices.len() * std::mem::size_of::<[u32; 3]>()
+        self.positions.len() * std::mem::size_of::<Vec3>()
+            + self.indices.len() * std::mem::size_of::<[u32; 3]>()
     }
 }
 
@@ -93,14 +94,21 @@ impl Accel {
         let mut orders = Vec::with_capacity(meshes.len());
         let mut blas = Vec::with_capacity(meshes.len());
         for mesh in &mut meshes {
-            let bounds: Vec<Aabb> = (0..mesh.indices.len() as u32).map(|p| triangle_bounds(mesh, p)).collect();
+            let bounds: Vec<Aabb> =
+                (0..mesh.indices.len() as u32).map(|p| triangle_bounds(mesh, p)).collect();
             let bvh = build_binned_sah(&bounds, &params);
             mesh.indices = bvh.prim_order.iter().map(|&p| mesh.indices[p as usize]).collect();
             orders.push(bvh.prim_order.clone());
             blas.push(Bvh { nodes: bvh.nodes, prim_order: Vec::new() });
         }
         let placements = instances.iter().map(|&(mesh, m)| Placement::new(mesh, m)).collect();
-        let mut accel = Self { meshes, blas, placements, tlas: Bvh { nodes: Vec::new(), prim_order: Vec::new() }, params };
+        let mut accel = Self {
+            meshes,
+            blas,
+            placements,
+            tlas: Bvh { nodes: Vec::new(), prim_order: Vec::new() },
+            params,
+        };
         accel.build_tlas();
         (accel, orders)
     }
@@ -254,13 +262,22 @@ impl Accel {
         let tlas = |q: &mut Closest8, leaf: &Node| {
             for &inst in self.tlas_leaf(leaf) {
                 let p = &self.placements[inst as usize];
-                let local = if p.identity { world } else { world.transformed(rays, &p.world_to_object, q.active) };
+                let local =
+                    if p.identity { world } else { world.transformed(rays, &p.world_to_object, q.active) };
                 let (mesh, nodes) = (&self.meshes[p.mesh as usize], &self.blas[p.mesh as usize].nodes);
                 match (&local.shear, &local.boxes) {
-                    (Shear8::Uniform(s), BoxRay8::Octant(b)) => closest8_blas(nodes, mesh, &local, s, b, inst, q),
-                    (Shear8::Uniform(s), BoxRay8::Mixed(b)) => closest8_blas(nodes, mesh, &local, s, b, inst, q),
-                    (Shear8::Mixed(s), BoxRay8::Octant(b)) => closest8_blas(nodes, mesh, &local, s, b, inst, q),
-                    (Shear8::Mixed(s), BoxRay8::Mixed(b)) => closest8_blas(nodes, mesh, &local, s, b, inst, q),
+                    (Shear8::Uniform(s), BoxRay8::Octant(b)) => {
+                        closest8_blas(nodes, mesh, &local, s, b, inst, q)
+                    }
+                    (Shear8::Uniform(s), BoxRay8::Mixed(b)) => {
+                        closest8_blas(nodes, mesh, &local, s, b, inst, q)
+                    }
+                    (Shear8::Mixed(s), BoxRay8::Octant(b)) => {
+                        closest8_blas(nodes, mesh, &local, s, b, inst, q)
+                    }
+                    (Shear8::Mixed(s), BoxRay8::Mixed(b)) => {
+                        closest8_blas(nodes, mesh, &local, s, b, inst, q)
+                    }
                 }
             }
         };
@@ -278,7 +295,8 @@ impl Accel {
         let tlas = |q: &mut Any8, leaf: &Node| {
             for &inst in self.tlas_leaf(leaf) {
                 let p = &self.placements[inst as usize];
-                let local = if p.identity { world } else { world.transformed(rays, &p.world_to_object, q.active) };
+                let local =
+                    if p.identity { world } else { world.transformed(rays, &p.world_to_object, q.active) };
                 let (mesh, nodes) = (&self.meshes[p.mesh as usize], &self.blas[p.mesh as usize].nodes);
                 match (&local.shear, &local.boxes) {
                     (Shear8::Uniform(s), BoxRay8::Octant(b)) => any8_blas(nodes, mesh, &local, s, b, q),
@@ -327,7 +345,11 @@ impl Local1 {
     /// The ray in the space of `world_to_object`. Directions are not renormalised, so
     /// distances `t` mean the same in both spaces.
     fn transformed(&self, ray: &Ray, world_to_object: &Affine3A) -> Self {
-        Self::new(world_to_object.transform_point3(ray.origin), world_to_object.transform_vector3(ray.dir), ray.tnear)
+        Self::new(
+            world_to_object.transform_point3(ray.origin),
+            world_to_object.transform_vector3(ray.dir),
+            ray.tnear,
+        )
     }
 }
 
@@ -373,12 +395,18 @@ struct Local8 {
 
 impl Local8 {
     fn new(org: Vec3x8, dir: Vec3x8, tnear: F32x8, active: M32x8) -> Self {
-        Self { org: [org.x, org.y, org.z], tnear, shear: Shear8::new(&dir, active), boxes: BoxRay8::new(&org, &dir, tnear, active) }
+        Self {
+            org: [org.x, org.y, org.z],
+            tnear,
+            shear: Shear8::new(&dir, active),
+            boxes: BoxRay8::new(&org, &dir, tnear, active),
+        }
     }
 
     fn transformed(&self, rays: &RayPacket8, m: &Affine3A, active: M32x8) -> Self {
         let c = |v: glam::Vec3A| [F32x8::splat(v.x), F32x8::splat(v.y), F32x8::splat(v.z)];
-        let (cx, cy, cz, t) = (c(m.matrix3.x_axis), c(m.matrix3.y_axis), c(m.matrix3.z_axis), c(m.translation));
+        let (cx, cy, cz, t) =
+            (c(m.matrix3.x_axis), c(m.matrix3.y_axis), c(m.matrix3.z_axis), c(m.translation));
         let apply = |v: &Vec3x8, w: [F32x8; 3]| {
             Vec3x8::new(
                 v.x * cx[0] + v.y * cy[0] + v.z * cz[0] + w[0],
@@ -450,7 +478,8 @@ fn closest8_blas<S: Shear<F32x8>, B: Boxes8>(
             let prim_v = I32x8::splat(prim as i32);
             // The tie rule of `closer`, lane by lane: ids compare as unsigned, and INVALID_ID
             // (-1 as i32) is the largest.
-            let tie = h.t.eq(q.t) & (lt_u32(inst_v, q.instance) | (inst_v.eq(q.instance) & lt_u32(prim_v, q.prim)));
+            let tie =
+                h.t.eq(q.t) & (lt_u32(inst_v, q.instance) | (inst_v.eq(q.instance) & lt_u32(prim_v, q.prim)));
             let take = h.mask & q.active & (h.t.lt(q.t) | tie);
             if take.any() {
                 q.t = F32x8::select(take, h.t, q.t);

@@ -67,7 +67,12 @@ pub(crate) trait Query1 {
 
 /// Walks `nodes` with one ray, calling `leaf` for every leaf the ray reaches.
 #[inline(always)]
-pub(crate) fn walk1<Q: Query1>(nodes: &[Node], ray: &BoxRay1, q: &mut Q, mut leaf: impl FnMut(&mut Q, &Node)) {
+pub(crate) fn walk1<Q: Query1>(
+    nodes: &[Node],
+    ray: &BoxRay1,
+    q: &mut Q,
+    mut leaf: impl FnMut(&mut Q, &Node),
+) {
     let Some(root) = nodes.first() else { return };
     if ray.enter(root, q.tfar()).is_none() {
         return;
@@ -232,7 +237,12 @@ pub(crate) trait Query8 {
 /// Walks `nodes` with eight rays, calling `leaf` for every leaf that any active ray reaches.
 /// Returns early when no ray is left active.
 #[inline(always)]
-pub(crate) fn walk8<Q: Query8, B: Boxes8>(nodes: &[Node], ray: &B, q: &mut Q, mut leaf: impl FnMut(&mut Q, &Node)) {
+pub(crate) fn walk8<Q: Query8, B: Boxes8>(
+    nodes: &[Node],
+    ray: &B,
+    q: &mut Q,
+    mut leaf: impl FnMut(&mut Q, &Node),
+) {
     let Some(root) = nodes.first() else { return };
     let (m, _) = ray.enter(root, q.tfar());
     if (m & q.active()).none() {
@@ -259,11 +269,8 @@ pub(crate) fn walk8<Q: Query8, B: Boxes8>(nodes: &[Node], ray: &B, q: &mut Q, mu
                     let both = ml & mr;
                     let left_nearer = (tl.le(tr) & both).bitmask().count_ones();
                     let left_first = 2 * left_nearer >= both.bitmask().count_ones();
-                    let (near, far, far_m, far_t) = if left_first {
-                        (l, node.offset + 1, mr, tr)
-                    } else {
-                        (r, node.offset, ml, tl)
-                    };
+                    let (near, far, far_m, far_t) =
+                        if left_first { (l, node.offset + 1, mr, tr) } else { (r, node.offset, ml, tl) };
                     let entry = if Q::SHRINKS {
                         F32x8::select(far_m, far_t, F32x8::splat(f32::INFINITY)).reduce_min()
                     } else {

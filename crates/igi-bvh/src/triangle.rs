@@ -15,11 +15,7 @@ use std::ops::{Add, BitAnd, BitOr, Div, Mul, Not, Sub};
 
 /// A lane type the triangle test runs on: `f32` for one ray, [`F32x8`] for eight.
 pub(crate) trait Lanes:
-    Copy
-    + Add<Output = Self>
-    + Sub<Output = Self>
-    + Mul<Output = Self>
-    + Div<Output = Self>
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self>
 {
     /// One flag per lane.
     type Mask: Copy + BitAnd<Output = Self::Mask> + BitOr<Output = Self::Mask> + Not<Output = Self::Mask>;
@@ -108,7 +104,8 @@ impl Lanes for F32x8 {
     }
     #[cold]
     fn edge_f64(e: Self, m: M32x8, ax: Self, ay: Self, bx: Self, by: Self) -> Self {
-        let (mut r, ax, ay, bx, by) = (e.to_array(), ax.to_array(), ay.to_array(), bx.to_array(), by.to_array());
+        let (mut r, ax, ay, bx, by) =
+            (e.to_array(), ax.to_array(), ay.to_array(), bx.to_array(), by.to_array());
         for i in 0..8 {
             if m.lane(i) {
                 r[i] = edge_f64_scalar(ax[i], ay[i], bx[i], by[i]);
@@ -252,9 +249,7 @@ impl Shear<F32x8> for ShearUniform8 {
 impl Shear<F32x8> for ShearMixed8 {
     #[inline(always)]
     fn permute(&self, v: [F32x8; 3]) -> [F32x8; 3] {
-        std::array::from_fn(|c| {
-            F32x8::select(self.is0[c], v[0], F32x8::select(self.is1[c], v[1], v[2]))
-        })
+        std::array::from_fn(|c| F32x8::select(self.is0[c], v[0], F32x8::select(self.is1[c], v[1], v[2])))
     }
     #[inline(always)]
     fn shear(&self) -> [F32x8; 3] {
@@ -283,7 +278,8 @@ pub(crate) fn intersect<L: Lanes, S: Shear<L>>(
     tnear: L,
     tfar: L,
 ) -> TriangleHit<L> {
-    let rel = |p: Vec3| shear.permute([L::splat(p.x) - org[0], L::splat(p.y) - org[1], L::splat(p.z) - org[2]]);
+    let rel =
+        |p: Vec3| shear.permute([L::splat(p.x) - org[0], L::splat(p.y) - org[1], L::splat(p.z) - org[2]]);
     let [sx, sy, sz] = shear.shear();
     // Vertices relative to the origin, permuted, then sheared into ray space (paper, Fig. 4).
     let [a0, a1, a2] = rel(p0);
@@ -318,6 +314,14 @@ pub(crate) fn intersect<L: Lanes, S: Shear<L>>(
 /// references, light sampling): the hit distance in `[ray.tnear, ray.tfar]` and the barycentric
 /// weights (u, v) of the second and third vertex. Exactly the arithmetic of the BVH kernels.
 pub fn intersect_triangle(ray: &crate::Ray, tri: [Vec3; 3]) -> Option<(f32, f32, f32)> {
-    let h = intersect(ray.origin.to_array(), &ShearScalar::new(ray.dir), tri[0], tri[1], tri[2], ray.tnear, ray.tfar);
+    let h = intersect(
+        ray.origin.to_array(),
+        &ShearScalar::new(ray.dir),
+        tri[0],
+        tri[1],
+        tri[2],
+        ray.tnear,
+        ray.tfar,
+    );
     h.mask.then_some((h.t, h.u, h.v))
 }

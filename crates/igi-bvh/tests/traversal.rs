@@ -134,7 +134,9 @@ fn packets_equal_single_rays_lane_by_lane() {
             1 => {
                 let o = rng.v(-15.0, 15.0);
                 let d = rng.dir();
-                std::array::from_fn(|i| Ray::new(o, d + 0.02 * Vec3::new((i % 4) as f32, (i / 4) as f32, 0.0)))
+                std::array::from_fn(|i| {
+                    Ray::new(o, d + 0.02 * Vec3::new((i % 4) as f32, (i / 4) as f32, 0.0))
+                })
             }
             _ => {
                 let light = rng.v(-12.0, 12.0);
@@ -158,15 +160,26 @@ fn instanced_hits_equal_baked_geometry() {
     let mesh = soup(&mut rng, 400, 1.0);
     let transforms = [
         Affine3A::IDENTITY,
-        Affine3A::from_scale_rotation_translation(Vec3::splat(0.5), Quat::from_rotation_y(0.7), Vec3::new(30.0, 0.0, 0.0)),
-        Affine3A::from_scale_rotation_translation(Vec3::new(1.0, 2.0, 0.7), Quat::from_euler(glam::EulerRot::XYZ, 0.3, -1.1, 2.0), Vec3::new(-5.0, 25.0, 8.0)),
+        Affine3A::from_scale_rotation_translation(
+            Vec3::splat(0.5),
+            Quat::from_rotation_y(0.7),
+            Vec3::new(30.0, 0.0, 0.0),
+        ),
+        Affine3A::from_scale_rotation_translation(
+            Vec3::new(1.0, 2.0, 0.7),
+            Quat::from_euler(glam::EulerRot::XYZ, 0.3, -1.1, 2.0),
+            Vec3::new(-5.0, 25.0, 8.0),
+        ),
     ];
     let instances: Vec<(u32, Affine3A)> = transforms.iter().map(|&m| (0, m)).collect();
     let (inst_accel, _) = Accel::build(vec![mesh.clone()], &instances);
     let stored = inst_accel.meshes()[0].clone();
     let baked_meshes: Vec<TriangleMesh> = transforms
         .iter()
-        .map(|m| TriangleMesh { positions: stored.positions.iter().map(|&p| m.transform_point3(p)).collect(), indices: stored.indices.clone() })
+        .map(|m| TriangleMesh {
+            positions: stored.positions.iter().map(|&p| m.transform_point3(p)).collect(),
+            indices: stored.indices.clone(),
+        })
         .collect();
     // The baked scene keeps each copy as its own mesh so that (instance, prim) ids line up.
     let baked_instances: Vec<(u32, Affine3A)> = (0..3).map(|i| (i, Affine3A::IDENTITY)).collect();
@@ -193,7 +206,14 @@ fn instanced_hits_equal_baked_geometry() {
         }
         let baked_prim = orders[g.instance as usize][g.prim as usize];
         assert_eq!((h.instance, h.prim), (g.instance, baked_prim), "same triangle of the same copy");
-        assert!((h.t - g.t).abs() <= 1e-4 * g.t.max(1.0), "t {} vs {} inst {} prim {} ray {ray:?}", h.t, g.t, h.instance, h.prim);
+        assert!(
+            (h.t - g.t).abs() <= 1e-4 * g.t.max(1.0),
+            "t {} vs {} inst {} prim {} ray {ray:?}",
+            h.t,
+            g.t,
+            h.instance,
+            h.prim
+        );
         let n1 = inst_accel.geometric_normal(h.instance, h.prim);
         let n2 = baked.geometric_normal(g.instance, g.prim);
         assert!(n1.dot(n2) > 0.9999, "normals {n1} vs {n2}");

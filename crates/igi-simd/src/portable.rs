@@ -87,9 +87,7 @@ impl F32x8 {
     /// `self` with the sign bit of each lane flipped where `sign`'s lane is negative.
     #[inline(always)]
     pub fn xor_sign(self, sign: Self) -> Self {
-        Self(from_fn(|i| {
-            f32::from_bits(self.0[i].to_bits() ^ (sign.0[i].to_bits() & 0x8000_0000))
-        }))
+        Self(from_fn(|i| f32::from_bits(self.0[i].to_bits() ^ (sign.0[i].to_bits() & 0x8000_0000))))
     }
 
     /// `self < o` per lane (false for NaN).
@@ -164,11 +162,7 @@ impl F32x8 {
     #[inline(always)]
     pub fn to_i32(self) -> I32x8 {
         I32x8(self.0.map(|v| {
-            if v.is_nan() || v >= 2_147_483_648.0 || v < -2_147_483_648.0 {
-                i32::MIN
-            } else {
-                v as i32
-            }
+            if v.is_nan() || v >= 2_147_483_648.0 || v < -2_147_483_648.0 { i32::MIN } else { v as i32 }
         }))
     }
 

@@ -63,11 +63,7 @@ impl Vec3x8 {
     /// Cross products per lane.
     #[inline(always)]
     pub fn cross(self, o: Self) -> Self {
-        Self::new(
-            self.y * o.z - self.z * o.y,
-            self.z * o.x - self.x * o.z,
-            self.x * o.y - self.y * o.x,
-        )
+        Self::new(self.y * o.z - self.z * o.y, self.z * o.x - self.x * o.z, self.x * o.y - self.y * o.x)
     }
 
     /// Lengths per lane.
@@ -85,11 +81,7 @@ impl Vec3x8 {
     /// Per lane: `a` where `m` is set, else `b`.
     #[inline(always)]
     pub fn select(m: M32x8, a: Self, b: Self) -> Self {
-        Self::new(
-            F32x8::select(m, a.x, b.x),
-            F32x8::select(m, a.y, b.y),
-            F32x8::select(m, a.z, b.z),
-        )
+        Self::new(F32x8::select(m, a.x, b.x), F32x8::select(m, a.y, b.y), F32x8::select(m, a.z, b.z))
     }
 }
 

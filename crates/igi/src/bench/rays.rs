@@ -150,7 +150,10 @@ fn timed_tiles(threads: usize, tiles: usize, work: &(dyn Fn(usize) -> (u64, u64)
                 })
             })
             .collect();
-        handles.into_iter().map(|h| h.join().expect("bench thread")).fold((0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
+        handles
+            .into_iter()
+            .map(|h| h.join().expect("bench thread"))
+            .fold((0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
     });
     (start.elapsed().as_secs_f64(), rays, hits)
 }
@@ -175,8 +178,15 @@ pub fn run(args: &RaysArgs) -> Result<()> {
     if args.threads.iter().any(|&t| t == 0 || t > 1024) {
         bail!("--threads must be between 1 and 1024");
     }
-    let scene = igi_scene::load_named(&args.scene).with_context(|| format!("cannot load scene {}", args.scene))?;
-    let camera = crate::cli::camera_with_overrides(&scene, args.camera_position, args.camera_target, args.camera_up, args.fov);
+    let scene =
+        igi_scene::load_named(&args.scene).with_context(|| format!("cannot load scene {}", args.scene))?;
+    let camera = crate::cli::camera_with_overrides(
+        &scene,
+        args.camera_position,
+        args.camera_target,
+        args.camera_up,
+        args.fov,
+    );
 
     // Build time: median of several builds of the whole two-level structure.
     let mut build_ms: Vec<f64> = (0..3)
@@ -205,11 +215,21 @@ pub fn run(args: &RaysArgs) -> Result<()> {
                 None => {
                     let c = bounds.centroid();
                     let p = Vec3::new(c.x, bounds.max.y - 0.1 * bounds.extent().y, c.z);
-                    tracing::warn!("no emissive triangles and no --light: VPL walks start at a point light at {p}");
+                    tracing::warn!(
+                        "no emissive triangles and no --light: VPL walks start at a point light at {p}"
+                    );
                     WalkSource::Point(p)
                 }
             };
-            random_walk_vpls(accel, |i, p| prepared.is_emissive(i, p), source, args.sets * args.sets, args.k, args.seed, eps_abs)?
+            random_walk_vpls(
+                accel,
+                |i, p| prepared.is_emissive(i, p),
+                source,
+                args.sets * args.sets,
+                args.k,
+                args.seed,
+                eps_abs,
+            )?
         }
     };
 
@@ -223,16 +243,29 @@ pub fn run(args: &RaysArgs) -> Result<()> {
         vpls.len(),
         igi_simd::BACKEND
     );
-    println!("{:>10} {:>7} {:>8} {:>4} {:>10} {:>10} {:>9}", "res", "phase", "kernel", "thr", "rays", "hits", "Mrays/s");
+    println!(
+        "{:>10} {:>7} {:>8} {:>4} {:>10} {:>10} {:>9}",
+        "res", "phase", "kernel", "thr", "rays", "hits", "Mrays/s"
+    );
     for &(w, h) in &args.res {
         let cam = PinholeCamera::new(camera.position, camera.target, camera.up, camera.fov_y_deg, w, h);
         let size = 16 * args.sets as u32;
         let tiling = Tiling { size, cols: w.div_ceil(size), rows: h.div_ceil(size) };
         let tile_px = (size * size) as usize;
-        let hits: Vec<Mutex<Vec<HitRec>>> = (0..tiling.count()).map(|_| Mutex::new(vec![HitRec::default(); tile_px])).collect();
+        let hits: Vec<Mutex<Vec<HitRec>>> =
+            (0..tiling.count()).map(|_| Mutex::new(vec![HitRec::default(); tile_px])).collect();
         for &threads in &args.threads {
             let mut record = |phase, kernel, (secs, rays, n): (f64, u64, u64)| {
-                let m = Measurement { phase, kernel, threads, width: w, height: h, rays, mrays_per_s: rays as f64 / secs / 1e6, hits: n };
+                let m = Measurement {
+                    phase,
+                    kernel,
+                    threads,
+                    width: w,
+                    height: h,
+                    rays,
+                    mrays_per_s: rays as f64 / secs / 1e6,
+                    hits: n,
+                };
                 println!(
                     "{:>10} {:>7} {:>8} {:>4} {:>10} {:>10} {:>9.2}",
                     format!("{w}x{h}"),
@@ -245,11 +278,51 @@ pub fn run(args: &RaysArgs) -> Result<()> {
                 );
                 results.push(m);
             };
-            record("primary", "single", median_run(args.reps, || timed_tiles(threads, tiling.count(), &|t| primary_single(accel, &cam, &tiling, t, &hits[t]))));
-            record("primary", "packet8", median_run(args.reps, || timed_tiles(threads, tiling.count(), &|t| primary_packet8(accel, &cam, &tiling, t, &hits[t]))));
-            let ctx = ShadowCtx { accel, cam: &cam, tiling: &tiling, vpls: &vpls, k: args.k, g: args.sets as u32, eps_abs };
-            record("shadow", "single", median_run(args.reps, || timed_tiles(threads, tiling.count(), &|t| shadow_single(&ctx, t, &hits[t].lock().expect("tile"))))); 
-            record("shadow", "packet8", median_run(args.reps, || timed_tiles(threads, tiling.count(), &|t| shadow_packet8(&ctx, t, &hits[t].lock().expect("tile")))));
+            record(
+                "primary",
+                "single",
+                median_run(args.reps, || {
+                    timed_tiles(threads, tiling.count(), &|t| {
+                        primary_single(accel, &cam, &tiling, t, &hits[t])
+                    })
+                }),
+            );
+            record(
+                "primary",
+                "packet8",
+                median_run(args.reps, || {
+                    timed_tiles(threads, tiling.count(), &|t| {
+                        primary_packet8(accel, &cam, &tiling, t, &hits[t])
+                    })
+                }),
+            );
+            let ctx = ShadowCtx {
+                accel,
+                cam: &cam,
+                tiling: &tiling,
+                vpls: &vpls,
+                k: args.k,
+                g: args.sets as u32,
+                eps_abs,
+            };
+            record(
+                "shadow",
+                "single",
+                median_run(args.reps, || {
+                    timed_tiles(threads, tiling.count(), &|t| {
+                        shadow_single(&ctx, t, &hits[t].lock().expect("tile"))
+                    })
+                }),
+            );
+            record(
+                "shadow",
+                "packet8",
+                median_run(args.reps, || {
+                    timed_tiles(threads, tiling.count(), &|t| {
+                        shadow_packet8(&ctx, t, &hits[t].lock().expect("tile"))
+                    })
+                }),
+            );
         }
     }
     if let Some(path) = &args.json {
@@ -260,16 +333,27 @@ pub fn run(args: &RaysArgs) -> Result<()> {
             k: args.k,
             sets: args.sets,
             vpls: vpls.len(),
-            build: BuildReport { ms: build_ms[1], sah_cost: accel.sah_cost(), bytes_per_triangle: accel.bytes() as f64 / triangles.max(1) as f64 },
+            build: BuildReport {
+                ms: build_ms[1],
+                sah_cost: accel.sah_cost(),
+                bytes_per_triangle: accel.bytes() as f64 / triangles.max(1) as f64,
+            },
             results,
         };
-        std::fs::write(path, serde_json::to_string_pretty(&report)?).with_context(|| format!("cannot write {}", path.display()))?;
+        std::fs::write(path, serde_json::to_string_pretty(&report)?)
+            .with_context(|| format!("cannot write {}", path.display()))?;
     }
     Ok(())
 }
 
 /// One primary ray per pixel, traced one at a time.
-fn primary_single(accel: &Accel, cam: &PinholeCamera, tiling: &Tiling, tile: usize, out: &Mutex<Vec<HitRec>>) -> (u64, u64) {
+fn primary_single(
+    accel: &Accel,
+    cam: &PinholeCamera,
+    tiling: &Tiling,
+    tile: usize,
+    out: &Mutex<Vec<HitRec>>,
+) -> (u64, u64) {
     let (x0, y0) = tiling.origin(tile);
     let mut out = out.lock().expect("tile");
     let (mut rays, mut hits) = (0, 0);
@@ -287,7 +371,13 @@ fn primary_single(accel: &Accel, cam: &PinholeCamera, tiling: &Tiling, tile: usi
 }
 
 /// Primary rays as 8-ray packets of 4x2 pixel blocks.
-fn primary_packet8(accel: &Accel, cam: &PinholeCamera, tiling: &Tiling, tile: usize, out: &Mutex<Vec<HitRec>>) -> (u64, u64) {
+fn primary_packet8(
+    accel: &Accel,
+    cam: &PinholeCamera,
+    tiling: &Tiling,
+    tile: usize,
+    out: &Mutex<Vec<HitRec>>,
+) -> (u64, u64) {
     let (x0, y0) = tiling.origin(tile);
     let mut out = out.lock().expect("tile");
     let (mut rays, mut hits) = (0, 0);
@@ -309,11 +399,7 @@ fn primary_packet8(accel: &Accel, cam: &PinholeCamera, tiling: &Tiling, tile: us
                     continue;
                 }
                 let p = ((by + i as u32 / 4) * tiling.size + bx + i as u32 % 4) as usize;
-                out[p] = if hit_mask.lane(i) {
-                    hit_record(ray, hp.t.lane(i))
-                } else {
-                    HitRec::default()
-                };
+                out[p] = if hit_mask.lane(i) { hit_record(ray, hp.t.lane(i)) } else { HitRec::default() };
             }
             rays += mask.bitmask().count_ones() as u64;
             hits += hit_mask.bitmask().count_ones() as u64;
@@ -373,7 +459,11 @@ fn shadow_packet8(c: &ShadowCtx, tile: usize, hits: &[HitRec]) -> (u64, u64) {
                 for bx in (0..sub).step_by(4) {
                     let lane: [HitRec; 8] = std::array::from_fn(|i| {
                         let (lx, ly) = (sx + c.g * (bx + i as u32 % 4), sy + c.g * (by + i as u32 / 4));
-                        if x0 + lx < c.cam.width && y0 + ly < c.cam.height { hits[(ly * c.tiling.size + lx) as usize] } else { HitRec::default() }
+                        if x0 + lx < c.cam.width && y0 + ly < c.cam.height {
+                            hits[(ly * c.tiling.size + lx) as usize]
+                        } else {
+                            HitRec::default()
+                        }
                     });
                     let valid = M32x8::from_bools(lane.map(|h| h.valid));
                     if valid.none() {

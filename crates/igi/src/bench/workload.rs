@@ -187,7 +187,8 @@ pub fn random_walk_vpls(
 /// Reads an embree-bench VPL file (`set slot px py pz nx ny nz depth` per line, `#` comments)
 /// holding exactly `sets · k` VPLs.
 pub fn read_vpl_file(path: &Path, sets: usize, k: usize) -> Result<Vec<BenchVpl>> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read VPL file {}", path.display()))?;
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("cannot read VPL file {}", path.display()))?;
     let mut vpls = vec![None; sets * k];
     for (line_no, line) in text.lines().enumerate() {
         let line = line.trim();
@@ -201,7 +202,10 @@ pub fn read_vpl_file(path: &Path, sets: usize, k: usize) -> Result<Vec<BenchVpl>
         }
         let int = |s: &str| s.parse::<usize>().with_context(|| format!("{}: bad integer {s:?}", at()));
         let num = |s: &str| {
-            s.parse::<f32>().ok().filter(|v| v.is_finite()).with_context(|| format!("{}: bad number {s:?}", at()))
+            s.parse::<f32>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .with_context(|| format!("{}: bad number {s:?}", at()))
         };
         let (set, slot) = (int(f[0])?, int(f[1])?);
         if set >= sets || slot >= k {
