@@ -20,6 +20,8 @@ pub(crate) trait Lanes:
     /// One flag per lane.
     type Mask: Copy + BitAnd<Output = Self::Mask> + BitOr<Output = Self::Mask> + Not<Output = Self::Mask>;
     fn splat(v: f32) -> Self;
+    /// `self * b + c` with one rounding (identical for `f32` and `F32x8`).
+    fn mul_add(self, b: Self, c: Self) -> Self;
     fn lt(self, o: Self) -> Self::Mask;
     fn gt(self, o: Self) -> Self::Mask;
     fn le(self, o: Self) -> Self::Mask;
@@ -41,6 +43,10 @@ impl Lanes for f32 {
     #[inline(always)]
     fn splat(v: f32) -> Self {
         v
+    }
+    #[inline(always)]
+    fn mul_add(self, b: Self, c: Self) -> Self {
+        f32::mul_add(self, b, c)
     }
     #[inline(always)]
     fn lt(self, o: Self) -> bool {
@@ -77,6 +83,10 @@ impl Lanes for F32x8 {
     #[inline(always)]
     fn splat(v: f32) -> Self {
         F32x8::splat(v)
+    }
+    #[inline(always)]
+    fn mul_add(self, b: Self, c: Self) -> Self {
+        F32x8::mul_add(self, b, c)
     }
     #[inline(always)]
     fn lt(self, o: Self) -> M32x8 {
@@ -285,10 +295,14 @@ pub(crate) fn intersect<L: Lanes, S: Shear<L>>(
     let [a0, a1, a2] = rel(p0);
     let [b0, b1, b2] = rel(p1);
     let [c0, c1, c2] = rel(p2);
-    let (ax, ay) = (a0 - sx * a2, a1 - sy * a2);
-    let (bx, by) = (b0 - sx * b2, b1 - sy * b2);
-    let (cx, cy) = (c0 - sx * c2, c1 - sy * c2);
-    // Scaled barycentric coordinates: 2D edge functions at the origin.
+    // The shear uses fused multiply-adds: it depends only on the vertex and the ray, so a
+    // vertex shared by two triangles is still sheared identically in both.
+    let (nsx, nsy) = (L::splat(0.0) - sx, L::splat(0.0) - sy);
+    let (ax, ay) = (nsx.mul_add(a2, a0), nsy.mul_add(a2, a1));
+    let (bx, by) = (nsx.mul_add(b2, b0), nsy.mul_add(b2, b1));
+    let (cx, cy) = (nsx.mul_add(c2, c0), nsy.mul_add(c2, c1));
+    // Scaled barycentric coordinates: 2D edge functions at the origin. These stay unfused: a
+    // shared edge must give exactly opposite values in its two triangles.
     let mut u = cx * by - cy * bx;
     let mut v = ax * cy - ay * cx;
     let mut w = bx * ay - by * ax;
@@ -303,7 +317,7 @@ pub(crate) fn intersect<L: Lanes, S: Shear<L>>(
     let has_pos = u.gt(zero) | v.gt(zero) | w.gt(zero);
     let det = u + v + w;
     let (az, bz, cz) = (sz * a2, sz * b2, sz * c2);
-    let t_scaled = u * az + v * bz + w * cz;
+    let t_scaled = w.mul_add(cz, v.mul_add(bz, u * az));
     let rcp = L::splat(1.0) / det;
     let t = t_scaled * rcp;
     let mask = !(has_neg & has_pos) & !det.eq(zero) & t.ge(tnear) & t.le(tfar);

@@ -5,7 +5,8 @@
 //! for x86-64-v3) the types wrap `__m256`/`__m256i` and every operation is one or two AVX2
 //! instructions. Everywhere else, or with the `portable` feature, they are plain arrays and the
 //! compiler vectorises what it can. Both backends give bit-identical results for every
-//! operation except [`F32x8::mul_add`], which is fused on AVX2 only.
+//! operation, and each lane equals the scalar `f32` operation (`F32x8::mul_add` equals
+//! `f32::mul_add`: one rounding).
 
 #[cfg(all(
     target_arch = "x86_64",

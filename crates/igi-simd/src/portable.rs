@@ -1,6 +1,6 @@
 //! Portable backend: each type is a plain array and every operation a loop over the lanes,
 //! which the compiler vectorises where the target allows. Results equal the AVX2 backend's
-//! bit for bit (including the NaN rules of `min`/`max`), except for the unfused `mul_add`.
+//! bit for bit (including the NaN rules of `min`/`max` and the single rounding of `mul_add`).
 
 use std::array::from_fn;
 use std::ops::{Add, BitAnd, BitOr, BitXor, Div, Mul, Neg, Not, Sub};
@@ -48,10 +48,10 @@ impl F32x8 {
         self.0[i]
     }
 
-    /// `self * b + c` (not fused in this backend).
+    /// `self * b + c`, fused (one rounding, as `f32::mul_add`).
     #[inline(always)]
     pub fn mul_add(self, b: Self, c: Self) -> Self {
-        self * b + c
+        Self(from_fn(|i| self.0[i].mul_add(b.0[i], c.0[i])))
     }
 
     /// Lane-wise minimum; if either lane is NaN the result is `o`'s lane (as `minps`).

@@ -26,13 +26,17 @@ fn arithmetic_equals_scalar() {
 }
 
 #[test]
-fn mul_add_is_close_to_scalar() {
-    let x = F32x8::from_array([1.0, 2.0, 3.0, -4.0, 0.5, 0.25, 1e3, -1e-3]);
-    let r = x.mul_add(x, F32x8::splat(1.0)).to_array();
+fn mul_add_is_fused_like_scalar() {
+    // (1 + 2^-12)^2 - (1 + 2^-11) is exactly 2^-24 when fused and 0 when the square is rounded
+    // first.
+    let e = 1.0 + 2f32.powi(-12);
+    let x = F32x8::from_array([e, 2.0, 3.0, -4.0, 0.5, 0.25, 1e3, -1e-3]);
+    let c = F32x8::from_array([-(1.0 + 2f32.powi(-11)), 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0]);
+    let r = x.mul_add(x, c).to_array();
     for (i, v) in x.to_array().iter().enumerate() {
-        let want = v * v + 1.0;
-        assert!((r[i] - want).abs() <= want.abs() * 1e-6, "lane {i}");
+        assert!(same(r[i], v.mul_add(*v, c.lane(i))), "lane {i}");
     }
+    assert_eq!(r[0], 2f32.powi(-24), "the first lane must show the single rounding");
 }
 
 #[test]
