@@ -358,6 +358,7 @@ struct Closest1 {
 }
 
 impl Query1 for Closest1 {
+    const SHRINKS: bool = true;
     #[inline(always)]
     fn tfar(&self) -> f32 {
         self.hit.t
@@ -374,6 +375,7 @@ struct Any1 {
 }
 
 impl Query1 for Any1 {
+    const SHRINKS: bool = false;
     #[inline(always)]
     fn tfar(&self) -> f32 {
         self.tfar

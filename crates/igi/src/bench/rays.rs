@@ -45,6 +45,10 @@ pub struct RaysArgs {
     /// Thread counts, comma separated.
     #[arg(long, default_value = "1,2", value_delimiter = ',')]
     pub threads: Vec<usize>,
+    /// Kernels to time, comma separated: `single`, `packet8` (the primary pass of the first
+    /// kernel listed provides the shadow rays' origins).
+    #[arg(long, default_value = "single,packet8", value_delimiter = ',', value_parser = ["single", "packet8"])]
+    pub kernels: Vec<String>,
     /// Timed repetitions per measurement (the median is reported).
     #[arg(long, default_value_t = 5)]
     pub reps: usize,
@@ -278,24 +282,16 @@ pub fn run(args: &RaysArgs) -> Result<()> {
                 );
                 results.push(m);
             };
-            record(
-                "primary",
-                "single",
-                median_run(args.reps, || {
-                    timed_tiles(threads, tiling.count(), &|t| {
-                        primary_single(accel, &cam, &tiling, t, &hits[t])
-                    })
-                }),
-            );
-            record(
-                "primary",
-                "packet8",
-                median_run(args.reps, || {
-                    timed_tiles(threads, tiling.count(), &|t| {
-                        primary_packet8(accel, &cam, &tiling, t, &hits[t])
-                    })
-                }),
-            );
+            let run = |f: &(dyn Fn(usize) -> (u64, u64) + Sync)| {
+                median_run(args.reps, || timed_tiles(threads, tiling.count(), f))
+            };
+            let wants = |k: &str| args.kernels.iter().any(|x| x == k);
+            if wants("single") {
+                record("primary", "single", run(&|t| primary_single(accel, &cam, &tiling, t, &hits[t])));
+            }
+            if wants("packet8") {
+                record("primary", "packet8", run(&|t| primary_packet8(accel, &cam, &tiling, t, &hits[t])));
+            }
             let ctx = ShadowCtx {
                 accel,
                 cam: &cam,
@@ -305,24 +301,16 @@ pub fn run(args: &RaysArgs) -> Result<()> {
                 g: args.sets as u32,
                 eps_abs,
             };
-            record(
-                "shadow",
-                "single",
-                median_run(args.reps, || {
-                    timed_tiles(threads, tiling.count(), &|t| {
-                        shadow_single(&ctx, t, &hits[t].lock().expect("tile"))
-                    })
-                }),
-            );
-            record(
-                "shadow",
-                "packet8",
-                median_run(args.reps, || {
-                    timed_tiles(threads, tiling.count(), &|t| {
-                        shadow_packet8(&ctx, t, &hits[t].lock().expect("tile"))
-                    })
-                }),
-            );
+            if wants("single") {
+                record("shadow", "single", run(&|t| shadow_single(&ctx, t, &hits[t].lock().expect("tile"))));
+            }
+            if wants("packet8") {
+                record(
+                    "shadow",
+                    "packet8",
+                    run(&|t| shadow_packet8(&ctx, t, &hits[t].lock().expect("tile"))),
+                );
+            }
         }
     }
     if let Some(path) = &args.json {
