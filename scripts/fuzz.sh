@@ -57,7 +57,8 @@ for target in obj ply gltf scene_file; do
     executions="$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | tail -1 | grep -o '[0-9]*$' || echo '?')"
     echo "   $target: $result, $executions executions"
     if [[ "$result" != ok ]]; then
-        tail -40 "$log"
+        grep -A2 "panicked at" "$log" || true
+        tail -12 "$log"
     fi
     rm -f "$log"
 done

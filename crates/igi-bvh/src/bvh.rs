@@ -18,7 +18,10 @@ use crate::node::Node;
 ///   `1 <= count <= BuildParams::MAX_LEAF_SIZE`; every leaf-order index lies in exactly one leaf.
 /// - `prim_order` is a permutation of `0 .. n`: `prim_order[j]` is the input index of the `j`-th
 ///   primitive in leaf order.
-/// - Every node's box is the exact union of its primitives' boxes (no padding, no rounding).
+/// - Every node's box is the exact union of its primitives' boxes (no padding, no rounding), or
+///   [`Aabb::EMPTY`](crate::aabb::Aabb::EMPTY)'s if all of them are empty.
+/// - The depth (see [`Bvh::depth`]) is at most [`MAX_DEPTH`](crate::traverse::MAX_DEPTH), so
+///   traversal stacks of that size never overflow.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Bvh {
     /// The nodes, root first.
@@ -36,7 +39,7 @@ impl Bvh {
     /// The SAH cost of the tree (MacDonald & Booth 1990): the expected cost of a ray that hits
     /// the root box, `Σ_inner C_trav A(n)/A(root) + Σ_leaves C_isect count(n) A(n)/A(root)`
     /// with the costs of `params`. Zero for an empty BVH. If the root box has no area (all
-    /// primitives on one axis-parallel line), every node is weighted by 1 instead.
+    /// primitives on one axis-parallel line or point, or empty), every node is weighted by 1.
     pub fn sah_cost(&self, params: &BuildParams) -> f32 {
         let Some(root) = self.nodes.first() else {
             return 0.0;

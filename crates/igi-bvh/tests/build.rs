@@ -22,66 +22,76 @@ fn check_invariants(bvh: &Bvh, prims: &[Aabb], params: &BuildParams, context: &s
         assert!(!std::mem::replace(&mut seen[p as usize], true), "{context}: {p} twice in prim_order");
     }
 
-    let mut reached = vec![false; bvh.nodes.len()];
-    let mut covered = vec![false; n];
-    let mut leaves = 0;
-    let (_, depth) = check_node(bvh, prims, params, 0, 1, &mut reached, &mut covered, &mut leaves, context);
-    assert!(reached.iter().all(|&r| r), "{context}: unreachable nodes");
-    assert!(covered.iter().all(|&c| c), "{context}: primitives in no leaf");
+    let mut walk = Walk {
+        bvh,
+        prims,
+        max_leaf_size: params.max_leaf_size,
+        context,
+        reached: vec![false; bvh.nodes.len()],
+        covered: vec![false; n],
+        leaves: 0,
+    };
+    let (_, depth) = walk.node(0, 1);
+    assert!(walk.reached.iter().all(|&r| r), "{context}: unreachable nodes");
+    assert!(walk.covered.iter().all(|&c| c), "{context}: primitives in no leaf");
     assert!(depth <= MAX_DEPTH, "{context}: depth {depth} > MAX_DEPTH");
     assert_eq!(bvh.depth(), depth, "{context}: Bvh::depth");
-    assert_eq!(bvh.leaf_count(), leaves, "{context}: Bvh::leaf_count");
+    assert_eq!(bvh.leaf_count(), walk.leaves, "{context}: Bvh::leaf_count");
     if n == 1 {
         assert_eq!(bvh.nodes.len(), 1, "{context}: one primitive gives a single leaf");
     }
 }
 
-/// Checks node `i` at `depth` and its subtree; returns the exact union of its primitives' boxes
-/// and the subtree's depth.
-#[allow(clippy::too_many_arguments)]
-fn check_node(
-    bvh: &Bvh,
-    prims: &[Aabb],
-    params: &BuildParams,
-    i: usize,
-    depth: usize,
-    reached: &mut [bool],
-    covered: &mut [bool],
-    leaves: &mut usize,
-    context: &str,
-) -> (Aabb, usize) {
-    assert!(!std::mem::replace(&mut reached[i], true), "{context}: node {i} reached twice");
-    let node = bvh.nodes[i];
-    let (union, subtree_depth) = if node.is_leaf() {
-        *leaves += 1;
-        assert!(node.count <= params.max_leaf_size, "{context}: leaf {i} holds {} > max", node.count);
-        let range = node.offset as usize..(node.offset + node.count) as usize;
-        assert!(range.end <= prims.len(), "{context}: leaf {i} range {range:?} out of bounds");
-        let mut union = Aabb::EMPTY;
-        for j in range {
-            assert!(!std::mem::replace(&mut covered[j], true), "{context}: leaf-order {j} in two leaves");
-            let prim = prims[bvh.prim_order[j] as usize];
-            assert!(node.bounds().contains(&prim), "{context}: leaf {i} misses primitive {j}");
-            union = union.union(prim);
-        }
-        (union, depth)
-    } else {
-        let children = node.offset as usize;
-        assert!(children > i, "{context}: node {i} has children {children} before it");
-        assert!(children + 1 < bvh.nodes.len(), "{context}: node {i} children out of bounds");
-        let mut union = Aabb::EMPTY;
-        let mut deepest = 0;
-        for c in [children, children + 1] {
-            let (child, d) = check_node(bvh, prims, params, c, depth + 1, reached, covered, leaves, context);
-            assert!(node.bounds().contains(&bvh.nodes[c].bounds()), "{context}: node {i} misses child {c}");
-            union = union.union(child);
-            deepest = deepest.max(d);
-        }
-        (union, deepest)
-    };
-    let expected = if union.is_empty() { Aabb::EMPTY } else { union };
-    assert_eq!(node.bounds(), expected, "{context}: node {i} box is not the union of its primitives");
-    (union, subtree_depth)
+/// A walk over a BVH from the root that checks every node and records what it has seen.
+struct Walk<'a> {
+    bvh: &'a Bvh,
+    prims: &'a [Aabb],
+    max_leaf_size: u32,
+    context: &'a str,
+    reached: Vec<bool>,
+    covered: Vec<bool>,
+    leaves: usize,
+}
+
+impl Walk<'_> {
+    /// Checks node `i` at `depth` and its subtree; returns the exact union of its primitives'
+    /// boxes and the subtree's depth.
+    fn node(&mut self, i: usize, depth: usize) -> (Aabb, usize) {
+        let context = self.context;
+        assert!(!std::mem::replace(&mut self.reached[i], true), "{context}: node {i} reached twice");
+        let node = self.bvh.nodes[i];
+        let (union, subtree_depth) = if node.is_leaf() {
+            self.leaves += 1;
+            assert!(node.count <= self.max_leaf_size, "{context}: leaf {i} holds {} > max", node.count);
+            let range = node.offset as usize..(node.offset + node.count) as usize;
+            assert!(range.end <= self.prims.len(), "{context}: leaf {i} range {range:?} out of bounds");
+            let mut union = Aabb::EMPTY;
+            for j in range {
+                assert!(!std::mem::replace(&mut self.covered[j], true), "{context}: {j} in two leaves");
+                let prim = self.prims[self.bvh.prim_order[j] as usize];
+                assert!(node.bounds().contains(&prim), "{context}: leaf {i} misses primitive {j}");
+                union = union.union(prim);
+            }
+            (union, depth)
+        } else {
+            let children = node.offset as usize;
+            assert!(children > i, "{context}: node {i} has children {children} before it");
+            assert!(children + 1 < self.bvh.nodes.len(), "{context}: node {i} children out of bounds");
+            let mut union = Aabb::EMPTY;
+            let mut deepest = 0;
+            for c in [children, children + 1] {
+                let (child, d) = self.node(c, depth + 1);
+                let child_box = self.bvh.nodes[c].bounds();
+                assert!(node.bounds().contains(&child_box), "{context}: node {i} misses child {c}");
+                union = union.union(child);
+                deepest = deepest.max(d);
+            }
+            (union, deepest)
+        };
+        let expected = if union.is_empty() { Aabb::EMPTY } else { union };
+        assert_eq!(node.bounds(), expected, "{context}: node {i} box is not the union of its primitives");
+        (union, subtree_depth)
+    }
 }
 
 /// Builds with both builders and checks both results.
@@ -242,6 +252,10 @@ fn binned_sah_is_within_5_percent_of_the_sweep_on_random_soups() {
         })
         .collect();
     assert_sah_close_to_sweep(&triangle_bounds(&triangles), "random sizes");
+    // A small, dense object far from the origin: bins a fraction of a unit wide at 10⁴.
+    let far: Vec<Triangle> =
+        random_triangles(20_000, 5).iter().map(|t| t.map(|v| Vec3::splat(1e4) + 1e-2 * v)).collect();
+    assert_sah_close_to_sweep(&triangle_bounds(&far), "small and far");
 }
 
 #[test]
@@ -297,19 +311,33 @@ fn refit_recomputes_exact_boxes_for_moved_primitives() {
             *v += shift + 0.001 * rng.vec3();
         }
     }
-    let moved = leaf_order(&triangles);
+    let mut moved = leaf_order(&triangles);
     bvh.refit(|i| moved[i as usize]);
     assert_eq!(bvh.prim_order, built.prim_order);
-    let fresh = fresh_bounds(&bvh, &moved);
-    for (i, node) in bvh.nodes.iter().enumerate() {
-        assert_eq!(
-            (node.offset, node.count),
-            (built.nodes[i].offset, built.nodes[i].count),
-            "topology of node {i}"
-        );
-        assert_eq!(node.bounds(), fresh[i], "box of node {i}");
+    let check = |bvh: &Bvh, leaf_order_bounds: &[Aabb], context: &str| {
+        let fresh = fresh_bounds(bvh, leaf_order_bounds);
+        for (i, node) in bvh.nodes.iter().enumerate() {
+            let topology = (built.nodes[i].offset, built.nodes[i].count);
+            assert_eq!((node.offset, node.count), topology, "{context}: topology of node {i}");
+            let expected = if fresh[i].is_empty() { Aabb::EMPTY } else { fresh[i] };
+            assert_eq!(node.bounds(), expected, "{context}: box of node {i}");
+        }
+        let mut input_order = vec![Aabb::EMPTY; leaf_order_bounds.len()];
+        for (j, &p) in bvh.prim_order.iter().enumerate() {
+            input_order[p as usize] = leaf_order_bounds[j];
+        }
+        check_invariants(bvh, &input_order, &params, context);
+    };
+    check(&bvh, &moved, "moved");
+
+    // Primitives that vanish (empty boxes), including whole leaves.
+    for (j, b) in moved.iter_mut().enumerate() {
+        if j % 7 == 0 || j < 40 {
+            *b = Aabb::EMPTY;
+        }
     }
-    check_invariants(&bvh, &triangle_bounds(&triangles), &params, "refit");
+    bvh.refit(|i| moved[i as usize]);
+    check(&bvh, &moved, "vanished");
 }
 
 #[test]

@@ -27,11 +27,12 @@
 //! - The first perspective camera met in the node hierarchy: position from its node, target
 //!   one unit down the node's −Z, up the node's +Y, `yfov` converted to degrees.
 //!
-//! Robustness: the `gltf` crate panics on some malformed documents (an out-of-range POSITION
-//! accessor index in its own validation, accessors whose data does not fit their buffer view
-//! or have an unexpected type, `count = 0`, URIs that percent-decode to invalid UTF-8). So the
-//! POSITION indices are checked before validation, every accessor is checked against its
-//! buffer before it is read, and URIs are resolved here, not by the crate.
+//! Robustness: the `gltf` crate panics on some malformed files (a GLB length shorter than its
+//! header, an out-of-range POSITION accessor index in its own validation, images without a
+//! `mimeType` or `uri`, cameras without their projection, accessors whose data does not fit
+//! their buffer view or have an unexpected type, `count = 0`, URIs that percent-decode to
+//! invalid UTF-8). So those fields are checked before the crate sees them, every accessor is
+//! checked against its buffer before it is read, and URIs are resolved here, not by the crate.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -97,10 +98,11 @@ fn parse_file(
     base_dir: Option<&Path>,
     report: &mut LoadReport,
 ) -> Result<Scene, SceneError> {
+    check_glb_length(bytes, file)?;
     let gltf::Gltf { document, blob } = gltf::Gltf::from_slice_without_validation(bytes)
         .map_err(|e| SceneError::parse(file, Location::File, e.to_string()))?;
     let mut root = document.into_json();
-    check_position_indices(&root, file)?;
+    check_unchecked_fields(&root, file)?;
     check_extensions(&mut root, file, report)?;
     let document = gltf::Document::from_json(root).map_err(|e| validation_error(e, file))?;
     let buffers = load_buffers(&document, blob, file, base_dir)?;
@@ -121,22 +123,57 @@ fn parse_file(
     Ok(scene)
 }
 
-/// The `gltf` crate's validation indexes `accessors` with the POSITION index unchecked.
-fn check_position_indices(root: &gltf::json::Root, file: &Path) -> Result<(), SceneError> {
+/// The `gltf` crate subtracts the 12-byte header from a GLB's declared length unchecked.
+fn check_glb_length(bytes: &[u8], file: &Path) -> Result<(), SceneError> {
+    if !bytes.starts_with(b"glTF") {
+        return Ok(());
+    }
+    let declared = bytes.get(8..12).and_then(|b| <[u8; 4]>::try_from(b).ok()).map(u32::from_le_bytes);
+    match declared {
+        Some(length) if length >= 12 => Ok(()),
+        _ => Err(SceneError::parse(file, Location::File, "GLB header declares a length shorter than itself")),
+    }
+}
+
+/// Checks what the `gltf` crate unwraps or indexes without checking, in its validation or its
+/// accessors, and which its validation does not cover: the POSITION accessor index, an
+/// image's `mimeType` (with a `bufferView`) or `uri` (without), and the projection object a
+/// camera's `type` names.
+fn check_unchecked_fields(root: &gltf::json::Root, file: &Path) -> Result<(), SceneError> {
+    use gltf::json::camera::Type;
+    use gltf::json::validation::Checked;
+    let invalid =
+        |path: String, message: String| Err(SceneError::invalid(file, Location::Json(path), message));
     for (m, mesh) in root.meshes.iter().enumerate() {
         for (p, primitive) in mesh.primitives.iter().enumerate() {
-            let position =
-                primitive.attributes.get(&gltf::json::validation::Checked::Valid(gltf::Semantic::Positions));
-            if let Some(index) = position {
+            if let Some(index) = primitive.attributes.get(&Checked::Valid(gltf::Semantic::Positions)) {
                 if index.value() >= root.accessors.len() {
-                    return Err(SceneError::invalid(
-                        file,
-                        Location::Json(format!("meshes[{m}].primitives[{p}].attributes.POSITION")),
+                    return invalid(
+                        format!("meshes[{m}].primitives[{p}].attributes.POSITION"),
                         format!("accessor {} does not exist", index.value()),
-                    ));
+                    );
                 }
             }
         }
+    }
+    for (index, image) in root.images.iter().enumerate() {
+        let problem = match (&image.buffer_view, &image.mime_type, &image.uri) {
+            (Some(_), None, _) => "an image in a buffer view needs a mimeType",
+            (None, _, None) => "an image needs a uri or a bufferView",
+            _ => continue,
+        };
+        return invalid(format!("images[{index}]"), problem.into());
+    }
+    for (index, camera) in root.cameras.iter().enumerate() {
+        let missing = match camera.type_ {
+            Checked::Valid(Type::Perspective) if camera.perspective.is_none() => "perspective",
+            Checked::Valid(Type::Orthographic) if camera.orthographic.is_none() => "orthographic",
+            _ => continue,
+        };
+        return invalid(
+            format!("cameras[{index}]"),
+            format!("a {missing} camera needs a `{missing}` object"),
+        );
     }
     Ok(())
 }

@@ -61,9 +61,9 @@ fn format_of(path: &Path) -> Option<Format> {
     }
 }
 
-/// True if `path` names a scene file (`.toml`).
-pub(crate) fn is_scene_file(path: &Path) -> bool {
-    format_of(path) == Some(Format::SceneFile)
+/// True if `path` names a mesh file (`.obj`, `.gltf`, `.glb`, `.ply`).
+pub(crate) fn is_model_file(path: &Path) -> bool {
+    matches!(format_of(path), Some(Format::Obj | Format::Gltf | Format::Ply))
 }
 
 /// Loads a mesh file (`.obj`, `.gltf`, `.glb`, `.ply`): what a scene file may place.
@@ -89,7 +89,7 @@ pub fn load(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
 pub fn load_with_report(path: impl AsRef<Path>) -> Result<(Scene, LoadReport), SceneError> {
     let path = path.as_ref();
     let mut report = LoadReport::default();
-    let scene = if is_scene_file(path) {
+    let scene = if format_of(path) == Some(Format::SceneFile) {
         scene_file::load(path, &mut report)?
     } else {
         load_model_file(path, &mut report)?

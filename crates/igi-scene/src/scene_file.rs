@@ -269,6 +269,10 @@ fn parse_file(
             .as_ref()
             .map(|m| material_override(&check, &span, &path, m, &mesh.file))
             .transpose()?;
+        if placements.is_empty() {
+            report.warn(file, format!("{path}instances is empty; `{}` is not placed", mesh.file.get_ref()));
+            continue;
+        }
         let Some(dir) = base_dir else {
             report
                 .warn(file, format!("{path}file `{}` not loaded: parsing from memory", mesh.file.get_ref()));
@@ -305,11 +309,11 @@ fn load_mesh_file(
         at: at(),
         missing: dir.join(name),
     })?;
-    if crate::is_scene_file(&path) {
+    if !crate::is_model_file(&path) {
         return Err(SceneError::unsupported(
             check.file,
             at(),
-            "a scene file cannot include another scene file",
+            format!("`{name}` is not an .obj, .gltf, .glb or .ply file"),
         ));
     }
     crate::load_model_file(&path, report)

@@ -164,6 +164,9 @@ fn truncated_gltf_and_glb() {
     for cut in [4, 12, 20, container.len() / 2, container.len() - 8, container.len() - 1] {
         assert!(gltf(&container[..cut]).is_err(), "cut at {cut}");
     }
+    // Found by fuzzing: a declared length below the header's own 12 bytes.
+    let err = gltf(b"glTF\xfe\xff\xff\xff\x02\0\0\0\x58\x12\0\0JSON{}").unwrap_err();
+    assert_eq!(err.to_string(), "bad.gltf: GLB header declares a length shorter than itself");
 }
 
 #[test]
@@ -185,6 +188,21 @@ fn malformed_gltf_is_an_error_where_the_gltf_crate_panics() {
     assert!(gltf(bad_uri.as_bytes()).unwrap_err().to_string().contains("percent-encoded"));
     let cycle = json.replace(r#""nodes":[{"mesh":0}]"#, r#""nodes":[{"mesh":0,"children":[0]}]"#);
     assert!(gltf(cycle.as_bytes()).unwrap_err().to_string().contains("nodes[0]: node is reached twice"));
+    // Found by fuzzing: the `gltf` crate unwraps these.
+    let textured = json.replace(
+        r#""asset""#,
+        r#""materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}}],"textures":[{"source":0}],"images":[{"bufferView":0}],"asset""#,
+    );
+    let err = gltf(textured.as_bytes()).unwrap_err();
+    assert_eq!(err.to_string(), "bad.gltf: images[0]: an image in a buffer view needs a mimeType");
+    let err = gltf(textured.replace(r#"{"bufferView":0}"#, "{}").as_bytes()).unwrap_err();
+    assert_eq!(err.to_string(), "bad.gltf: images[0]: an image needs a uri or a bufferView");
+    let camera = json.replace(
+        r#""nodes":[{"mesh":0}]"#,
+        r#""nodes":[{"mesh":0,"camera":0}],"cameras":[{"type":"perspective","orthographic":{"xmag":1,"ymag":1,"znear":0,"zfar":1}}]"#,
+    );
+    let err = gltf(camera.as_bytes()).unwrap_err();
+    assert_eq!(err.to_string(), "bad.gltf: cameras[0]: a perspective camera needs a `perspective` object");
     let draco = json.replace(
         r#""asset""#,
         r#""extensionsUsed":["KHR_draco_mesh_compression"],"extensionsRequired":["KHR_draco_mesh_compression"],"asset""#,

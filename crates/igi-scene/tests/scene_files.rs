@@ -174,6 +174,25 @@ fn missing_mesh_file_names_scene_file_line_and_path() {
 }
 
 #[test]
+fn only_mesh_files_can_be_placed() {
+    let dir = directory(
+        "nested",
+        &[("cube.obj", CUBE), ("inner.toml", ""), ("scene.toml", "[[mesh]]\nfile = \"inner.toml\"\n")],
+    );
+    let err = load(dir.join("scene.toml")).unwrap_err();
+    assert!(
+        err.to_string()
+            .ends_with("line 2, field `mesh[0].file`: `inner.toml` is not an .obj, .gltf, .glb or .ply file"),
+        "{err}"
+    );
+    let empty = "[[mesh]]\nfile = \"cube.obj\"\ninstances = []\n";
+    let dir = directory("empty", &[("cube.obj", CUBE), ("scene.toml", empty)]);
+    let (scene, report) = load_with_report(dir.join("scene.toml")).unwrap();
+    assert!(scene.meshes.is_empty());
+    assert_eq!(report.warnings.len(), 1, "{report:?}");
+}
+
+#[test]
 fn shared_meshes_in_a_scene_file() {
     let Some(scenes) = scenes_dir("shared_meshes_in_a_scene_file") else { return };
     let scene_toml = format!(

@@ -14,7 +14,7 @@ use super::bins::{BinMapping, BinSplit, Bins};
 use super::box3a::Box3A;
 use super::partition::{partition_at_median, partition_at_plane};
 use super::prim_box::PrimBox;
-use super::small_sweep::{SMALL_NODE_MAX, SortedSplit, best_sorted_split};
+use super::small_subtree::{SMALL_NODE_MAX, build_small_subtree};
 use super::{BuildParams, levels_to_split};
 use crate::aabb::Aabb;
 use crate::bvh::Bvh;
@@ -57,16 +57,15 @@ pub fn build_binned_sah(prim_bounds: &[Aabb], params: &BuildParams) -> Bvh {
     let root = Task { boxes: &mut boxes, ids: &mut ids, first: 0, depth: 1, bounds, centroid_bounds };
     let mut nodes = Vec::with_capacity(node_capacity(n));
     nodes.push(Node::default());
-    nodes[0] = builder.subtree(root, &mut nodes);
+    nodes[0] = builder.subtree(root, &mut nodes, &mut Bins::new());
     nodes.shrink_to_fit();
     Bvh { nodes, prim_order: ids }
 }
 
-/// A generous guess of the number of nodes of a subtree over `n` primitives, so that its node
-/// array rarely grows. SAH leaves average well above one primitive, so there are far fewer
-/// than the worst case of `2n - 1` nodes.
+/// The most nodes a subtree over `n` primitives can have, `2n - 1`, so that node arrays never
+/// grow. Pages beyond the nodes actually built are never touched, and the final array is shrunk.
 fn node_capacity(n: usize) -> usize {
-    n + 1
+    2 * n - 1
 }
 
 /// The primitives of one node, contiguous in leaf order from `first`: their boxes and input
@@ -85,37 +84,11 @@ struct Task<'a> {
 enum Decision {
     /// A leaf over all of its primitives.
     Leaf,
-    /// Split by the SAH.
-    Split(Split),
+    /// Split at a bin plane.
+    Plane(BinSplit, BinMapping),
     /// Split at the object median along an axis: when all centroids coincide (no plane
     /// separates them) or when the SAH split could exceed [`MAX_DEPTH`].
     Median(usize),
-}
-
-/// The best SAH split of a node.
-enum Split {
-    /// At a bin plane, for large nodes.
-    Plane(BinSplit, BinMapping),
-    /// In the centroid order on one axis, for small nodes.
-    Sorted(SortedSplit),
-}
-
-impl Split {
-    /// `A(L) N(L) + A(R) N(R)` with half areas.
-    fn area_count_sum(&self) -> f32 {
-        match self {
-            Split::Plane(split, _) => split.area_count_sum,
-            Split::Sorted(split) => split.area_count_sum,
-        }
-    }
-
-    /// Number of primitives going left.
-    fn left_count(&self) -> usize {
-        match self {
-            Split::Plane(split, _) => split.left_count,
-            Split::Sorted(split) => split.left_count,
-        }
-    }
 }
 
 /// The builder's shared, read-only state.
@@ -129,13 +102,24 @@ impl Builder {
     /// then the right child's. Every index in the returned nodes refers to `nodes`, and children
     /// always come after their parent. Large subtrees build the right child's subtree in a
     /// parallel task into a separate array, appended and re-indexed afterwards: same layout.
-    fn subtree(&self, task: Task, nodes: &mut Vec<Node>) -> Node {
+    /// `bins` is scratch space, reused by every node of a task.
+    fn subtree(&self, task: Task, nodes: &mut Vec<Node>, bins: &mut Bins) -> Node {
         let n = task.boxes.len();
         let bounds = task.bounds;
-        let (left, right) = match self.decide(&task) {
+        if n <= SMALL_NODE_MAX {
+            return build_small_subtree(
+                &self.params,
+                task.boxes,
+                task.ids,
+                task.first,
+                task.depth,
+                bounds,
+                nodes,
+            );
+        }
+        let (left, right) = match self.decide(&task, bins) {
             Decision::Leaf => return bounds.leaf(task.first, n as u32),
-            Decision::Split(Split::Plane(split, mapping)) => task.split_at_plane(&split, &mapping),
-            Decision::Split(Split::Sorted(split)) => task.split_sorted(&split),
+            Decision::Plane(split, mapping) => task.split_at_plane(&split, &mapping),
             Decision::Median(axis) => task.split_at_median(axis),
         };
 
@@ -143,10 +127,10 @@ impl Builder {
         nodes.extend([Node::default(); 2]);
         if n >= PARALLEL_SUBTREE_MIN {
             let (left_root, (right_root, right_nodes)) = rayon::join(
-                || self.subtree(left, nodes),
+                || self.subtree(left, nodes, bins),
                 || {
                     let mut right_nodes = Vec::with_capacity(node_capacity(right.boxes.len()));
-                    (self.subtree(right, &mut right_nodes), right_nodes)
+                    (self.subtree(right, &mut right_nodes, &mut Bins::new()), right_nodes)
                 },
             );
             let base = nodes.len() as u32;
@@ -154,49 +138,33 @@ impl Builder {
             nodes[pair + 1] = reindexed(right_root, base);
             nodes.extend(right_nodes.iter().map(|&node| reindexed(node, base)));
         } else {
-            nodes[pair] = self.subtree(left, nodes);
-            nodes[pair + 1] = self.subtree(right, nodes);
+            nodes[pair] = self.subtree(left, nodes, bins);
+            nodes[pair + 1] = self.subtree(right, nodes, bins);
         }
         bounds.inner(pair as u32)
     }
 
-    /// Chooses between a leaf and the best split with the SAH: the exact object split for small
-    /// nodes, the best bin plane otherwise. A single primitive is always a leaf; more than
-    /// `max_leaf_size` primitives are always split. A split whose larger side could not be
-    /// finished within [`MAX_DEPTH`] by halving gives way to a leaf or a median split, so every
-    /// node at depth `d` with `n` primitives keeps `d + levels_to_split(n) <= MAX_DEPTH`, which
-    /// holds at the root for any `n < 2³¹`. Kept out of line so that the bins live in this
-    /// short-lived frame, not in every frame of the recursion.
-    #[inline(never)]
-    fn decide(&self, task: &Task) -> Decision {
+    /// Chooses between a leaf and the best bin plane with the SAH (nodes of more than
+    /// [`SMALL_NODE_MAX`] primitives). More than `max_leaf_size` primitives are always split. A
+    /// split whose larger side could not be finished within [`MAX_DEPTH`] by halving gives way
+    /// to a leaf or a median split, so every node at depth `d` with `n` primitives keeps
+    /// `d + levels_to_split(n) <= MAX_DEPTH`, which holds at the root for any `n < 2³¹`.
+    fn decide(&self, task: &Task, bins: &mut Bins) -> Decision {
         let n = task.boxes.len();
-        if n == 1 {
-            return Decision::Leaf;
-        }
         let max_leaf = self.params.max_leaf_size as usize;
         let leaf_allowed = n <= max_leaf;
-        let area = task.bounds.half_area();
-        // Every split costs at least `C_trav A + C_isect Σ A(prim)`: each child's area is at
-        // least that of each of its primitives. A leaf that beats this bound needs no search.
-        if leaf_allowed {
-            let prim_area_sum: f32 = task.boxes.iter().map(PrimBox::half_area).sum();
-            if self.params.leaf_is_cheaper(n, area, prim_area_sum) {
-                return Decision::Leaf;
-            }
-        }
-        let split = if n <= SMALL_NODE_MAX {
-            Some(Split::Sorted(best_sorted_split(task.boxes)))
-        } else {
-            let mapping = BinMapping::new(&task.bounds, &task.centroid_bounds, self.params.bins as usize);
-            let max_isolated = 2 * self.params.max_leaf_size as usize;
-            let split = bin(task.boxes, &mapping).best_split(mapping.count(), max_isolated);
-            split.map(|split| Split::Plane(split, mapping))
-        };
-        match split {
-            Some(split) if leaf_allowed && self.params.leaf_is_cheaper(n, area, split.area_count_sum()) => {
+        let mapping = BinMapping::new(&task.bounds, &task.centroid_bounds, self.params.bins as usize);
+        fill_bins(bins, task.boxes, &mapping);
+        match bins.best_split(mapping.count()) {
+            Some(split)
+                if leaf_allowed
+                    && self.params.leaf_is_cheaper(n, task.bounds.half_area(), split.area_count_sum) =>
+            {
                 Decision::Leaf
             }
-            Some(split) if task.children_fit_depth(split.left_count(), max_leaf) => Decision::Split(split),
+            Some(split) if task.children_fit_depth(split.left_count, max_leaf) => {
+                Decision::Plane(split, mapping)
+            }
             _ if leaf_allowed => Decision::Leaf,
             _ => {
                 let extent = task.centroid_bounds.max - task.centroid_bounds.min;
@@ -206,20 +174,19 @@ impl Builder {
     }
 }
 
-/// The bins of `boxes`, in parallel chunks for large nodes.
-fn bin(boxes: &[PrimBox], mapping: &BinMapping) -> Bins {
+/// Sets `bins` to the bins of `boxes`, binned in parallel chunks for large nodes.
+fn fill_bins(bins: &mut Bins, boxes: &[PrimBox], mapping: &BinMapping) {
     if boxes.len() >= PARALLEL_BINNING_MIN {
-        boxes
+        *bins = boxes
             .par_chunks(CHUNK)
             .fold(Bins::new, |mut bins, chunk| {
                 bins.add(chunk, mapping);
                 bins
             })
-            .reduce(Bins::new, |a, b| a.merge(&b))
+            .reduce(Bins::new, |a, b| a.merge(&b));
     } else {
-        let mut bins = Bins::new();
+        bins.clear(mapping.count());
         bins.add(boxes, mapping);
-        bins
     }
 }
 
@@ -247,24 +214,6 @@ impl<'a> Task<'a> {
             partition_at_plane(self.boxes, self.ids, mapping, split.axis, split.bin);
         debug_assert_eq!(mid, split.left_count, "partition disagrees with the bins");
         self.children(mid, [split.left, split.right], [left_centroids, right_centroids])
-    }
-
-    /// Reorders a small node's primitives into the split's order.
-    fn split_sorted(self, split: &SortedSplit) -> (Task<'a>, Task<'a>) {
-        let n = self.boxes.len();
-        let mut boxes = [PrimBox::default(); SMALL_NODE_MAX];
-        let mut ids = [0; SMALL_NODE_MAX];
-        for (i, &from) in split.order[..n].iter().enumerate() {
-            boxes[i] = self.boxes[from as usize];
-            ids[i] = self.ids[from as usize];
-        }
-        self.boxes.copy_from_slice(&boxes[..n]);
-        self.ids.copy_from_slice(&ids[..n]);
-        let mid = split.left_count;
-        let (left, right) = self.boxes.split_at(mid);
-        let bounds = [PrimBox::union_of(left), PrimBox::union_of(right)];
-        let centroids = [PrimBox::centroid_bounds_of(left), PrimBox::centroid_bounds_of(right)];
-        self.children(mid, bounds, centroids)
     }
 
     /// Partitions the primitives at the centroid median on `axis`.

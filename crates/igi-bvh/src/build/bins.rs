@@ -6,14 +6,17 @@
 //! planes between bins are the split candidates, evaluated in two sweeps over the bins.
 //!
 //! A fourth "axis" bins primitives by size: bin k holds the boxes whose surface area is a
-//! fraction in `(2^-(k+1), 2^-k]` of the node's. Its candidates split off the largest primitives,
-//! at most a few leaves' worth, from the rest. Plane splits cannot isolate a handful of
-//! primitives that span the node (the walls, floor and ceiling of a room): those inflate
-//! whichever child they land in, level after level. The full-sweep reference finds such splits
-//! only where exact coordinate ties happen to line them up. On the conference room, this takes
-//! the binned SAH cost from 12.6 % above the full sweep to 1 % above; elsewhere it changes little.
-//! Larger groups are not offered: splitting big from small primitives makes two children that
-//! overlap everywhere, which the greedy SAH underestimates.
+//! fraction in `[2^-(k+1), 2^-k)` of the node's (the last bin everything smaller). Its
+//! candidates split off the largest primitives, at most [`MAX_ISOLATED`] of them, from the
+//! rest. Plane splits cannot isolate a handful of primitives that span the node (the walls,
+//! floor and ceiling of a room): those inflate whichever child they land in, level after level.
+//! The full-sweep reference finds such splits only where exact coordinate ties happen to line
+//! them up. On the conference room, this takes the binned SAH cost from 12.6 % above the full
+//! sweep to 1 % above (32 or even 256 centroid bins alone only reach 7 %); on Sponza and
+//! Sibenik it lowers the cost by 0.3 - 4 %, on random triangle soups it changes nothing. Larger
+//! groups are not offered: splitting big from small primitives makes two children that overlap
+//! everywhere, which the greedy SAH underestimates (offering any size split made the
+//! conference room 17 % worse).
 //!
 //! Bins merge exactly (min, max and integer sums are associative and commutative), so binning
 //! chunks of a node in parallel gives the same bins, bit for bit, as binning it in one go.
@@ -21,7 +24,7 @@
 use glam::Vec3A;
 
 use super::box3a::Box3A;
-use super::prim_box::PrimBox;
+use super::prim_box::{BoxLanes, PrimBox};
 
 /// The largest supported number of bins per axis.
 pub(crate) const MAX_BINS: usize = 32;
@@ -29,6 +32,9 @@ pub(crate) const MAX_BINS: usize = 32;
 const AXES: usize = 4;
 /// The axis that bins primitives by size, largest first.
 const SIZE_AXIS: usize = 3;
+/// The most primitives a split on the size axis may isolate. Measured: 16 keeps the SAH cost
+/// within 1 % of the full sweep on the conference room at every leaf size, 8 or 32 do worse.
+const MAX_ISOLATED: u32 = 16;
 
 /// Maps a primitive to its bin on each axis. On the centroid axes, the bin coordinate is
 /// `u = K (1 - ε) (c - c_min) / (c_max - c_min)` over the node's centroid bounds (Wald 2007,
@@ -36,11 +42,14 @@ const SIZE_AXIS: usize = 3;
 /// 1.5 · 2²³ leaves the rounded integer in the low mantissa bits): no float-to-integer
 /// conversion, no branches. A centroid exactly on an inner boundary goes to the even bin, not
 /// the upper one, which is as good a bin as any: all that matters is that binning and
-/// partitioning agree, and both use this one mapping.
+/// partitioning agree, and both use this one mapping. `c - c_min` is taken first, as written:
+/// folding `c_min` into an offset would round it at the magnitude of `c`, which for a small
+/// node far from the origin can exceed a bin. (The mapping works on `2c = min + max`, which
+/// saves halving each centroid and is exact.)
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct BinMapping {
+    origin: Vec3A,
     scale: Vec3A,
-    offset: Vec3A,
     last: Vec3A,
     inv_area: f32,
     count: usize,
@@ -61,8 +70,8 @@ impl BinMapping {
         let k = count as f32 * (1.0 - 1e-6);
         let scale = Vec3A::select(extent.cmpgt(Vec3A::ZERO), k / extent, Vec3A::ZERO);
         Self {
-            scale,
-            offset: -centroid_bounds.min * scale - 0.5,
+            origin: 2.0 * centroid_bounds.min,
+            scale: 0.5 * scale,
             last: Vec3A::splat((count - 1) as f32),
             inv_area: 1.0 / bounds.half_area(),
             count,
@@ -78,7 +87,8 @@ impl BinMapping {
     /// The centroid bins of a primitive on x, y and z, still as the low bits of floats.
     #[inline(always)]
     fn centroid_bins(&self, prim: &PrimBox) -> [f32; 3] {
-        let u = prim.centroid().mul_add(self.scale, self.offset).max(Vec3A::ZERO).min(self.last);
+        let u = (prim.double_centroid() - self.origin).mul_add(self.scale, Vec3A::splat(-0.5));
+        let u = u.max(Vec3A::ZERO).min(self.last);
         (u + ROUNDING_BIAS).to_array()
     }
 
@@ -99,10 +109,10 @@ impl BinMapping {
         }
     }
 
-    /// The size bin: `⌊-log₂ r⌋` for the area ratio `r` of primitive to node, read off the
-    /// binary exponent of `r` (biased exponent 126 for `r` in [1/2, 1)), clamped to the bins.
-    /// Degenerate ratios land in a valid bin: 0 (exponent 0) in the last, ∞ (an empty primitive
-    /// or a flat node) in the first.
+    /// The size bin: `k` for an area ratio `r` of primitive to node in `[2^-(k+1), 2^-k)`, read
+    /// off the binary exponent of `r` (biased exponent 126 for `r` in [1/2, 1)) and clamped to
+    /// the bins. Degenerate ratios land in a valid bin: 0 (exponent 0) in the last, ∞ (an empty
+    /// primitive or a flat node) in the first.
     #[inline(always)]
     fn size_bin(&self, prim: &PrimBox) -> usize {
         let ratio = prim.half_area() * self.inv_area;
@@ -129,66 +139,122 @@ pub(crate) struct BinSplit {
     pub left_count: usize,
 }
 
-/// Per-axis bins: the union of the boxes and the number of the primitives in each bin.
+/// One set of per-axis bins: the union of the boxes and the number of the primitives in each.
+#[derive(Clone, Debug)]
+struct BinSet {
+    boxes: [[BoxLanes; MAX_BINS]; AXES],
+    counts: [[u32; MAX_BINS]; AXES],
+}
+
+impl BinSet {
+    const EMPTY: Self = Self { boxes: [[BoxLanes::EMPTY; MAX_BINS]; AXES], counts: [[0; MAX_BINS]; AXES] };
+
+    /// Adds a primitive, given as lanes, to bin `bin` of `axis`.
+    #[inline(always)]
+    fn insert(&mut self, axis: usize, bin: usize, prim: BoxLanes) {
+        self.boxes[axis][bin] = self.boxes[axis][bin].union(prim);
+        self.counts[axis][bin] += 1;
+    }
+
+    /// Moves the first `bin_count` bins of `other` into these, leaving them empty.
+    fn take(&mut self, other: &mut Self, bin_count: usize) {
+        for axis in 0..AXES {
+            for bin in 0..bin_count {
+                let (b, n) = (&mut other.boxes[axis][bin], &mut other.counts[axis][bin]);
+                self.boxes[axis][bin] = self.boxes[axis][bin].union(std::mem::replace(b, BoxLanes::EMPTY));
+                self.counts[axis][bin] += std::mem::take(n);
+            }
+        }
+    }
+}
+
+/// Per-axis bins of a node.
+///
+/// Primitives are added alternately to two sets of bins, merged at the end. Partitioning leaves
+/// primitives roughly sorted in space, so consecutive ones often fall into the same bins, and
+/// each update of a bin then waits for the previous one (load, maximum, store); two sets halve
+/// these dependency chains, which made the whole build 16 % faster on the conference room
+/// (four sets gain nothing more).
 #[derive(Clone, Debug)]
 pub(crate) struct Bins {
-    boxes: [[Box3A; MAX_BINS]; AXES],
-    counts: [[u32; MAX_BINS]; AXES],
+    /// The bins, complete after [`Bins::add`].
+    even: BinSet,
+    /// The bins of every other primitive during [`Bins::add`], empty otherwise.
+    odd: BinSet,
 }
 
 impl Bins {
     /// Empty bins.
     pub fn new() -> Self {
-        Self { boxes: [[Box3A::EMPTY; MAX_BINS]; AXES], counts: [[0; MAX_BINS]; AXES] }
+        Self { even: BinSet::EMPTY, odd: BinSet::EMPTY }
+    }
+
+    /// Empties the first `bin_count` bins of each axis, the only ones a mapping with that many
+    /// bins fills.
+    pub fn clear(&mut self, bin_count: usize) {
+        for axis in 0..AXES {
+            self.even.boxes[axis][..bin_count].fill(BoxLanes::EMPTY);
+            self.even.counts[axis][..bin_count].fill(0);
+        }
     }
 
     /// Adds primitives, given by their boxes, to their bins.
     pub fn add(&mut self, prims: &[PrimBox], mapping: &BinMapping) {
-        for p in prims {
-            let bounds = p.bounds();
-            for (axis, bin) in mapping.bins_of(p).into_iter().enumerate() {
-                self.boxes[axis][bin] = self.boxes[axis][bin].union(bounds);
-                self.counts[axis][bin] += 1;
+        let mut pairs = prims.chunks_exact(2);
+        for pair in &mut pairs {
+            let (even, odd) = (pair[0].lanes(), pair[1].lanes());
+            let (even_bins, odd_bins) = (mapping.bins_of(&pair[0]), mapping.bins_of(&pair[1]));
+            for axis in 0..AXES {
+                self.even.insert(axis, even_bins[axis], even);
+                self.odd.insert(axis, odd_bins[axis], odd);
             }
         }
+        for prim in pairs.remainder() {
+            let bins = mapping.bins_of(prim);
+            for (axis, &bin) in bins.iter().enumerate() {
+                self.even.insert(axis, bin, prim.lanes());
+            }
+        }
+        self.even.take(&mut self.odd, mapping.count());
     }
 
     /// The bins of two disjoint sets of primitives combined.
     pub fn merge(mut self, other: &Self) -> Self {
         for axis in 0..AXES {
             for bin in 0..MAX_BINS {
-                self.boxes[axis][bin] = self.boxes[axis][bin].union(other.boxes[axis][bin]);
-                self.counts[axis][bin] += other.counts[axis][bin];
+                let b = &mut self.even.boxes[axis][bin];
+                *b = b.union(other.even.boxes[axis][bin]);
+                self.even.counts[axis][bin] += other.even.counts[axis][bin];
             }
         }
         self
     }
 
     /// The split between bins with the lowest `A(L) N(L) + A(R) N(R)` over all axes, where a
-    /// split on the size axis may isolate at most `max_isolated` primitives; `None` if no split
-    /// has primitives on both sides (then all centroids coincide). Ties go to the lowest axis,
-    /// then the leftmost split.
-    pub fn best_split(&self, bin_count: usize, max_isolated: usize) -> Option<BinSplit> {
+    /// split on the size axis may isolate at most [`MAX_ISOLATED`] primitives; `None` if no
+    /// split has primitives on both sides (then all centroids coincide). Ties go to the lowest
+    /// axis, then the leftmost split.
+    pub fn best_split(&self, bin_count: usize) -> Option<BinSplit> {
         let mut best: Option<BinSplit> = None;
         for axis in 0..AXES {
-            let boxes = &self.boxes[axis][..bin_count];
-            let counts = &self.counts[axis][..bin_count];
+            let boxes = &self.even.boxes[axis][..bin_count];
+            let counts = &self.even.counts[axis][..bin_count];
             let total: u32 = counts.iter().sum();
-            let max_left = if axis == SIZE_AXIS { max_isolated as u32 } else { total };
+            let max_left = if axis == SIZE_AXIS { MAX_ISOLATED } else { total };
 
             // Sweep right to left: area times count of the bins [i, K) for every split i.
             let mut right_cost = [0.0f32; MAX_BINS];
-            let (mut right, mut right_count) = (Box3A::EMPTY, 0u32);
+            let (mut right, mut right_count) = (BoxLanes::EMPTY, 0u32);
             for i in (1..bin_count).rev() {
                 right = right.union(boxes[i]);
                 right_count += counts[i];
                 if right_count > 0 {
-                    right_cost[i] = right.half_area() * right_count as f32;
+                    right_cost[i] = right.bounds().half_area() * right_count as f32;
                 }
             }
 
             // Sweep left to right, completing the cost of each split with both sides non-empty.
-            let (mut left, mut left_count) = (Box3A::EMPTY, 0u32);
+            let (mut left, mut left_count) = (BoxLanes::EMPTY, 0u32);
             for i in 1..bin_count {
                 left = left.union(boxes[i - 1]);
                 left_count += counts[i - 1];
@@ -198,7 +264,7 @@ impl Bins {
                 if left_count == total || left_count > max_left {
                     break;
                 }
-                let cost = left.half_area() * left_count as f32 + right_cost[i];
+                let cost = left.bounds().half_area() * left_count as f32 + right_cost[i];
                 if best.is_none_or(|b| cost < b.area_count_sum) {
                     best = Some(BinSplit {
                         axis,
@@ -212,9 +278,9 @@ impl Bins {
             }
         }
         best.map(|mut split| {
-            let (l, r) = self.boxes[split.axis][..bin_count].split_at(split.bin);
-            split.left = Box3A::union_of(l);
-            split.right = Box3A::union_of(r);
+            let (l, r) = self.even.boxes[split.axis][..bin_count].split_at(split.bin);
+            split.left = l.iter().fold(BoxLanes::EMPTY, |acc, &b| acc.union(b)).bounds();
+            split.right = r.iter().fold(BoxLanes::EMPTY, |acc, &b| acc.union(b)).bounds();
             split
         })
     }

@@ -86,7 +86,7 @@ impl Box3A {
 
     /// The corners as stored in a node: those of [`Aabb::EMPTY`] if the box is empty.
     #[inline]
-    fn node_corners(&self) -> ([f32; 3], [f32; 3]) {
+    pub fn node_corners(&self) -> ([f32; 3], [f32; 3]) {
         let b = if self.is_empty() { Self::EMPTY } else { *self };
         (b.min.to_array(), b.max.to_array())
     }

@@ -6,8 +6,13 @@
 //! Goldsmith & Salmon 1987 and MacDonald & Booth 1990: a ray that hits node N hits a child C
 //! with probability A(C) / A(N) (A = surface area), so splitting N into L and R costs
 //! `C_trav + C_isect (A(L) N(L) + A(R) N(R)) / A(N)` against `C_isect N(N)` for a leaf, where
-//! N(·) counts primitives. They produce the same layout (see [`Bvh`](crate::bvh::Bvh)), so
-//! their SAH costs compare directly.
+//! N(·) counts primitives. They produce the same layout (see [`Bvh`](crate::bvh::Bvh)) with the
+//! same leaf rules, so their SAH costs compare directly: on the conference room, Sponza,
+//! Sibenik, Lost Empire and random triangle soups the binned builder stays within 1.2 % of the
+//! full sweep (`cargo run --release -p igi-bvh --example build_report`).
+//!
+//! Both bound the tree's depth by the traversal stacks' [`MAX_DEPTH`](crate::traverse::MAX_DEPTH),
+//! whatever the input: where a split could lead deeper, they split at the median instead.
 
 mod binned_sah;
 mod bins;
@@ -15,7 +20,7 @@ mod box3a;
 mod partition;
 mod prim_box;
 mod refit;
-mod small_sweep;
+mod small_subtree;
 mod sweep_sah;
 
 pub use binned_sah::build_binned_sah;
@@ -88,6 +93,11 @@ fn levels_to_split(n: usize, max_leaf_size: usize) -> usize {
 }
 
 impl Default for BuildParams {
+    /// Leaves of up to 8 primitives, equal traversal and intersection costs, 16 bins, chosen with
+    /// `build_report --params` on the conference room: the SAH cost is 35.75 with leaves of up to
+    /// 2, 34.86 with 4, 34.62 with 8 and 34.61 with 15; 32 bins gain 0.1 % for 11 % more build
+    /// time, 8 bins lose 15 %; `intersection_cost` 1.5 grows the BVH from 34 to 37 bytes per
+    /// triangle.
     fn default() -> Self {
         Self { max_leaf_size: 8, traversal_cost: 1.0, intersection_cost: 1.0, bins: 16 }
     }

@@ -24,13 +24,13 @@ impl Bvh {
                     .map(|p| Box3A::from(&leaf_order_bounds(p)))
                     .fold(Box3A::EMPTY, Box3A::union)
             } else {
-                let (left, right) = (self.nodes[node.offset as usize], self.nodes[node.offset as usize + 1]);
-                Box3A { min: left.min.into(), max: left.max.into() }
-                    .union(Box3A { min: right.min.into(), max: right.max.into() })
+                let child = |c: u32| Box3A::from(&self.nodes[c as usize].bounds());
+                child(node.offset).union(child(node.offset + 1))
             };
+            let (min, max) = bounds.node_corners();
             let node = &mut self.nodes[i];
-            node.min = bounds.min.to_array();
-            node.max = bounds.max.to_array();
+            node.min = min;
+            node.max = max;
         }
     }
 }

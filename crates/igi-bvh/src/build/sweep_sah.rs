@@ -15,9 +15,8 @@ use crate::traverse::MAX_DEPTH;
 
 /// Builds a BVH over primitives given by their bounding boxes with the full-sweep SAH.
 ///
-/// Same contract and layout as [`build_binned_sah`](super::build_binned_sah): every box must
-/// be non-empty and finite, and the leaf and split rules are identical, so the two builders'
-/// [`Bvh::sah_cost`] compare directly. `bins` is not used.
+/// Same contract, layout and leaf rules as [`build_binned_sah`](super::build_binned_sah), so
+/// the two builders' [`Bvh::sah_cost`] compare directly. `bins` is not used.
 ///
 /// # Panics
 /// If `params` is out of range (see [`BuildParams`]) or there are 2³¹ primitives or more.
