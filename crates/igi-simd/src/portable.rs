@@ -161,9 +161,11 @@ impl F32x8 {
     /// `cvttps2dq`).
     #[inline(always)]
     pub fn to_i32(self) -> I32x8 {
-        I32x8(self.0.map(|v| {
-            if v.is_nan() || v >= 2_147_483_648.0 || v < -2_147_483_648.0 { i32::MIN } else { v as i32 }
-        }))
+        I32x8(self.0.map(
+            |v| {
+                if !(-2_147_483_648.0..2_147_483_648.0).contains(&v) { i32::MIN } else { v as i32 }
+            },
+        ))
     }
 
     /// The bits of each lane reinterpreted as `i32`.
