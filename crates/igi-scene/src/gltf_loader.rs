@@ -541,7 +541,7 @@ impl Loader<'_> {
             }
             None => (0..u32::try_from(positions.len()).map_err(|_| "too many vertices")?).collect(),
         };
-        if indices.len() % 3 != 0 {
+        if !indices.len().is_multiple_of(3) {
             self.report.warn(
                 self.file,
                 format!(

@@ -56,7 +56,7 @@ pub fn gltf_document(positions: &[[f32; 3]], indices: &[u16], embed: bool) -> (S
     let mut bin: Vec<u8> = positions.iter().flatten().flat_map(|c| c.to_le_bytes()).collect();
     let index_offset = bin.len();
     bin.extend(indices.iter().flat_map(|i| i.to_le_bytes()));
-    while bin.len() % 4 != 0 {
+    while !bin.len().is_multiple_of(4) {
         bin.push(0);
     }
     let uri = if embed {
@@ -82,7 +82,7 @@ pub fn gltf_document(positions: &[[f32; 3]], indices: &[u16], embed: bool) -> (S
 /// A binary glTF container of `json` and `bin`.
 pub fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
     let mut json = json.as_bytes().to_vec();
-    while json.len() % 4 != 0 {
+    while !json.len().is_multiple_of(4) {
         json.push(b' ');
     }
     let total = 12 + 8 + json.len() + 8 + bin.len();
