@@ -65,28 +65,41 @@ pub fn scene_bounds(scene: &Scene) -> Aabb {
     if b.is_empty() { Aabb::EMPTY } else { Aabb { min: b.min, max: b.max } }
 }
 
-/// The scene's camera (or a default one framing its bounds) with the given fields replaced.
-pub fn camera_with_overrides(
-    scene: &Scene,
-    position: Option<Vec3>,
-    target: Option<Vec3>,
-    up: Option<Vec3>,
-    fov: Option<f32>,
-) -> Camera {
-    let mut camera = scene.camera.unwrap_or_else(|| default_camera(&scene_bounds(scene)));
-    if let Some(p) = position {
-        camera.position = p;
+/// The camera options shared by `render` and `bench`: each replaces one field of the scene's
+/// camera (or of a default camera framing the scene).
+#[derive(Debug, Default, clap::Args)]
+pub struct CameraArgs {
+    /// Camera position x,y,z (default: the scene's camera, else one framing the scene).
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub camera_position: Option<Vec3>,
+    /// Camera target x,y,z.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub camera_target: Option<Vec3>,
+    /// Camera up vector x,y,z.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub camera_up: Option<Vec3>,
+    /// Vertical field of view in degrees.
+    #[arg(long)]
+    pub fov: Option<f32>,
+}
+
+impl CameraArgs {
+    /// The scene's camera (or a default one framing its bounds) with the given fields
+    /// replaced; an error for a field of view outside (0, 180) or a camera looking nowhere.
+    pub fn resolve(&self, scene: &Scene) -> Result<Camera> {
+        if self.fov.is_some_and(|f| !(f > 0.0 && f < 180.0)) {
+            anyhow::bail!("--fov must be between 0 and 180 degrees");
+        }
+        let mut camera = scene.camera.unwrap_or_else(|| default_camera(&scene_bounds(scene)));
+        camera.position = self.camera_position.unwrap_or(camera.position);
+        camera.target = self.camera_target.unwrap_or(camera.target);
+        camera.up = self.camera_up.unwrap_or(camera.up);
+        camera.fov_y_deg = self.fov.unwrap_or(camera.fov_y_deg);
+        if (camera.target - camera.position).length_squared() == 0.0 {
+            anyhow::bail!("the camera position and target coincide");
+        }
+        Ok(camera)
     }
-    if let Some(t) = target {
-        camera.target = t;
-    }
-    if let Some(u) = up {
-        camera.up = u;
-    }
-    if let Some(f) = fov {
-        camera.fov_y_deg = f;
-    }
-    camera
 }
 
 #[cfg(test)]

@@ -3,7 +3,6 @@
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use glam::Vec3;
 use igi_render::output::ImageFormat;
 use igi_render::{PreparedScene, RenderSettings, render_with_stats, write_image};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -25,18 +24,9 @@ pub struct RenderArgs {
     /// Image height in pixels.
     #[arg(long, default_value_t = 480)]
     pub height: u32,
-    /// Camera position x,y,z (default: the scene's camera, else one framing the scene).
-    #[arg(long, value_parser = crate::cli::parse_vec3, allow_hyphen_values = true)]
-    pub camera_position: Option<Vec3>,
-    /// Camera target x,y,z.
-    #[arg(long, value_parser = crate::cli::parse_vec3, allow_hyphen_values = true)]
-    pub camera_target: Option<Vec3>,
-    /// Camera up vector x,y,z.
-    #[arg(long, value_parser = crate::cli::parse_vec3, allow_hyphen_values = true)]
-    pub camera_up: Option<Vec3>,
-    /// Vertical field of view in degrees.
-    #[arg(long)]
-    pub fov: Option<f32>,
+    /// Camera overrides.
+    #[command(flatten)]
+    pub camera: crate::cli::CameraArgs,
     /// Area-light samples (shadow rays to emissive triangles) per pixel.
     #[arg(long, default_value_t = 4)]
     pub samples: u32,
@@ -62,9 +52,6 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if args.samples > igi_render::sampling::MAX_SAMPLES {
         bail!("--samples must be at most {}", igi_render::sampling::MAX_SAMPLES);
     }
-    if args.fov.is_some_and(|f| !(f > 0.0 && f < 180.0)) {
-        bail!("--fov must be between 0 and 180 degrees");
-    }
     if !(1..=1024).contains(&args.tile_size) {
         bail!("--tile-size must be between 1 and 1024");
     }
@@ -77,16 +64,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let scene =
         igi_scene::load_named(&args.scene).with_context(|| format!("cannot load scene {}", args.scene))?;
     let load = t_load.elapsed();
-    let camera = crate::cli::camera_with_overrides(
-        &scene,
-        args.camera_position,
-        args.camera_target,
-        args.camera_up,
-        args.fov,
-    );
-    if (camera.target - camera.position).length_squared() == 0.0 {
-        bail!("the camera position and target coincide");
-    }
+    let camera = args.camera.resolve(&scene)?;
 
     let t_build = Instant::now();
     let prepared = PreparedScene::new(scene);

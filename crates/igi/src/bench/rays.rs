@@ -21,18 +21,9 @@ use std::time::Instant;
 pub struct RaysArgs {
     /// Built-in scene name or scene file.
     pub scene: String,
-    /// Camera position (default: the scene's camera).
-    #[arg(long, value_parser = crate::cli::parse_vec3, allow_hyphen_values = true)]
-    pub camera_position: Option<Vec3>,
-    /// Camera target.
-    #[arg(long, value_parser = crate::cli::parse_vec3, allow_hyphen_values = true)]
-    pub camera_target: Option<Vec3>,
-    /// Camera up vector.
-    #[arg(long, value_parser = crate::cli::parse_vec3, allow_hyphen_values = true)]
-    pub camera_up: Option<Vec3>,
-    /// Vertical field of view in degrees.
-    #[arg(long)]
-    pub fov: Option<f32>,
+    /// Camera overrides.
+    #[command(flatten)]
+    pub camera: crate::cli::CameraArgs,
     /// Resolutions, comma separated.
     #[arg(long, default_value = "640x480,1024x1024", value_delimiter = ',', value_parser = parse_res)]
     pub res: Vec<(u32, u32)>,
@@ -184,13 +175,7 @@ pub fn run(args: &RaysArgs) -> Result<()> {
     }
     let scene =
         igi_scene::load_named(&args.scene).with_context(|| format!("cannot load scene {}", args.scene))?;
-    let camera = crate::cli::camera_with_overrides(
-        &scene,
-        args.camera_position,
-        args.camera_target,
-        args.camera_up,
-        args.fov,
-    );
+    let camera = args.camera.resolve(&scene)?;
 
     // Build time, as embree-bench times it: copying the vertex and index buffers plus building
     // the whole two-level structure (per-mesh BVHs and the top level), median of 5.
