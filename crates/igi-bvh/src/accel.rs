@@ -201,49 +201,14 @@ impl Accel {
     /// instance, then triangle, index, so the answer does not depend on traversal order).
     pub fn intersect(&self, ray: &Ray) -> Hit {
         let mut q = Closest1 { hit: Hit::miss(ray.tfar) };
-        let world = Local1::new(ray.origin, ray.dir, ray.tnear);
-        walk1(&self.tlas.nodes, &world.boxes, &mut q, |q, leaf| {
-            for &inst in self.tlas_leaf(leaf) {
-                let p = &self.placements[inst as usize];
-                let local = if p.identity { world } else { world.transformed(ray, &p.world_to_object) };
-                let mesh = &self.meshes[p.mesh as usize];
-                walk1(&self.blas[p.mesh as usize].nodes, &local.boxes, q, |q, leaf| {
-                    for prim in leaf.offset..leaf.offset + leaf.count {
-                        let [a, b, c] = mesh.triangle(prim);
-                        let h = intersect(local.org, &local.shear, a, b, c, ray.tnear, q.hit.t);
-                        if h.mask && closer(h.t, inst, prim, &q.hit) {
-                            q.hit = Hit { t: h.t, u: h.u, v: h.v, instance: inst, prim };
-                        }
-                    }
-                });
-            }
-        });
+        self.trace1(ray, &mut q);
         q.hit
     }
 
     /// True if anything lies on `ray` within `[tnear, tfar]` (shadow rays).
     pub fn occluded(&self, ray: &Ray) -> bool {
         let mut q = Any1 { tfar: ray.tfar, hit: false };
-        let world = Local1::new(ray.origin, ray.dir, ray.tnear);
-        walk1(&self.tlas.nodes, &world.boxes, &mut q, |q, leaf| {
-            for &inst in self.tlas_leaf(leaf) {
-                let p = &self.placements[inst as usize];
-                let local = if p.identity { world } else { world.transformed(ray, &p.world_to_object) };
-                let mesh = &self.meshes[p.mesh as usize];
-                walk1(&self.blas[p.mesh as usize].nodes, &local.boxes, q, |q, leaf| {
-                    for prim in leaf.offset..leaf.offset + leaf.count {
-                        let [a, b, c] = mesh.triangle(prim);
-                        if intersect(local.org, &local.shear, a, b, c, ray.tnear, ray.tfar).mask {
-                            q.hit = true;
-                            return;
-                        }
-                    }
-                });
-                if q.hit {
-                    return;
-                }
-            }
-        });
+        self.trace1(ray, &mut q);
         q.hit
     }
 
@@ -258,62 +223,61 @@ impl Accel {
             prim: I32x8::splat(INVALID_ID as i32),
             active,
         };
-        let world = Local8::new(rays.origin, rays.dir, rays.tnear, active);
-        let tlas = |q: &mut Closest8, leaf: &Node| {
-            for &inst in self.tlas_leaf(leaf) {
-                let p = &self.placements[inst as usize];
-                let local =
-                    if p.identity { world } else { world.transformed(rays, &p.world_to_object, q.active) };
-                let (mesh, nodes) = (&self.meshes[p.mesh as usize], &self.blas[p.mesh as usize].nodes);
-                match (&local.shear, &local.boxes) {
-                    (Shear8::Uniform(s), BoxRay8::Octant(b)) => {
-                        closest8_blas(nodes, mesh, &local, s, b, inst, q)
-                    }
-                    (Shear8::Uniform(s), BoxRay8::Mixed(b)) => {
-                        closest8_blas(nodes, mesh, &local, s, b, inst, q)
-                    }
-                    (Shear8::Mixed(s), BoxRay8::Octant(b)) => {
-                        closest8_blas(nodes, mesh, &local, s, b, inst, q)
-                    }
-                    (Shear8::Mixed(s), BoxRay8::Mixed(b)) => {
-                        closest8_blas(nodes, mesh, &local, s, b, inst, q)
-                    }
-                }
-            }
-        };
-        match &world.boxes {
-            BoxRay8::Octant(b) => walk8(&self.tlas.nodes, b, &mut q, tlas),
-            BoxRay8::Mixed(b) => walk8(&self.tlas.nodes, b, &mut q, tlas),
-        }
+        self.trace8(rays, active, &mut q);
         HitPacket8 { t: q.t, u: q.u, v: q.v, instance: q.instance, prim: q.prim }
     }
 
     /// Lanes of `rays` (among `active`) that are blocked within `[tnear, tfar]`.
     pub fn occluded8(&self, rays: &RayPacket8, active: M32x8) -> M32x8 {
         let mut q = Any8 { tfar: rays.tfar, active };
+        self.trace8(rays, active, &mut q);
+        active.and_not(q.active)
+    }
+
+    /// One ray through both levels: the top level finds instances, each instance's BVH is
+    /// walked in its object space, and the query handles the triangles of its leaves.
+    fn trace1<Q: Leaf1>(&self, ray: &Ray, q: &mut Q) {
+        let world = Local1::new(ray.origin, ray.dir, ray.tnear);
+        walk1(&self.tlas.nodes, &world.boxes, q, |q, leaf| {
+            for &inst in self.tlas_leaf(leaf) {
+                let p = &self.placements[inst as usize];
+                let local = if p.identity { world } else { world.transformed(ray, &p.world_to_object) };
+                let mesh = &self.meshes[p.mesh as usize];
+                walk1(&self.blas[p.mesh as usize].nodes, &local.boxes, q, |q, leaf| {
+                    q.triangles(mesh, &local, leaf, inst)
+                });
+                if q.done() {
+                    return;
+                }
+            }
+        });
+    }
+
+    /// Eight rays through both levels, as [`Accel::trace1`]; each instance's walk is
+    /// monomorphised for the packet's kind of shear and box test.
+    fn trace8<Q: Leaf8>(&self, rays: &RayPacket8, active: M32x8, q: &mut Q) {
         let world = Local8::new(rays.origin, rays.dir, rays.tnear, active);
-        let tlas = |q: &mut Any8, leaf: &Node| {
+        let tlas = |q: &mut Q, leaf: &Node| {
             for &inst in self.tlas_leaf(leaf) {
                 let p = &self.placements[inst as usize];
                 let local =
-                    if p.identity { world } else { world.transformed(rays, &p.world_to_object, q.active) };
+                    if p.identity { world } else { world.transformed(rays, &p.world_to_object, q.active()) };
                 let (mesh, nodes) = (&self.meshes[p.mesh as usize], &self.blas[p.mesh as usize].nodes);
                 match (&local.shear, &local.boxes) {
-                    (Shear8::Uniform(s), BoxRay8::Octant(b)) => any8_blas(nodes, mesh, &local, s, b, q),
-                    (Shear8::Uniform(s), BoxRay8::Mixed(b)) => any8_blas(nodes, mesh, &local, s, b, q),
-                    (Shear8::Mixed(s), BoxRay8::Octant(b)) => any8_blas(nodes, mesh, &local, s, b, q),
-                    (Shear8::Mixed(s), BoxRay8::Mixed(b)) => any8_blas(nodes, mesh, &local, s, b, q),
+                    (Shear8::Uniform(s), BoxRay8::Octant(b)) => blas8(nodes, mesh, &local, s, b, inst, q),
+                    (Shear8::Uniform(s), BoxRay8::Mixed(b)) => blas8(nodes, mesh, &local, s, b, inst, q),
+                    (Shear8::Mixed(s), BoxRay8::Octant(b)) => blas8(nodes, mesh, &local, s, b, inst, q),
+                    (Shear8::Mixed(s), BoxRay8::Mixed(b)) => blas8(nodes, mesh, &local, s, b, inst, q),
                 }
-                if q.active.none() {
+                if q.active().none() {
                     return;
                 }
             }
         };
         match &world.boxes {
-            BoxRay8::Octant(b) => walk8(&self.tlas.nodes, b, &mut q, tlas),
-            BoxRay8::Mixed(b) => walk8(&self.tlas.nodes, b, &mut q, tlas),
+            BoxRay8::Octant(b) => walk8(&self.tlas.nodes, b, q, tlas),
+            BoxRay8::Mixed(b) => walk8(&self.tlas.nodes, b, q, tlas),
         }
-        active.and_not(q.active)
     }
 
     /// Instances referenced by a top-level leaf.
@@ -383,6 +347,37 @@ impl Query1 for Any1 {
     #[inline(always)]
     fn done(&self) -> bool {
         self.hit
+    }
+}
+
+/// A single-ray query's handling of one leaf's triangles.
+trait Leaf1: Query1 {
+    fn triangles(&mut self, mesh: &TriangleMesh, local: &Local1, leaf: &Node, inst: u32);
+}
+
+impl Leaf1 for Closest1 {
+    #[inline(always)]
+    fn triangles(&mut self, mesh: &TriangleMesh, local: &Local1, leaf: &Node, inst: u32) {
+        for prim in leaf.offset..leaf.offset + leaf.count {
+            let [a, b, c] = mesh.triangle(prim);
+            let h = intersect(local.org, &local.shear, a, b, c, local.boxes.tnear, self.hit.t);
+            if h.mask && closer(h.t, inst, prim, &self.hit) {
+                self.hit = Hit { t: h.t, u: h.u, v: h.v, instance: inst, prim };
+            }
+        }
+    }
+}
+
+impl Leaf1 for Any1 {
+    #[inline(always)]
+    fn triangles(&mut self, mesh: &TriangleMesh, local: &Local1, leaf: &Node, _inst: u32) {
+        for prim in leaf.offset..leaf.offset + leaf.count {
+            let [a, b, c] = mesh.triangle(prim);
+            if intersect(local.org, &local.shear, a, b, c, local.boxes.tnear, self.tfar).mask {
+                self.hit = true;
+                return;
+            }
+        }
     }
 }
 
@@ -460,38 +455,82 @@ impl Query8 for Any8 {
     }
 }
 
-/// Closest-hit packet traversal of one bottom-level BVH.
+/// A packet query's handling of one leaf's triangles.
+trait Leaf8: Query8 {
+    fn triangles<S: Shear<F32x8>>(
+        &mut self,
+        mesh: &TriangleMesh,
+        local: &Local8,
+        shear: &S,
+        leaf: &Node,
+        inst: u32,
+    );
+}
+
+/// Walks one bottom-level BVH with a packet.
 #[inline(always)]
-fn closest8_blas<S: Shear<F32x8>, B: Boxes8>(
+fn blas8<Q: Leaf8, S: Shear<F32x8>, B: Boxes8>(
     nodes: &[Node],
     mesh: &TriangleMesh,
     local: &Local8,
     shear: &S,
     boxes: &B,
     inst: u32,
-    q: &mut Closest8,
+    q: &mut Q,
 ) {
-    let inst_v = I32x8::splat(inst as i32);
-    let tnear = local.tnear;
-    walk8(nodes, boxes, q, |q, leaf| {
+    walk8(nodes, boxes, q, |q, leaf| q.triangles(mesh, local, shear, leaf, inst));
+}
+
+impl Leaf8 for Closest8 {
+    #[inline(always)]
+    fn triangles<S: Shear<F32x8>>(
+        &mut self,
+        mesh: &TriangleMesh,
+        local: &Local8,
+        shear: &S,
+        leaf: &Node,
+        inst: u32,
+    ) {
+        let inst_v = I32x8::splat(inst as i32);
         for prim in leaf.offset..leaf.offset + leaf.count {
             let [a, b, c] = mesh.triangle(prim);
-            let h = intersect(local.org, shear, a, b, c, tnear, q.t);
+            let h = intersect(local.org, shear, a, b, c, local.tnear, self.t);
             let prim_v = I32x8::splat(prim as i32);
             // The tie rule of `closer`, lane by lane: ids compare as unsigned, and INVALID_ID
             // (-1 as i32) is the largest.
-            let tie =
-                h.t.eq(q.t) & (lt_u32(inst_v, q.instance) | (inst_v.eq(q.instance) & lt_u32(prim_v, q.prim)));
-            let take = h.mask & q.active & (h.t.lt(q.t) | tie);
+            let tie = h.t.eq(self.t)
+                & (lt_u32(inst_v, self.instance) | (inst_v.eq(self.instance) & lt_u32(prim_v, self.prim)));
+            let take = h.mask & self.active & (h.t.lt(self.t) | tie);
             if take.any() {
-                q.t = F32x8::select(take, h.t, q.t);
-                q.u = F32x8::select(take, h.u, q.u);
-                q.v = F32x8::select(take, h.v, q.v);
-                q.instance = I32x8::select(take, inst_v, q.instance);
-                q.prim = I32x8::select(take, prim_v, q.prim);
+                self.t = F32x8::select(take, h.t, self.t);
+                self.u = F32x8::select(take, h.u, self.u);
+                self.v = F32x8::select(take, h.v, self.v);
+                self.instance = I32x8::select(take, inst_v, self.instance);
+                self.prim = I32x8::select(take, prim_v, self.prim);
             }
         }
-    });
+    }
+}
+
+impl Leaf8 for Any8 {
+    #[inline(always)]
+    fn triangles<S: Shear<F32x8>>(
+        &mut self,
+        mesh: &TriangleMesh,
+        local: &Local8,
+        shear: &S,
+        leaf: &Node,
+        _inst: u32,
+    ) {
+        for prim in leaf.offset..leaf.offset + leaf.count {
+            let [a, b, c] = mesh.triangle(prim);
+            let h = intersect(local.org, shear, a, b, c, local.tnear, self.tfar);
+            self.active = self.active.and_not(h.mask);
+            if self.active.none() {
+                return;
+            }
+        }
+    }
 }
 
 /// Unsigned `a < b` per lane.
@@ -499,27 +538,4 @@ fn closest8_blas<S: Shear<F32x8>, B: Boxes8>(
 fn lt_u32(a: I32x8, b: I32x8) -> M32x8 {
     let flip = I32x8::splat(i32::MIN);
     (a ^ flip).lt(b ^ flip)
-}
-
-/// Any-hit packet traversal of one bottom-level BVH.
-#[inline(always)]
-fn any8_blas<S: Shear<F32x8>, B: Boxes8>(
-    nodes: &[Node],
-    mesh: &TriangleMesh,
-    local: &Local8,
-    shear: &S,
-    boxes: &B,
-    q: &mut Any8,
-) {
-    let tnear = local.tnear;
-    walk8(nodes, boxes, q, |q, leaf| {
-        for prim in leaf.offset..leaf.offset + leaf.count {
-            let [a, b, c] = mesh.triangle(prim);
-            let h = intersect(local.org, shear, a, b, c, tnear, q.tfar);
-            q.active = q.active.and_not(h.mask);
-            if q.active.none() {
-                return;
-            }
-        }
-    });
 }
