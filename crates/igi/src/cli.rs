@@ -39,6 +39,20 @@ pub fn dispatch(command: Command) -> Result<()> {
     }
 }
 
+/// Writes one line to stdout; a closed pipe ends the process with status 0 (the reader has
+/// what it wanted), any other write error with status 1.
+pub fn write_stdout_line(args: std::fmt::Arguments) {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    if let Err(e) = out.write_fmt(args).and_then(|()| out.write_all(b"\n")) {
+        if e.kind() == std::io::ErrorKind::BrokenPipe {
+            std::process::exit(0);
+        }
+        eprintln!("igi: error: cannot write to stdout: {e}");
+        std::process::exit(1);
+    }
+}
+
 /// Logs to stderr, filtered by `RUST_LOG` (default: warnings and errors).
 pub fn init_logging() {
     let filter = tracing_subscriber::EnvFilter::try_from_default_env()

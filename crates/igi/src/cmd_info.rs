@@ -57,39 +57,39 @@ pub fn run(args: &InfoArgs) -> Result<()> {
     let textured = scene.materials.iter().filter(|m| m.diffuse_texture.is_some()).count();
     let bounds = crate::cli::scene_bounds(&scene);
 
-    println!("scene        {}", args.scene);
-    println!("triangles    {instanced} ({stored} stored in meshes)");
-    println!(
+    outln!("scene        {}", args.scene);
+    outln!("triangles    {instanced} ({stored} stored in meshes)");
+    outln!(
         "meshes       {} ({with_normals} with normals, {with_uvs} with texture coordinates)",
         scene.meshes.len()
     );
-    println!("instances    {}", scene.instances.len());
-    println!("materials    {} ({textured} with a diffuse texture)", scene.materials.len());
-    println!("textures     {}", scene.textures.len());
-    println!(
+    outln!("instances    {}", scene.instances.len());
+    outln!("materials    {} ({textured} with a diffuse texture)", scene.materials.len());
+    outln!("textures     {}", scene.textures.len());
+    outln!(
         "lights       {point} point, {spot} spot, {directional} directional; \
          {emissive_tris} emissive triangles (area {emissive_area})"
     );
     if bounds.is_empty() {
-        println!("bounds       empty");
+        outln!("bounds       empty");
     } else {
-        println!("bounds       {} .. {} (diagonal {})", v(bounds.min), v(bounds.max), bounds.diagonal());
+        outln!("bounds       {} .. {} (diagonal {})", v(bounds.min), v(bounds.max), bounds.diagonal());
     }
     match &scene.camera {
-        Some(c) => println!(
+        Some(c) => outln!(
             "camera       position {} target {} up {} fov {} deg",
             v(c.position),
             v(c.target),
             v(c.up),
             c.fov_y_deg
         ),
-        None => println!("camera       none (renders use a default camera framing the bounds)"),
+        None => outln!("camera       none (renders use a default camera framing the bounds)"),
     }
-    println!("load time    {:.3} s", load.as_secs_f64());
-    println!("degenerate   {} triangles dropped", report.degenerate_dropped);
-    println!("warnings     {}", report.warnings.len());
+    outln!("load time    {:.3} s", load.as_secs_f64());
+    outln!("degenerate   {} triangles dropped", report.degenerate_dropped);
+    outln!("warnings     {}", report.warnings.len());
     for w in &report.warnings {
-        println!("  {w}");
+        outln!("  {w}");
     }
     Ok(())
 }

@@ -86,7 +86,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
 
     write_image(&film, &args.output, settings.tone_map()).context("cannot write the image")?;
 
-    println!(
+    outln!(
         "{}: {}x{}, {} triangles, {} area samples/px, {} thread(s): render {:.3} s (load {:.3} s, build {:.3} s), \
          {:.2} M rays ({:.2} M primary, {:.2} M shadow), {:.1} Mrays/s -> {}",
         args.scene,

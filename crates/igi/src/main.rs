@@ -3,6 +3,14 @@
 //! `main` only checks the CPU and hands over: this build may use AVX2/FMA instructions anywhere
 //! in its own code, so nothing of it runs before [`cpu_check::require_cpu_features`].
 
+/// `println!` that ends the process quietly (status 0) when stdout is a closed pipe, as in
+/// `igi info scene.obj | head`, instead of panicking.
+macro_rules! outln {
+    ($($arg:tt)*) => {
+        $crate::cli::write_stdout_line(format_args!($($arg)*))
+    };
+}
+
 mod bench;
 mod cli;
 mod cmd_info;

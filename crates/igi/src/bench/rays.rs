@@ -232,7 +232,7 @@ pub fn run(args: &RaysArgs) -> Result<()> {
     };
 
     let mut results = Vec::new();
-    println!(
+    outln!(
         "scene={} triangles={triangles} build_ms={:.2} sah={:.2} bytes/tri={:.1} vpls={} backend={}",
         args.scene,
         build_ms,
@@ -241,9 +241,15 @@ pub fn run(args: &RaysArgs) -> Result<()> {
         vpls.len(),
         igi_simd::BACKEND
     );
-    println!(
+    outln!(
         "{:>10} {:>7} {:>8} {:>4} {:>10} {:>10} {:>9}",
-        "res", "phase", "kernel", "thr", "rays", "hits", "Mrays/s"
+        "res",
+        "phase",
+        "kernel",
+        "thr",
+        "rays",
+        "hits",
+        "Mrays/s"
     );
     for &(w, h) in &args.res {
         let cam = PinholeCamera::new(camera.position, camera.target, camera.up, camera.fov_y_deg, w, h);
@@ -264,7 +270,7 @@ pub fn run(args: &RaysArgs) -> Result<()> {
                     mrays_per_s: rays as f64 / secs / 1e6,
                     hits: n,
                 };
-                println!(
+                outln!(
                     "{:>10} {:>7} {:>8} {:>4} {:>10} {:>10} {:>9.2}",
                     format!("{w}x{h}"),
                     m.phase,
