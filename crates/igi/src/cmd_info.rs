@@ -37,8 +37,7 @@ fn emissive(scene: &Scene) -> (usize, f32) {
 /// Runs `igi info`.
 pub fn run(args: &InfoArgs) -> Result<()> {
     let t = Instant::now();
-    let (scene, report) = igi_scene::load_named_with_report(&args.scene)
-        .with_context(|| format!("cannot load scene {}", args.scene))?;
+    let (scene, report) = igi_scene::load_named_with_report(&args.scene).context("cannot load scene")?;
     let load = t.elapsed();
 
     let instanced = scene.triangle_count();

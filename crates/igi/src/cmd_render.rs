@@ -61,8 +61,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     ImageFormat::from_path(&args.output)?;
 
     let t_load = Instant::now();
-    let scene =
-        igi_scene::load_named(&args.scene).with_context(|| format!("cannot load scene {}", args.scene))?;
+    let scene = igi_scene::load_named(&args.scene).context("cannot load scene")?;
     let load = t_load.elapsed();
     let camera = args.camera.resolve(&scene)?;
 

@@ -173,8 +173,7 @@ pub fn run(args: &RaysArgs) -> Result<()> {
     if args.threads.iter().any(|&t| t == 0 || t > 1024) {
         bail!("--threads must be between 1 and 1024");
     }
-    let scene =
-        igi_scene::load_named(&args.scene).with_context(|| format!("cannot load scene {}", args.scene))?;
+    let scene = igi_scene::load_named(&args.scene).context("cannot load scene")?;
     let camera = args.camera.resolve(&scene)?;
 
     // Build time, as embree-bench times it: copying the vertex and index buffers plus building
