@@ -96,10 +96,12 @@ impl Accel {
         for mesh in &mut meshes {
             let bounds: Vec<Aabb> =
                 (0..mesh.indices.len() as u32).map(|p| triangle_bounds(mesh, p)).collect();
-            let bvh = build_binned_sah(&bounds, &params);
-            mesh.indices = bvh.prim_order.iter().map(|&p| mesh.indices[p as usize]).collect();
-            orders.push(bvh.prim_order.clone());
-            blas.push(Bvh { nodes: bvh.nodes, prim_order: Vec::new() });
+            let Bvh { nodes, prim_order } = build_binned_sah(&bounds, &params);
+            // The triangles themselves move into leaf order, so the bottom level needs no
+            // permutation of its own; the caller gets it to reorder its per-triangle data.
+            mesh.indices = prim_order.iter().map(|&p| mesh.indices[p as usize]).collect();
+            orders.push(prim_order);
+            blas.push(Bvh { nodes, prim_order: Vec::new() });
         }
         let placements = instances.iter().map(|&(mesh, m)| Placement::new(mesh, m)).collect();
         let mut accel = Self {
