@@ -23,7 +23,7 @@
 //! Primary rays go through the packet kernel in 8-ray packets (a 4×2 pixel block), and each
 //! light sample of the eight pixels forms one 8-ray shadow packet.
 
-use crate::lights::{self, AreaLights};
+use crate::lights::{self, AreaLights, eye_light};
 use crate::prepared::PreparedScene;
 use crate::sampling::{pixel_seed, sobol4};
 use glam::{Vec2, Vec3};
@@ -57,15 +57,6 @@ impl std::ops::AddAssign for RayCounts {
         self.primary += o.primary;
         self.shadow += o.shadow;
     }
-}
-
-/// The headlight for a scene without lights: a point light at the camera position whose
-/// intensity (d² with d the distance from the camera to the centre of the scene bounds, at
-/// least 1) gives irradiance about 1 at the scene's centre.
-pub fn eye_light(scene: &PreparedScene, camera: &Camera) -> Light {
-    let b = scene.bounds();
-    let d2 = if b.is_empty() { 1.0 } else { (b.centroid() - camera.position).length_squared().max(1.0) };
-    Light::Point { position: camera.position, intensity: Vec3::splat(d2) }
 }
 
 /// A primary hit ready for light evaluation.

@@ -28,14 +28,19 @@
 pub mod camera;
 pub mod direct;
 pub mod film;
+pub mod frame;
 pub mod lights;
 pub mod output;
+pub mod path_tracer;
 pub mod prepared;
 pub mod render;
 pub mod sampling;
+pub mod scattering;
+pub mod scheduler;
 pub mod texture;
 pub mod tile;
 pub mod tonemap;
+pub mod vpl;
 
 pub use camera::{PinholeCamera, default_camera};
 pub use direct::{DirectLighting, RayCounts};

@@ -8,7 +8,7 @@
 
 use crate::sampling::{Cdf, uniform_triangle};
 use glam::{Vec2, Vec3};
-use igi_scene::Light;
+use igi_scene::{Camera, Light};
 
 /// Relative luminance of linear RGB (Rec. 709 primaries).
 #[inline]
@@ -48,6 +48,15 @@ impl EmissiveTriangle {
     pub fn power(&self) -> Vec3 {
         std::f32::consts::PI * self.area * self.emission
     }
+}
+
+/// The headlight for a scene without lights: a point light at the camera position whose
+/// intensity (d² with d the distance from the camera to the centre of the scene bounds, at
+/// least 1) gives irradiance about 1 at the scene's centre.
+pub fn eye_light(scene: &crate::prepared::PreparedScene, camera: &Camera) -> Light {
+    let b = scene.bounds();
+    let d2 = if b.is_empty() { 1.0 } else { (b.centroid() - camera.position).length_squared().max(1.0) };
+    Light::Point { position: camera.position, intensity: Vec3::splat(d2) }
 }
 
 /// A point chosen on an area light.

@@ -91,7 +91,7 @@ impl ToneMap {
 }
 
 /// A tone map with its parameters fixed, ready to map pixels.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ToneMapper {
     /// Linear scale applied to radiance first.
     pub scale: f32,

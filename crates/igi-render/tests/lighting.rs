@@ -6,7 +6,7 @@ mod common;
 
 use common::*;
 use glam::{Affine3A, Quat, Vec2, Vec3};
-use igi_render::{PinholeCamera, PreparedScene, RenderSettings, direct::eye_light, render};
+use igi_render::{PinholeCamera, PreparedScene, RenderSettings, lights::eye_light, render};
 use igi_scene::{Instance, Light, Scene};
 use std::f32::consts::PI;
 

@@ -151,7 +151,7 @@ pub enum Light {
 }
 
 /// A pinhole camera.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Camera {
     /// Eye position.
     pub position: Vec3,

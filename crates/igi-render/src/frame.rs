@@ -1,0 +1,197 @@
+//! [`FrameState`]: everything a render node needs to produce any tile of one frame besides the
+//! scene itself (DESIGN.md section 1). It is small and serialisable, so a cluster node or a
+//! viewer thread can receive it and derive the VPLs and every pixel deterministically.
+
+use crate::sampling::hash_combine;
+use crate::tonemap::ToneMapper;
+use igi_scene::Camera;
+use serde::{Deserialize, Serialize};
+
+/// Render settings of the instant-global-illumination pipeline.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct IgiSettings {
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// VPLs lighting each pixel: the size V of one interleaved VPL set (paper 2.1). Point, spot
+    /// and directional lights are in every set and count towards V.
+    pub vpls_per_pixel: u32,
+    /// Interleave pattern `[n, m]`: pixel (x, y) uses VPL set (x mod n) + n (y mod m), so the
+    /// frame has n·m sets (paper 2.1, Keller & Heidrich 2001).
+    pub interleave: [u32; 2],
+    /// Primary rays per pixel; each is lit by its own 1/N of the pixel's VPL set (interleaved
+    /// super-sampling, paper 3.3).
+    pub aa: u32,
+    /// The discontinuity filter (paper 2.1), `None` to show the raw interleaved image.
+    pub filter: Option<FilterSettings>,
+    /// d_min of the VPL contribution `… / max(d², d_min²)` (DESIGN.md section 1); 0 turns
+    /// clamping off (unbiased, noisier).
+    pub clamp: f32,
+    /// Largest number of specular bounces (mirror and glass) followed from the camera.
+    pub specular_depth: u32,
+    /// Edge length of the square tiles; the image does not depend on it.
+    pub tile_size: u32,
+    /// Draw fresh VPLs and sample patterns every frame (for progressive accumulation); off,
+    /// a still scene keeps the same VPLs and does not flicker.
+    pub reseed_per_frame: bool,
+}
+
+/// Thresholds of the discontinuity buffer: a neighbour's irradiance is averaged in only if its
+/// surface is similar to the centre pixel's.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FilterSettings {
+    /// Smallest cosine between the two shading normals.
+    pub min_normal_cos: f32,
+    /// Largest relative difference of the distances along the camera path, |d_a − d_b| / d_a.
+    pub max_depth_ratio: f32,
+}
+
+impl Default for FilterSettings {
+    fn default() -> Self {
+        Self { min_normal_cos: 0.9, max_depth_ratio: 0.1 }
+    }
+}
+
+/// The scale of the default VPL clamp: d_min is this fraction of the scene's bounding-box
+/// diagonal (see [`IgiSettings::clamp_for`]).
+pub const DEFAULT_CLAMP_FRACTION: f32 = 0.02;
+
+impl Default for IgiSettings {
+    fn default() -> Self {
+        Self {
+            width: 640,
+            height: 480,
+            vpls_per_pixel: 12,
+            interleave: [3, 3],
+            aa: 4,
+            filter: Some(FilterSettings::default()),
+            clamp: 0.0,
+            specular_depth: 5,
+            tile_size: 32,
+            reseed_per_frame: false,
+        }
+    }
+}
+
+/// A setting outside its valid range, named by its command-line flag.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("--{field}: {message}")]
+pub struct SettingsError {
+    /// The flag (without dashes).
+    pub field: &'static str,
+    /// What is wrong with its value.
+    pub message: String,
+}
+
+/// Upper bounds that keep a frame's memory and time finite for any input.
+pub mod limits {
+    /// Largest image side.
+    pub const MAX_SIDE: u32 = 16384;
+    /// Largest VPL set.
+    pub const MAX_VPLS_PER_PIXEL: u32 = 4096;
+    /// Largest interleave side.
+    pub const MAX_INTERLEAVE: u32 = 16;
+    /// Largest number of primary rays per pixel.
+    pub const MAX_AA: u32 = 64;
+    /// Deepest specular chain.
+    pub const MAX_SPECULAR_DEPTH: u32 = 16;
+    /// Largest tile side.
+    pub const MAX_TILE: u32 = 1024;
+}
+
+impl IgiSettings {
+    /// Number of VPL sets, n·m.
+    pub fn set_count(&self) -> u32 {
+        self.interleave[0] * self.interleave[1]
+    }
+
+    /// The VPL set of pixel `(x, y)`: (x mod n) + n (y mod m) (DESIGN.md section 1).
+    #[inline]
+    pub fn set_of_pixel(&self, x: u32, y: u32) -> u32 {
+        x % self.interleave[0] + self.interleave[0] * (y % self.interleave[1])
+    }
+
+    /// Checks every field; the error names the offending flag.
+    pub fn validate(&self) -> Result<(), SettingsError> {
+        let err = |field, message: String| Err(SettingsError { field, message });
+        let side = 1..=limits::MAX_SIDE;
+        if !side.contains(&self.width) {
+            return err("width", format!("{} is not between 1 and {}", self.width, limits::MAX_SIDE));
+        }
+        if !side.contains(&self.height) {
+            return err("height", format!("{} is not between 1 and {}", self.height, limits::MAX_SIDE));
+        }
+        if !(1..=limits::MAX_VPLS_PER_PIXEL).contains(&self.vpls_per_pixel) {
+            return err(
+                "vpls",
+                format!("{} is not between 1 and {}", self.vpls_per_pixel, limits::MAX_VPLS_PER_PIXEL),
+            );
+        }
+        if self.interleave.iter().any(|&k| !(1..=limits::MAX_INTERLEAVE).contains(&k)) {
+            return err(
+                "interleave",
+                format!(
+                    "{}x{} needs both sides between 1 and {}",
+                    self.interleave[0],
+                    self.interleave[1],
+                    limits::MAX_INTERLEAVE
+                ),
+            );
+        }
+        if !(1..=limits::MAX_AA).contains(&self.aa) {
+            return err("aa", format!("{} is not between 1 and {}", self.aa, limits::MAX_AA));
+        }
+        if !(self.clamp >= 0.0 && self.clamp.is_finite()) {
+            return err("clamp", format!("{} is not a finite distance ≥ 0", self.clamp));
+        }
+        if self.specular_depth > limits::MAX_SPECULAR_DEPTH {
+            return err(
+                "specular-depth",
+                format!("{} is more than {}", self.specular_depth, limits::MAX_SPECULAR_DEPTH),
+            );
+        }
+        if !(1..=limits::MAX_TILE).contains(&self.tile_size) {
+            return err("tile-size", format!("{} is not between 1 and {}", self.tile_size, limits::MAX_TILE));
+        }
+        if let Some(f) = self.filter {
+            if !(-1.0..=1.0).contains(&f.min_normal_cos) {
+                return err("filter-normal", format!("{} is not a cosine in [-1, 1]", f.min_normal_cos));
+            }
+            if !(f.max_depth_ratio >= 0.0 && f.max_depth_ratio.is_finite()) {
+                return err("filter-depth", format!("{} is not a finite ratio ≥ 0", f.max_depth_ratio));
+            }
+        }
+        Ok(())
+    }
+
+    /// The default d_min for a scene whose bounding box has diagonal `diagonal`:
+    /// [`DEFAULT_CLAMP_FRACTION`] of it, so the clamp scales with the scene's units.
+    pub fn clamp_for(diagonal: f32) -> f32 {
+        if diagonal.is_finite() && diagonal > 0.0 { DEFAULT_CLAMP_FRACTION * diagonal } else { 0.0 }
+    }
+}
+
+/// One frame: camera, settings, tone-map parameters, frame index and seed.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FrameState {
+    /// The camera.
+    pub camera: Camera,
+    /// Render settings.
+    pub settings: IgiSettings,
+    /// Tone mapping for 8-bit output of this frame, fixed from the previous frame's tile
+    /// statistics (paper 3.4) or from a fixed exposure.
+    pub tone_map: ToneMapper,
+    /// Frame number (0 for the first frame).
+    pub frame: u32,
+    /// Base seed of every random decision.
+    pub seed: u32,
+}
+
+impl FrameState {
+    /// The seed this frame's VPLs and pixel sample patterns derive from: the base seed, mixed
+    /// with the frame number if `reseed_per_frame` is set.
+    pub fn sample_seed(&self) -> u32 {
+        if self.settings.reseed_per_frame { hash_combine(self.seed, self.frame) } else { self.seed }
+    }
+}
