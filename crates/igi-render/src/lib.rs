@@ -1,52 +1,69 @@
-//! Frame rendering for igi: everything between a loaded scene and an image file.
+//! Frame rendering for igi: everything between a loaded scene and an image file, following the
+//! frame pipeline of DESIGN.md section 1 (paper sections 2.1, 3.1-3.4).
 //!
 //! The pieces, each in its own module:
+//! - [`frame`]: [`FrameState`], the small serialisable description of a frame, and its
+//!   settings ([`IgiSettings`]).
 //! - [`prepared`]: [`PreparedScene`], the scene plus its acceleration structure and shading
 //!   tables (materials per triangle, normals, texture coordinates, emissive triangles).
 //! - [`camera`]: the pinhole camera ([`PinholeCamera`]), identical to the Embree benchmark's.
-//! - [`lights`] and [`sampling`]: light sources as sampled by the renderer, deterministic
-//!   sample sequences.
+//! - [`lights`], [`sampling`] and [`scattering`]: light sources, deterministic sample
+//!   sequences, and how materials scatter light (shared by every estimator).
 //! - [`texture`]: texture filtering.
-//! - [`direct`]: direct lighting with shadow rays ([`DirectLighting`]), the shading of this
-//!   first renderer; instant radiosity (DESIGN.md section 1) builds on it.
-//! - [`tile`] and [`mod@render`]: tiles and the local tile scheduler ([`render()`]).
-//! - [`film`], [`tonemap`] and [`output`]: the framebuffer, tone mapping, EXR and PNG files.
+//! - [`vpl`]: virtual point lights from random walks (instant radiosity).
+//! - [`interleave`]: interleaved sampling of VPL sets and anti-aliasing samples.
+//! - [`tile_pipeline`] and [`vpl_lighting`]: the streaming per-tile pipeline and its inner
+//!   shadow-ray loop.
+//! - [`discontinuity`]: the discontinuity-buffer filter.
+//! - [`tile`], [`scheduler`] and [`frame_renderer`]: tiles, persistent worker threads taking
+//!   tiles on demand, and [`FrameRenderer`], which puts a frame together.
+//! - [`path_tracer`]: the reference path tracer.
+//! - [`stats`], [`film`], [`tonemap`] and [`output`]: costs, the framebuffer, tone mapping,
+//!   EXR and PNG files.
 //!
 //! A minimal render:
 //!
 //! ```no_run
-//! # fn demo(scene: igi_scene::Scene) -> Result<(), igi_render::output::OutputError> {
-//! use igi_render::{PreparedScene, RenderSettings, default_camera, render, write_image};
+//! # fn demo(scene: igi_scene::Scene) -> Result<(), Box<dyn std::error::Error>> {
+//! use igi_render::{FrameRenderer, FrameState, IgiSettings, PreparedScene, ToneMap, ToneMapper};
+//! use igi_render::{default_camera, write_image};
 //! let prepared = PreparedScene::new(scene);
 //! let camera = prepared.camera().copied().unwrap_or_else(|| default_camera(&prepared.bounds()));
-//! let settings = RenderSettings::default();
-//! let film = render(&prepared, &camera, &settings);
-//! write_image(&film, "out.png".as_ref(), settings.tone_map())?;
+//! let settings = IgiSettings { clamp: IgiSettings::clamp_for(prepared.bounds().diagonal()), ..IgiSettings::default() };
+//! let frame = FrameState { camera, settings, tone_map: ToneMapper { scale: 1.0, compress: false }, frame: 0, seed: 0 };
+//! let out = FrameRenderer::new(0).render(&prepared, &frame, &|_, _| {})?;
+//! let mapper = ToneMapper::new(ToneMap::default(), &out.stats);
+//! write_image(&out.film, "out.png".as_ref(), &mapper)?;
 //! # Ok(()) }
 //! ```
 
 pub mod camera;
-pub mod direct;
+pub mod discontinuity;
 pub mod film;
 pub mod frame;
+pub mod frame_renderer;
+pub mod interleave;
 pub mod lights;
 pub mod output;
 pub mod path_tracer;
 pub mod prepared;
-pub mod render;
 pub mod sampling;
 pub mod scattering;
 pub mod scheduler;
+pub mod stats;
 pub mod texture;
 pub mod tile;
+pub mod tile_pipeline;
 pub mod tonemap;
 pub mod vpl;
+pub mod vpl_lighting;
 
 pub use camera::{PinholeCamera, default_camera};
-pub use direct::{DirectLighting, RayCounts};
 pub use film::Film;
 pub use output::{OutputError, write_exr, write_image, write_png};
 pub use prepared::{PreparedScene, SurfacePoint};
-pub use render::{RenderSettings, RenderStats, TileRenderer, render, render_with_stats};
+pub use frame::{FrameState, IgiSettings};
+pub use frame_renderer::{FrameOutput, FrameRenderer};
+pub use stats::{Phase, PhaseTimes, RayCounts};
 pub use tile::{Tile, TileGrid};
 pub use tonemap::{ToneMap, ToneMapper};

@@ -3,7 +3,7 @@
 //! extension picks the format.
 
 use crate::film::Film;
-use crate::tonemap::{ToneMap, ToneMapper};
+use crate::tonemap::ToneMapper;
 use std::path::{Path, PathBuf};
 
 /// Why an image could not be written.
@@ -51,7 +51,7 @@ impl ImageFormat {
 }
 
 /// Writes `film` to `path` in the format of its extension; `tone_map` applies to PNG only.
-pub fn write_image(film: &Film, path: &Path, tone_map: ToneMap) -> Result<(), OutputError> {
+pub fn write_image(film: &Film, path: &Path, tone_map: &ToneMapper) -> Result<(), OutputError> {
     match ImageFormat::from_path(path)? {
         ImageFormat::Png => write_png(film, path, tone_map),
         ImageFormat::Exr => write_exr(film, path),
@@ -59,13 +59,12 @@ pub fn write_image(film: &Film, path: &Path, tone_map: ToneMap) -> Result<(), Ou
 }
 
 /// The tone-mapped 8-bit sRGB pixels of `film`, row-major RGB, row 0 at the top.
-pub fn to_srgb8(film: &Film, tone_map: ToneMap) -> Vec<u8> {
-    let mapper = ToneMapper::for_film(tone_map, film);
-    film.pixels().iter().flat_map(|&p| mapper.to_srgb8(p)).collect()
+pub fn to_srgb8(film: &Film, tone_map: &ToneMapper) -> Vec<u8> {
+    film.pixels().iter().flat_map(|&p| tone_map.to_srgb8(p)).collect()
 }
 
 /// Writes `film` as a tone-mapped sRGB PNG.
-pub fn write_png(film: &Film, path: &Path, tone_map: ToneMap) -> Result<(), OutputError> {
+pub fn write_png(film: &Film, path: &Path, tone_map: &ToneMapper) -> Result<(), OutputError> {
     let bytes = to_srgb8(film, tone_map);
     image::save_buffer_with_format(
         path,

@@ -53,10 +53,10 @@ fn png_round_trip_holds_the_tone_mapped_bytes() {
     let film = test_film();
     for tone_map in [ToneMap::default(), ToneMap::Exposure { stops: -1.5 }] {
         let path = tmp("round.png");
-        write_png(&film, &path, tone_map).unwrap();
+        write_png(&film, &path, &ToneMapper::for_film(tone_map, &film)).unwrap();
         let img = image::open(&path).unwrap().into_rgb8();
         assert_eq!((img.width(), img.height()), (film.width(), film.height()));
-        assert_eq!(img.into_raw(), to_srgb8(&film, tone_map));
+        assert_eq!(img.into_raw(), to_srgb8(&film, &ToneMapper::for_film(tone_map, &film)));
     }
 }
 
@@ -65,10 +65,10 @@ fn write_image_picks_the_format_from_the_extension() {
     let film = test_film();
     assert_eq!(ImageFormat::from_path("a.PNG".as_ref()).unwrap(), ImageFormat::Png);
     assert_eq!(ImageFormat::from_path("a.exr".as_ref()).unwrap(), ImageFormat::Exr);
-    let err = write_image(&film, &tmp("bad.jpg"), ToneMap::default()).unwrap_err();
+    let err = write_image(&film, &tmp("bad.jpg"), &ToneMapper::for_film(ToneMap::default(), &film)).unwrap_err();
     assert!(err.to_string().contains("bad.jpg"), "{err}");
     let path = tmp("pick.exr");
-    write_image(&film, &path, ToneMap::default()).unwrap();
+    write_image(&film, &path, &ToneMapper::for_film(ToneMap::default(), &film)).unwrap();
     assert!(image::open(&path).unwrap().into_rgb32f().width() == film.width());
 }
 
@@ -105,8 +105,8 @@ fn files_are_byte_for_byte_reproducible() {
     let film = test_film();
     for name in ["a.exr", "a.png"] {
         let (p1, p2) = (tmp(&format!("1{name}")), tmp(&format!("2{name}")));
-        write_image(&film, &p1, ToneMap::default()).unwrap();
-        write_image(&film, &p2, ToneMap::default()).unwrap();
+        write_image(&film, &p1, &ToneMapper::for_film(ToneMap::default(), &film)).unwrap();
+        write_image(&film, &p2, &ToneMapper::for_film(ToneMap::default(), &film)).unwrap();
         assert!(std::fs::read(&p1).unwrap() == std::fs::read(&p2).unwrap(), "{name} differs between writes");
     }
 }

@@ -1,14 +1,27 @@
-//! `igi render`: load a scene, render it with direct lighting and write a PNG or EXR file,
-//! then print one summary line (resolution, triangles, time, rays/s).
+//! `igi render`: load a scene, render it with instant global illumination (or the reference
+//! path tracer) and write a PNG or EXR file, then print one summary line.
 
+use crate::frame_args::FrameArgs;
 use anyhow::{Context, Result, bail};
-use clap::Args;
+use clap::{Args, ValueEnum};
+use igi_render::frame_renderer::{FrameOutput, FrameRenderer};
 use igi_render::output::ImageFormat;
-use igi_render::{PreparedScene, RenderSettings, render_with_stats, write_image};
+use igi_render::path_tracer::render_path_traced;
+use igi_render::sampling::MAX_SAMPLES;
+use igi_render::{PreparedScene, ToneMap, ToneMapper, write_image};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
+
+/// How the image is computed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Mode {
+    /// Instant global illumination: VPLs, interleaved sampling, discontinuity filter.
+    Igi,
+    /// The unbiased reference path tracer (slow; for ground truth).
+    Path,
+}
 
 /// Arguments of `igi render`.
 #[derive(Debug, Args)]
@@ -18,92 +31,106 @@ pub struct RenderArgs {
     /// Output image: .png (tone-mapped sRGB) or .exr (linear radiance).
     #[arg(short, long)]
     pub output: PathBuf,
-    /// Image width in pixels.
-    #[arg(long, default_value_t = 640)]
-    pub width: u32,
-    /// Image height in pixels.
-    #[arg(long, default_value_t = 480)]
-    pub height: u32,
-    /// Camera overrides.
-    #[command(flatten)]
-    pub camera: crate::cli::CameraArgs,
-    /// Area-light samples (shadow rays to emissive triangles) per pixel.
-    #[arg(long, default_value_t = 4)]
-    pub samples: u32,
-    /// Seed of the sample patterns (same seed, same image).
-    #[arg(long, default_value_t = 0)]
-    pub seed: u32,
-    /// Worker threads (0: one per core).
-    #[arg(long, default_value_t = 0)]
-    pub threads: usize,
+    /// Rendering method.
+    #[arg(long, value_enum, default_value_t = Mode::Igi)]
+    pub mode: Mode,
+    /// IGI: frames averaged, each with fresh VPLs (progressive convergence).
+    #[arg(long, default_value_t = 1)]
+    pub frames: u32,
+    /// Path tracer: samples per pixel.
+    #[arg(long, default_value_t = 64)]
+    pub spp: u32,
     /// Fixed exposure in stops for PNG output (default: automatic, Reinhard key 0.18).
     #[arg(long, allow_hyphen_values = true)]
     pub exposure: Option<f32>,
-    /// Tile edge length in pixels.
-    #[arg(long, default_value_t = 16)]
-    pub tile_size: u32,
+    /// Frame options.
+    #[command(flatten)]
+    pub frame: FrameArgs,
 }
 
 /// Runs `igi render`.
 pub fn run(args: &RenderArgs) -> Result<()> {
-    if !(1..=16384).contains(&args.width) || !(1..=16384).contains(&args.height) {
-        bail!("--width and --height must be between 1 and 16384");
-    }
-    if args.samples > igi_render::sampling::MAX_SAMPLES {
-        bail!("--samples must be at most {}", igi_render::sampling::MAX_SAMPLES);
-    }
-    if !(1..=1024).contains(&args.tile_size) {
-        bail!("--tile-size must be between 1 and 1024");
-    }
     if args.exposure.is_some_and(|e| !e.is_finite()) {
         bail!("--exposure must be a finite number of stops");
+    }
+    if !(1..=MAX_SAMPLES).contains(&args.spp) {
+        bail!("--spp must be between 1 and {MAX_SAMPLES}");
+    }
+    if !(1..=1_000_000).contains(&args.frames) {
+        bail!("--frames must be between 1 and 1000000");
     }
     ImageFormat::from_path(&args.output)?;
 
     let t_load = Instant::now();
     let scene = igi_scene::load_named(&args.scene).context("cannot load scene")?;
     let load = t_load.elapsed();
-    let camera = args.camera.resolve(&scene)?;
+    let frame = args.frame.frame_state(&scene)?;
 
     let t_build = Instant::now();
     let prepared = PreparedScene::new(scene);
     let build = t_build.elapsed();
 
-    let settings = RenderSettings {
-        width: args.width,
-        height: args.height,
-        samples: args.samples,
-        seed: args.seed,
-        threads: args.threads,
-        tile_size: args.tile_size,
-        exposure: args.exposure,
-    };
+    let renderer = FrameRenderer::new(args.frame.threads);
     let bar = LateProgress::new();
-    let (film, stats) =
-        render_with_stats(&prepared, &camera, &settings, &|done, total| bar.tile_done(done, total));
+    let progress = |done, total| bar.tile_done(done, total);
+    let start = Instant::now();
+    let (film, stats, summary) = match args.mode {
+        Mode::Igi => {
+            let out = renderer.render_accumulated(&prepared, &frame, args.frames, &progress)?;
+            let summary = igi_summary(&out, &frame.settings);
+            (out.film, out.stats, summary)
+        }
+        Mode::Path => {
+            let (film, rays) = render_path_traced(&prepared, &frame, args.spp, renderer.scheduler(), &progress);
+            let elapsed = start.elapsed().as_secs_f64();
+            let summary = format!(
+                "path tracer, {} spp: {:.2} M rays, {:.1} Mrays/s",
+                args.spp,
+                rays as f64 * 1e-6,
+                rays as f64 * 1e-6 / elapsed.max(1e-9)
+            );
+            let stats = igi_render::tonemap::LuminanceStats::of_pixels(film.pixels());
+            (film, stats, summary)
+        }
+    };
+    let elapsed = start.elapsed();
     bar.finish();
 
-    write_image(&film, &args.output, settings.tone_map()).context("cannot write the image")?;
+    let mapper = ToneMapper::new(ToneMap::from_exposure(args.exposure), &stats);
+    write_image(&film, &args.output, &mapper).context("cannot write the image")?;
 
     outln!(
-        "{}: {}x{}, {} triangles, {} area samples/px, {} thread(s): render {:.3} s (load {:.3} s, build {:.3} s), \
-         {:.2} M rays ({:.2} M primary, {:.2} M shadow), {:.1} Mrays/s -> {}",
+        "{}: {}x{}, {} triangles, {} thread(s): {} in {:.3} s (load {:.3} s, build {:.3} s) -> {}",
         args.scene,
-        args.width,
-        args.height,
+        frame.settings.width,
+        frame.settings.height,
         prepared.triangle_count(),
-        settings.samples,
-        stats.threads,
-        stats.elapsed.as_secs_f64(),
+        renderer.threads(),
+        summary,
+        elapsed.as_secs_f64(),
         load.as_secs_f64(),
         build.as_secs_f64(),
-        stats.rays.total() as f64 * 1e-6,
-        stats.rays.primary as f64 * 1e-6,
-        stats.rays.shadow as f64 * 1e-6,
-        stats.rays_per_second() * 1e-6,
         args.output.display()
     );
     Ok(())
+}
+
+/// The summary of an IGI render: frames, VPLs, rays.
+fn igi_summary(out: &FrameOutput, s: &igi_render::frame::IgiSettings) -> String {
+    let pixels = f64::from(s.width) * f64::from(s.height) * f64::from(out.frames);
+    format!(
+        "igi, {} frame(s), {} VPLs/frame in {}x{} sets, aa {}, filter {}, clamp {:.3}: {:.2} M rays ({:.1} per pixel), {:.1} Mrays/s",
+        out.frames,
+        out.vpls / out.frames.max(1) as usize,
+        s.interleave[0],
+        s.interleave[1],
+        s.aa,
+        if s.filter.is_some() { "on" } else { "off" },
+        s.clamp,
+        out.rays.total() as f64 * 1e-6,
+        out.rays.total() as f64 / pixels.max(1.0),
+        out.rays.total() as f64 * 1e-6 / out.elapsed.as_secs_f64().max(1e-9)
+    )
 }
 
 /// A progress bar that appears only once a render has taken more than a second (and only on

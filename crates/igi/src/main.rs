@@ -16,6 +16,7 @@ mod cli;
 mod cmd_info;
 mod cmd_render;
 mod cpu_check;
+mod frame_args;
 
 use std::process::ExitCode;
 

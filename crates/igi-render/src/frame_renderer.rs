@@ -1,0 +1,136 @@
+//! [`FrameRenderer`]: a scene and a [`FrameState`] in, a frame out. It generates the frame's
+//! VPLs, hands the tiles on demand to its persistent worker threads ([`TileScheduler`]), each
+//! running the [`TilePipeline`], and combines the finished tiles and their luminance
+//! statistics in tile order (paper 3.4), so the result is the same at any thread count.
+//!
+//! [`FrameRenderer::render_accumulated`] averages frames with fresh VPL sets and sample
+//! patterns: the progressive mode of a still scene, converging to the instant-radiosity
+//! solution (unclamped with `clamp` 0).
+
+use crate::film::Film;
+use crate::frame::{FrameState, SettingsError};
+use crate::prepared::PreparedScene;
+use crate::scheduler::TileScheduler;
+use crate::stats::{Phase, PhaseTimes, RayCounts};
+use crate::tile::TileGrid;
+use crate::tile_pipeline::{TilePipeline, TileScratch};
+use crate::tonemap::LuminanceStats;
+use crate::vpl::VplSets;
+use glam::Vec3;
+use std::time::{Duration, Instant};
+
+/// A rendered frame and what it cost.
+#[derive(Clone, Debug)]
+pub struct FrameOutput {
+    /// Linear radiance.
+    pub film: Film,
+    /// Luminance statistics of the image, combined from the tiles in tile order: the input of
+    /// the next frame's tone mapping.
+    pub stats: LuminanceStats,
+    /// Rays traced.
+    pub rays: RayCounts,
+    /// Time per phase; the tile phases are summed over the worker threads.
+    pub times: PhaseTimes,
+    /// Wall-clock time of the whole frame.
+    pub elapsed: Duration,
+    /// Surface VPLs over all sets.
+    pub vpls: usize,
+    /// Frames averaged into the image.
+    pub frames: u32,
+}
+
+/// Renders frames on a pool of persistent worker threads.
+#[derive(Debug)]
+pub struct FrameRenderer {
+    scheduler: TileScheduler,
+}
+
+impl FrameRenderer {
+    /// A renderer with `threads` workers (0: one per core).
+    pub fn new(threads: usize) -> Self {
+        Self { scheduler: TileScheduler::new(threads) }
+    }
+
+    /// Number of worker threads.
+    pub fn threads(&self) -> usize {
+        self.scheduler.threads()
+    }
+
+    /// The tile scheduler (for other renderers sharing the threads, such as the path tracer).
+    pub fn scheduler(&self) -> &TileScheduler {
+        &self.scheduler
+    }
+
+    /// Renders one frame; `progress(done, total)` is called after each tile.
+    pub fn render(
+        &self,
+        scene: &PreparedScene,
+        frame: &FrameState,
+        progress: &(dyn Fn(u32, u32) + Sync),
+    ) -> Result<FrameOutput, SettingsError> {
+        frame.settings.validate()?;
+        let start = Instant::now();
+        let mut times = PhaseTimes::default();
+        let vpls = VplSets::generate(scene, frame);
+        times.add(Phase::VplGeneration, start.elapsed());
+
+        let s = &frame.settings;
+        let grid = TileGrid::new(s.width, s.height, s.tile_size);
+        let pipeline = TilePipeline::new(scene, frame, &vpls);
+        let tiles = self.scheduler.run(&grid, TileScratch::default, |scratch, tile| {
+            pipeline.render_tile(tile, scratch)
+        }, progress);
+
+        let mut film = Film::new(s.width, s.height);
+        let mut stats = LuminanceStats::default();
+        let mut rays = RayCounts::default();
+        for t in &tiles {
+            film.write_tile(&t.tile, &t.pixels);
+            stats = stats.merge(t.stats);
+            rays += t.rays;
+            times += t.times;
+        }
+        let vpl_count = (0..vpls.set_count()).map(|set| vpls.set(set).len()).sum();
+        Ok(FrameOutput { film, stats, rays, times, elapsed: start.elapsed(), vpls: vpl_count, frames: 1 })
+    }
+
+    /// The average of `frames` frames from `frame` on (frame numbers `frame.frame`,
+    /// `frame.frame + 1`, …), each with fresh VPLs and sample patterns. `progress(done,
+    /// total)` counts tiles over all frames.
+    pub fn render_accumulated(
+        &self,
+        scene: &PreparedScene,
+        frame: &FrameState,
+        frames: u32,
+        progress: &(dyn Fn(u32, u32) + Sync),
+    ) -> Result<FrameOutput, SettingsError> {
+        let frames = frames.max(1);
+        let mut f = *frame;
+        f.settings.reseed_per_frame |= frames > 1;
+        let grid = TileGrid::new(f.settings.width, f.settings.height, f.settings.tile_size);
+        let per_frame = grid.len();
+        let total = per_frame.saturating_mul(frames);
+        let start = Instant::now();
+        let mut render_frame = |i: u32| {
+            f.frame = frame.frame.wrapping_add(i);
+            let done_before = per_frame.saturating_mul(i);
+            self.render(scene, &f, &|done, _| progress(done_before + done, total))
+        };
+        let mut out = render_frame(0)?;
+        let mut sum: Vec<Vec3> = out.film.pixels().to_vec();
+        for i in 1..frames {
+            let one = render_frame(i)?;
+            sum.iter_mut().zip(one.film.pixels()).for_each(|(a, b)| *a += *b);
+            out.rays += one.rays;
+            out.times += one.times;
+            out.vpls += one.vpls;
+        }
+        let scale = 1.0 / frames as f32;
+        let film = Film::from_pixels(f.settings.width, f.settings.height, sum.into_iter().map(|p| p * scale).collect());
+        out.stats = LuminanceStats::of_pixels(film.pixels());
+        out.film = film;
+        out.frames = frames;
+        out.elapsed = start.elapsed();
+        Ok(out)
+    }
+}

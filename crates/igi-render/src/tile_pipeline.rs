@@ -1,0 +1,398 @@
+//! The streaming tile pipeline of instant global illumination (paper 3.1.2; DESIGN.md
+//! section 1): one tile, breadth first. For each interleave group (VPL set s, sample j):
+//!
+//! 1. **primary**: the camera rays of the set's pixels in the tile and its apron, as 8-ray
+//!    packets of neighbouring set pixels (paper Figure 2);
+//! 2. **shading**: the surface at every hit (position, normals, material, albedo), emission
+//!    seen directly, and the shading points of diffuse hits;
+//! 3. **specular**: mirror and glass hits continue as reflection and refraction rays, traced as
+//!    streams of packets bounce by bounce up to the depth limit; their diffuse hits become
+//!    shading points of the same group, weighted by the chain's throughput;
+//! 4. **shadow**: for each light and each VPL of the group, the shadow packets of all shading
+//!    points and the accumulation of D = E/π ([`crate::vpl_lighting`]).
+//!
+//! Specular rays run before the shadow phase (not after it, as in a Whitted tracer) so that
+//! every shading point of the group, seen directly or through glass, is lit in one pass over
+//! the VPLs while their data is hot. Then the tile is filtered ([`crate::discontinuity`]) and
+//! composed: pixel = 1/N Σ_samples (emission seen + Σ_points throughput · albedo · D̃).
+//!
+//! Every value depends only on the scene, the [`FrameState`] and the pixel, and the apron
+//! pixels are computed exactly as in their own tile, so a tiled image equals an untiled one.
+
+use crate::camera::PinholeCamera;
+use crate::discontinuity::{DiscontinuityBuffer, FilterSample};
+use crate::frame::{FilterSettings, FrameState};
+use crate::interleave::{Interleave, Region};
+use crate::prepared::PreparedScene;
+use crate::scattering::{Interface, Scattering, reflect, refract};
+use crate::stats::{Phase, PhaseTimes, RayCounts};
+use crate::tile::Tile;
+use crate::tonemap::LuminanceStats;
+use crate::vpl::VplSets;
+use crate::vpl_lighting::Receivers;
+use glam::Vec3;
+use igi_bvh::{Hit, HitPacket8, Ray, RayPacket8, offset_ray_origin};
+use igi_simd::M32x8;
+use std::time::Instant;
+
+/// A finished tile: linear radiance and what it cost.
+#[derive(Clone, Debug)]
+pub struct TileOutput {
+    /// The tile.
+    pub tile: Tile,
+    /// Linear RGB radiance, row-major within the tile.
+    pub pixels: Vec<Vec3>,
+    /// Luminance statistics of the pixels (for the next frame's tone mapping, paper 3.4).
+    pub stats: LuminanceStats,
+    /// Rays traced.
+    pub rays: RayCounts,
+    /// Time per phase.
+    pub times: PhaseTimes,
+}
+
+/// Where a camera path stands: which sample it belongs to and what it carries.
+#[derive(Clone, Copy, Debug)]
+struct PathState {
+    /// Pixel index in the region.
+    pixel: u32,
+    /// Anti-aliasing sample.
+    sample: u32,
+    /// Specular chain code: 1 for the camera ray, then one bit per bounce (0 reflection,
+    /// 1 refraction) below a leading 1.
+    path: u32,
+    /// Product of the reflectances along the chain.
+    throughput: Vec3,
+    /// Distance travelled before this ray.
+    depth: f32,
+    /// Specular bounces so far.
+    bounces: u32,
+}
+
+/// A diffuse point seen by a camera path.
+#[derive(Clone, Copy, Debug)]
+struct ShadingPoint {
+    state: PathState,
+    origin: Vec3,
+    ns: Vec3,
+    ng: Vec3,
+    depth: f32,
+    material: u32,
+    albedo: Vec3,
+    irradiance: Vec3,
+}
+
+/// A ray of the specular stream.
+#[derive(Clone, Copy, Debug)]
+struct SpecularRay {
+    state: PathState,
+    ray: Ray,
+}
+
+/// Per-thread scratch memory of the pipeline, reused from tile to tile.
+#[derive(Debug, Default)]
+pub struct TileScratch {
+    emitted: Vec<Vec3>,
+    points: Vec<ShadingPoint>,
+    packets: Vec<(RayPacket8, HitPacket8, [u32; 8], u32)>,
+    stream: Vec<SpecularRay>,
+    next_stream: Vec<SpecularRay>,
+    receivers: Receivers,
+    filter_samples: Vec<FilterSample>,
+    filtered: Vec<Vec3>,
+    filter: DiscontinuityBuffer,
+}
+
+/// Renders tiles of one frame: the scene, the frame's VPLs and settings.
+#[derive(Debug)]
+pub struct TilePipeline<'a> {
+    scene: &'a PreparedScene,
+    vpls: &'a VplSets,
+    interleave: Interleave,
+    camera: PinholeCamera,
+    seed: u32,
+    d_min2: f32,
+    filter: Option<FilterSettings>,
+    specular_depth: u32,
+    size: (u32, u32),
+}
+
+impl<'a> TilePipeline<'a> {
+    /// The pipeline for `frame` of `scene` lit by `vpls` (generated for the same frame).
+    pub fn new(scene: &'a PreparedScene, frame: &FrameState, vpls: &'a VplSets) -> Self {
+        let s = &frame.settings;
+        Self {
+            scene,
+            vpls,
+            interleave: Interleave::of(s),
+            camera: PinholeCamera::new(&frame.camera, s.width, s.height),
+            seed: frame.sample_seed(),
+            d_min2: s.clamp * s.clamp,
+            filter: s.filter,
+            specular_depth: s.specular_depth,
+            size: (s.width, s.height),
+        }
+    }
+
+    /// Renders `tile` (of an image of the frame's size).
+    pub fn render_tile(&self, tile: Tile, scratch: &mut TileScratch) -> TileOutput {
+        let il = self.interleave;
+        let region = il.region(&tile, self.size.0, self.size.1);
+        let aa = il.aa;
+        scratch.emitted.clear();
+        scratch.emitted.resize(region.len() * aa as usize, Vec3::ZERO);
+        scratch.points.clear();
+        let mut rays = RayCounts::default();
+        let mut times = PhaseTimes::default();
+        let mut clock = Instant::now();
+
+        for set in 0..il.sets() {
+            for sample in 0..aa {
+                let first = scratch.points.len();
+                self.trace_primary(&region, set, sample, scratch, &mut rays);
+                times.lap(Phase::Primary, &mut clock);
+                self.shade_primary(sample, scratch);
+                times.lap(Phase::Shading, &mut clock);
+                self.trace_specular(scratch, &mut rays);
+                times.lap(Phase::Specular, &mut clock);
+                self.light(set, sample, first, scratch, &mut rays);
+                times.lap(Phase::Shadow, &mut clock);
+            }
+        }
+
+        let pixels = self.compose(&tile, &region, scratch);
+        times.lap(Phase::Filter, &mut clock);
+        let stats = LuminanceStats::of_pixels(&pixels);
+        times.lap(Phase::ToneMap, &mut clock);
+        TileOutput { tile, pixels, stats, rays, times }
+    }
+
+    /// Step 1: the camera rays of sample `sample` of the pixels of `set`, packet by packet.
+    fn trace_primary(&self, region: &Region, set: u32, sample: u32, s: &mut TileScratch, rays: &mut RayCounts) {
+        s.packets.clear();
+        let accel = self.scene.accel();
+        self.interleave.packets(region, set, |lanes| {
+            let mut batch = [Ray::new(self.camera.origin, self.camera.forward); 8];
+            let mut pixels = [0u32; 8];
+            for (lane, &(x, y)) in lanes.iter().enumerate() {
+                let (dx, dy) = self.interleave.sample_offset(x, y, sample, self.seed);
+                batch[lane] = self.camera.ray_at(x, y, dx, dy);
+                pixels[lane] = region.index(x, y) as u32;
+            }
+            // Unused lanes repeat the first ray so every lane is valid.
+            for lane in lanes.len()..8 {
+                batch[lane] = batch[0];
+            }
+            let bits = (1u32 << lanes.len()) - 1;
+            let packet = RayPacket8::from_rays(&batch);
+            let hits = accel.intersect8(&packet, M32x8::from_bitmask(bits));
+            s.packets.push((packet, hits, pixels, bits));
+        });
+        rays.primary += s.packets.iter().map(|p| u64::from(p.3.count_ones())).sum::<u64>();
+    }
+
+    /// Step 2: shading inputs of every primary hit.
+    fn shade_primary(&self, sample: u32, s: &mut TileScratch) {
+        let packets = std::mem::take(&mut s.packets);
+        for (packet, hits, pixels, bits) in &packets {
+            let hit_bits = hits.hit_mask().bitmask() & bits;
+            for lane in 0..8 {
+                if hit_bits & (1 << lane) == 0 {
+                    continue;
+                }
+                let state = PathState {
+                    pixel: pixels[lane],
+                    sample,
+                    path: 1,
+                    throughput: Vec3::ONE,
+                    depth: 0.0,
+                    bounces: 0,
+                };
+                self.shade_hit(&packet.ray(lane), &hits.hit(lane), state, s);
+            }
+        }
+        s.packets = packets;
+    }
+
+    /// Step 3: the specular stream, bounce by bounce: the rays queued by the previous step
+    /// are traced as packets and shaded, which queues the next bounce.
+    fn trace_specular(&self, s: &mut TileScratch, rays: &mut RayCounts) {
+        let accel = self.scene.accel();
+        loop {
+            std::mem::swap(&mut s.stream, &mut s.next_stream);
+            if s.stream.is_empty() {
+                return;
+            }
+            let stream = std::mem::take(&mut s.stream);
+            for chunk in stream.chunks(8) {
+                let mut batch = [chunk[0].ray; 8];
+                for (lane, r) in chunk.iter().enumerate() {
+                    batch[lane] = r.ray;
+                }
+                let bits = (1u32 << chunk.len()) - 1;
+                rays.specular += u64::from(bits.count_ones());
+                let packet = RayPacket8::from_rays(&batch);
+                let hits = accel.intersect8(&packet, M32x8::from_bitmask(bits));
+                for (lane, r) in chunk.iter().enumerate() {
+                    let hit = hits.hit(lane);
+                    if hit.is_hit() {
+                        self.shade_hit(&r.ray, &hit, r.state, s);
+                    }
+                }
+            }
+            s.stream = stream;
+            s.stream.clear();
+        }
+    }
+
+    /// Shading inputs at `hit` of `ray` (unit direction): emission seen, a shading point for a
+    /// diffuse surface, or the reflection and refraction rays of a specular one (into the
+    /// next stream).
+    fn shade_hit(&self, ray: &Ray, hit: &Hit, state: PathState, s: &mut TileScratch) {
+        let scene = self.scene;
+        let sp = scene.surface(hit);
+        let front = sp.geometric_normal.dot(ray.dir) < 0.0;
+        let (ng, ns) =
+            if front { (sp.geometric_normal, sp.shading_normal) } else { (-sp.geometric_normal, -sp.shading_normal) };
+        let material = &scene.materials()[sp.material as usize];
+        if front && material.is_emissive() {
+            s.emitted[(state.pixel * self.interleave.aa + state.sample) as usize] +=
+                state.throughput * material.emission;
+        }
+        let depth = state.depth + hit.t;
+        let albedo = scene.albedo(sp.material, sp.uv);
+        match Scattering::of(material, albedo) {
+            Scattering::Diffuse { albedo } => {
+                if albedo.max_element() > 0.0 {
+                    s.points.push(ShadingPoint {
+                        state,
+                        origin: offset_ray_origin(sp.position, ng),
+                        ns,
+                        ng,
+                        depth,
+                        material: sp.material,
+                        albedo,
+                        irradiance: Vec3::ZERO,
+                    });
+                }
+            }
+            _ if state.bounces >= self.specular_depth => {}
+            Scattering::Mirror { reflectance } => {
+                let mut dir = reflect(ray.dir, ns);
+                if dir.dot(ng) <= 0.0 {
+                    dir = reflect(ray.dir, ng);
+                }
+                self.continue_path(state, 0, reflectance, depth, offset_ray_origin(sp.position, ng), dir, s);
+            }
+            Scattering::Glass { ior } => {
+                let interface = Interface::new(ray.dir, sp.geometric_normal, ior);
+                let n = interface.normal;
+                let f = interface.reflectance;
+                let reflected = reflect(ray.dir, n);
+                self.continue_path(state, 0, Vec3::splat(f), depth, offset_ray_origin(sp.position, n), reflected, s);
+                if let Some(t) = refract(ray.dir, n, interface.eta) {
+                    let origin = offset_ray_origin(sp.position, -n);
+                    self.continue_path(state, 1, Vec3::splat(1.0 - f), depth, origin, t, s);
+                }
+            }
+        }
+    }
+
+    /// Queues the continuation of a camera path through a specular bounce.
+    #[allow(clippy::too_many_arguments)]
+    fn continue_path(
+        &self,
+        state: PathState,
+        branch: u32,
+        weight: Vec3,
+        depth: f32,
+        origin: Vec3,
+        dir: Vec3,
+        s: &mut TileScratch,
+    ) {
+        let throughput = state.throughput * weight;
+        if throughput.max_element() <= 0.0 || !dir.is_finite() {
+            return;
+        }
+        s.next_stream.push(SpecularRay {
+            state: PathState {
+                path: state.path << 1 | branch,
+                throughput,
+                depth,
+                bounces: state.bounces + 1,
+                ..state
+            },
+            ray: Ray::new(origin, dir),
+        });
+    }
+
+    /// Step 4: the lights and the VPLs of the group (set `set`, sample `sample`) on the
+    /// shading points from index `first` on.
+    fn light(&self, set: u32, sample: u32, first: usize, s: &mut TileScratch, rays: &mut RayCounts) {
+        let points = &mut s.points[first..];
+        if points.is_empty() {
+            return;
+        }
+        let receivers = &mut s.receivers;
+        receivers.clear();
+        for p in points.iter() {
+            receivers.push(p.origin, p.ns, p.ng);
+        }
+        let accel = self.scene.accel();
+        receivers.add_lights(accel, self.vpls.lights(), rays);
+        let aa = self.interleave.aa as usize;
+        let vpls = self.vpls.set(set).iter().skip(sample as usize).step_by(aa);
+        receivers.add_vpls(accel, vpls, aa as f32, self.d_min2, rays);
+        for (i, p) in points.iter_mut().enumerate() {
+            p.irradiance = receivers.irradiance(i);
+        }
+    }
+
+    /// Filters the irradiance and composes the tile's pixels.
+    fn compose(&self, tile: &Tile, region: &Region, s: &mut TileScratch) -> Vec<Vec3> {
+        let TileScratch { points, emitted, filter_samples, filtered, filter, .. } = s;
+        match &self.filter {
+            Some(settings) => {
+                filter_samples.clear();
+                filter_samples.extend(points.iter().map(|p| FilterSample {
+                    pixel: p.state.pixel,
+                    sample: p.state.sample,
+                    path: p.state.path,
+                    normal: p.ns,
+                    depth: p.depth,
+                    material: p.material,
+                    irradiance: p.irradiance,
+                }));
+                filter.filter(region, tile, &self.interleave, settings, filter_samples, filtered);
+            }
+            None => {
+                filtered.clear();
+                filtered.extend(points.iter().map(|p| p.irradiance));
+            }
+        }
+
+        let aa = self.interleave.aa as usize;
+        let tw = tile.width() as usize;
+        let rw = region.width();
+        let mut pixels = vec![Vec3::ZERO; tile.pixel_count()];
+        let tile_index = |pixel: u32| {
+            let (x, y) = (region.x0 + pixel % rw, region.y0 + pixel / rw);
+            (x >= tile.x0 && x < tile.x1 && y >= tile.y0 && y < tile.y1)
+                .then(|| (y - tile.y0) as usize * tw + (x - tile.x0) as usize)
+        };
+        for (p, d) in points.iter().zip(filtered.iter()) {
+            if let Some(i) = tile_index(p.state.pixel) {
+                pixels[i] += p.state.throughput * p.albedo * *d;
+            }
+        }
+        let scale = 1.0 / aa as f32;
+        for y in tile.y0..tile.y1 {
+            for x in tile.x0..tile.x1 {
+                let r = region.index(x, y);
+                let e: Vec3 = emitted[r * aa..(r + 1) * aa].iter().sum();
+                let i = (y - tile.y0) as usize * tw + (x - tile.x0) as usize;
+                pixels[i] = (pixels[i] + e) * scale;
+            }
+        }
+        pixels
+    }
+}

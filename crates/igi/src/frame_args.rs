@@ -1,0 +1,113 @@
+//! The frame options shared by `igi render` and `igi bench frame`: image size, VPLs,
+//! interleaving, anti-aliasing, filter, clamp, seed, threads and the camera, turned into a
+//! [`FrameState`].
+
+use anyhow::Result;
+use clap::Args;
+use igi_render::frame::{FilterSettings, FrameState, IgiSettings};
+use igi_render::tonemap::ToneMapper;
+use igi_scene::Scene;
+
+/// Options describing a frame.
+#[derive(Debug, Args)]
+pub struct FrameArgs {
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 640)]
+    pub width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 480)]
+    pub height: u32,
+    /// VPLs per pixel: the size of one interleaved VPL set (point, spot and directional
+    /// lights count towards it).
+    #[arg(long, default_value_t = 12)]
+    pub vpls: u32,
+    /// Interleave pattern NxM: the frame has N·M VPL sets, one per pixel of every NxM block.
+    #[arg(long, default_value = "3x3", value_parser = parse_interleave)]
+    pub interleave: [u32; 2],
+    /// Primary rays per pixel (interleaved super-sampling: each is lit by its share of the
+    /// pixel's VPLs).
+    #[arg(long, default_value_t = 4)]
+    pub aa: u32,
+    /// Show the raw interleaved image: no discontinuity filter.
+    #[arg(long)]
+    pub no_filter: bool,
+    /// Filter: smallest cosine between the normals of pixels averaged together.
+    #[arg(long, default_value_t = FilterSettings::default().min_normal_cos, allow_hyphen_values = true)]
+    pub filter_normal: f32,
+    /// Filter: largest relative depth difference of pixels averaged together.
+    #[arg(long, default_value_t = FilterSettings::default().max_depth_ratio)]
+    pub filter_depth: f32,
+    /// d_min of the VPL contribution 1/max(d², d_min²) in scene units; 0 turns clamping off.
+    /// Default: 2 % of the scene's bounding-box diagonal.
+    #[arg(long, allow_hyphen_values = true)]
+    pub clamp: Option<f32>,
+    /// Largest number of mirror and glass bounces followed from the camera.
+    #[arg(long, default_value_t = 5)]
+    pub specular_depth: u32,
+    /// Seed of the VPLs and sample patterns (same seed, same image).
+    #[arg(long, default_value_t = 0)]
+    pub seed: u32,
+    /// Worker threads (0: one per core).
+    #[arg(long, default_value_t = 0)]
+    pub threads: usize,
+    /// Tile edge length in pixels (the image does not depend on it).
+    #[arg(long, default_value_t = 32)]
+    pub tile_size: u32,
+    /// Camera overrides.
+    #[command(flatten)]
+    pub camera: crate::cli::CameraArgs,
+}
+
+/// Parses `NxM` into `[N, M]`.
+pub fn parse_interleave(s: &str) -> Result<[u32; 2], String> {
+    let bad = || format!("{s:?} is not NxM with two whole numbers, e.g. 3x3");
+    let (n, m) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    let n = n.trim().parse::<u32>().map_err(|_| bad())?;
+    let m = m.trim().parse::<u32>().map_err(|_| bad())?;
+    Ok([n, m])
+}
+
+impl FrameArgs {
+    /// The first frame of `scene` with these options, checked (errors name the flag).
+    pub fn frame_state(&self, scene: &Scene) -> Result<FrameState> {
+        let camera = self.camera.resolve(scene)?;
+        let diagonal = crate::cli::scene_bounds(scene).diagonal();
+        let settings = IgiSettings {
+            width: self.width,
+            height: self.height,
+            vpls_per_pixel: self.vpls,
+            interleave: self.interleave,
+            aa: self.aa,
+            filter: (!self.no_filter).then_some(FilterSettings {
+                min_normal_cos: self.filter_normal,
+                max_depth_ratio: self.filter_depth,
+            }),
+            clamp: self.clamp.unwrap_or_else(|| IgiSettings::clamp_for(diagonal)),
+            specular_depth: self.specular_depth,
+            tile_size: self.tile_size,
+            reseed_per_frame: false,
+        };
+        settings.validate()?;
+        Ok(FrameState {
+            camera,
+            settings,
+            tone_map: ToneMapper { scale: 1.0, compress: false },
+            frame: 0,
+            seed: self.seed,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn interleave_patterns() {
+        assert_eq!(parse_interleave("3x3"), Ok([3, 3]));
+        assert_eq!(parse_interleave("4X2"), Ok([4, 2]));
+        assert!(parse_interleave("3").is_err());
+        assert!(parse_interleave("ax3").is_err());
+        assert!(parse_interleave("-1x3").is_err());
+    }
+}
