@@ -43,6 +43,8 @@ const EMPTY: u32 = u32::MAX;
 pub struct DiscontinuityBuffer {
     keys: Vec<(u32, u32)>,
     grids: Vec<Vec<u32>>,
+    /// Layer of each point.
+    layers: Vec<u32>,
 }
 
 impl DiscontinuityBuffer {
@@ -68,8 +70,7 @@ impl DiscontinuityBuffer {
             if !(x >= tile.x0 && x < tile.x1 && y >= tile.y0 && y < tile.y1) {
                 continue;
             }
-            let Some(layer) = self.keys.iter().position(|&k| k == (p.sample, p.path)) else { continue };
-            let grid = &self.grids[layer];
+            let grid = &self.grids[self.layers[i] as usize];
             let mut sum = Vec3::ZERO;
             let mut count = 0u32;
             for qy in y.saturating_sub(up)..=(y + down).min(region.y1 - 1) {
@@ -93,22 +94,30 @@ impl DiscontinuityBuffer {
     /// Builds one pixel grid per (sample, path) layer pointing at the points.
     fn index(&mut self, region: &Region, points: &[FilterSample]) {
         self.keys.clear();
+        self.layers.clear();
+        let mut last: Option<((u32, u32), u32)> = None;
         for (i, p) in points.iter().enumerate() {
             let key = (p.sample, p.path);
-            let layer = match self.keys.iter().position(|&k| k == key) {
-                Some(layer) => layer,
-                None => {
-                    self.keys.push(key);
-                    if self.grids.len() < self.keys.len() {
-                        self.grids.push(Vec::new());
+            // Points come in runs of one layer: look the key up only when it changes.
+            let layer = match last {
+                Some((k, layer)) if k == key => layer,
+                _ => match self.keys.iter().position(|&k| k == key) {
+                    Some(layer) => layer as u32,
+                    None => {
+                        self.keys.push(key);
+                        if self.grids.len() < self.keys.len() {
+                            self.grids.push(Vec::new());
+                        }
+                        let grid = &mut self.grids[self.keys.len() - 1];
+                        grid.clear();
+                        grid.resize(region.len(), EMPTY);
+                        (self.keys.len() - 1) as u32
                     }
-                    let grid = &mut self.grids[self.keys.len() - 1];
-                    grid.clear();
-                    grid.resize(region.len(), EMPTY);
-                    self.keys.len() - 1
-                }
+                },
             };
-            self.grids[layer][p.pixel as usize] = i as u32;
+            last = Some((key, layer));
+            self.layers.push(layer);
+            self.grids[layer as usize][p.pixel as usize] = i as u32;
         }
     }
 }

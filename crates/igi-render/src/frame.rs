@@ -68,7 +68,7 @@ impl Default for IgiSettings {
             filter: Some(FilterSettings::default()),
             clamp: 0.0,
             specular_depth: 5,
-            tile_size: 32,
+            tile_size: 64,
             reseed_per_frame: false,
         }
     }

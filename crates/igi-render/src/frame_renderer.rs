@@ -24,6 +24,9 @@ use std::time::{Duration, Instant};
 pub struct FrameOutput {
     /// Linear radiance.
     pub film: Film,
+    /// The display image: 8-bit sRGB, 3 bytes per pixel, row-major, tone-mapped with the
+    /// frame's [`FrameState::tone_map`].
+    pub srgb8: Vec<u8>,
     /// Luminance statistics of the image, combined from the tiles in tile order: the input of
     /// the next frame's tone mapping.
     pub stats: LuminanceStats,
@@ -82,16 +85,22 @@ impl FrameRenderer {
         }, progress);
 
         let mut film = Film::new(s.width, s.height);
+        let mut srgb8 = vec![0u8; 3 * s.width as usize * s.height as usize];
         let mut stats = LuminanceStats::default();
         let mut rays = RayCounts::default();
         for t in &tiles {
             film.write_tile(&t.tile, &t.pixels);
+            let row = 3 * t.tile.width() as usize;
+            for (r, src) in t.srgb8.chunks_exact(row).enumerate() {
+                let start = 3 * ((t.tile.y0 as usize + r) * s.width as usize + t.tile.x0 as usize);
+                srgb8[start..start + row].copy_from_slice(src);
+            }
             stats = stats.merge(t.stats);
             rays += t.rays;
             times += t.times;
         }
         let vpl_count = (0..vpls.set_count()).map(|set| vpls.set(set).len()).sum();
-        Ok(FrameOutput { film, stats, rays, times, elapsed: start.elapsed(), vpls: vpl_count, frames: 1 })
+        Ok(FrameOutput { film, srgb8, stats, rays, times, elapsed: start.elapsed(), vpls: vpl_count, frames: 1 })
     }
 
     /// The average of `frames` frames from `frame` on (frame numbers `frame.frame`,
@@ -128,6 +137,7 @@ impl FrameRenderer {
         let scale = 1.0 / frames as f32;
         let film = Film::from_pixels(f.settings.width, f.settings.height, sum.into_iter().map(|p| p * scale).collect());
         out.stats = LuminanceStats::of_pixels(film.pixels());
+        out.srgb8 = crate::output::to_srgb8(&film, &frame.tone_map);
         out.film = film;
         out.frames = frames;
         out.elapsed = start.elapsed();

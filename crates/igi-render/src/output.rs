@@ -60,7 +60,9 @@ pub fn write_image(film: &Film, path: &Path, tone_map: &ToneMapper) -> Result<()
 
 /// The tone-mapped 8-bit sRGB pixels of `film`, row-major RGB, row 0 at the top.
 pub fn to_srgb8(film: &Film, tone_map: &ToneMapper) -> Vec<u8> {
-    film.pixels().iter().flat_map(|&p| tone_map.to_srgb8(p)).collect()
+    let mut out = Vec::new();
+    tone_map.encode_pixels(film.pixels(), &mut out);
+    out
 }
 
 /// Writes `film` as a tone-mapped sRGB PNG.

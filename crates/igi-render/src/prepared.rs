@@ -239,7 +239,14 @@ impl PreparedScene {
         let m = self.accel.instance_transform(instance);
         let position =
             if self.normal_matrices[instance as usize].is_some() { m.transform_point3(local) } else { local };
-        let geometric_normal = self.accel.geometric_normal(instance, prim);
+        // The winding normal, through the inverse transpose for a transformed instance (the
+        // same as `Accel::geometric_normal`, from the corners already at hand).
+        let n = (b - a).cross(c - a);
+        let geometric_normal = match &self.normal_matrices[instance as usize] {
+            Some(nm) => Vec3::from(nm.mul_vec3a(n.into())),
+            None => n,
+        }
+        .normalize();
 
         let w = 1.0 - u - v;
         let shading_normal = shading

@@ -27,7 +27,7 @@ use crate::prepared::PreparedScene;
 use crate::scattering::{Interface, Scattering, reflect, refract};
 use crate::stats::{Phase, PhaseTimes, RayCounts};
 use crate::tile::Tile;
-use crate::tonemap::LuminanceStats;
+use crate::tonemap::{LuminanceStats, ToneMapper};
 use crate::vpl::VplSets;
 use crate::vpl_lighting::Receivers;
 use glam::Vec3;
@@ -42,6 +42,9 @@ pub struct TileOutput {
     pub tile: Tile,
     /// Linear RGB radiance, row-major within the tile.
     pub pixels: Vec<Vec3>,
+    /// The pixels tone-mapped with the frame's [`FrameState::tone_map`] and sRGB-encoded,
+    /// 3 bytes per pixel: what a display shows (and what a render node sends, paper 3.4).
+    pub srgb8: Vec<u8>,
     /// Luminance statistics of the pixels (for the next frame's tone mapping, paper 3.4).
     pub stats: LuminanceStats,
     /// Rays traced.
@@ -114,6 +117,7 @@ pub struct TilePipeline<'a> {
     filter: Option<FilterSettings>,
     specular_depth: u32,
     size: (u32, u32),
+    tone_map: ToneMapper,
 }
 
 impl<'a> TilePipeline<'a> {
@@ -130,6 +134,7 @@ impl<'a> TilePipeline<'a> {
             filter: s.filter,
             specular_depth: s.specular_depth,
             size: (s.width, s.height),
+            tone_map: frame.tone_map,
         }
     }
 
@@ -162,8 +167,10 @@ impl<'a> TilePipeline<'a> {
         let pixels = self.compose(&tile, &region, scratch);
         times.lap(Phase::Filter, &mut clock);
         let stats = LuminanceStats::of_pixels(&pixels);
+        let mut srgb8 = Vec::new();
+        self.tone_map.encode_pixels(&pixels, &mut srgb8);
         times.lap(Phase::ToneMap, &mut clock);
-        TileOutput { tile, pixels, stats, rays, times }
+        TileOutput { tile, pixels, srgb8, stats, rays, times }
     }
 
     /// Step 1: the camera rays of sample `sample` of the pixels of `set`, packet by packet.
@@ -195,12 +202,12 @@ impl<'a> TilePipeline<'a> {
         let packets = std::mem::take(&mut s.packets);
         for (packet, hits, pixels, bits) in &packets {
             let hit_bits = hits.hit_mask().bitmask() & bits;
-            for lane in 0..8 {
+            for (lane, &pixel) in pixels.iter().enumerate() {
                 if hit_bits & (1 << lane) == 0 {
                     continue;
                 }
                 let state = PathState {
-                    pixel: pixels[lane],
+                    pixel,
                     sample,
                     path: 1,
                     throughput: Vec3::ONE,

@@ -17,7 +17,7 @@ use crate::lights::luminance;
 use glam::Vec3;
 
 /// δ of the log-average: keeps ln finite for black pixels.
-const LOG_DELTA: f64 = 1e-6;
+const LOG_DELTA: f32 = 1e-6;
 
 /// Luminance statistics of a set of pixels.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -38,7 +38,7 @@ impl LuminanceStats {
     pub fn add(&mut self, rgb: Vec3) {
         let l = luminance(rgb);
         if l > 0.0 && l.is_finite() {
-            self.log_sum += (LOG_DELTA + f64::from(l)).ln();
+            self.log_sum += f64::from((LOG_DELTA + l).ln());
             self.count += 1;
             self.max = self.max.max(l);
         }
@@ -134,8 +134,65 @@ impl ToneMapper {
     /// 8-bit sRGB of radiance `rgb`.
     #[inline]
     pub fn to_srgb8(&self, rgb: Vec3) -> [u8; 3] {
-        self.map(rgb).to_array().map(|c| (linear_to_srgb(c) * 255.0 + 0.5) as u8)
+        let e = Srgb8Encoder::get();
+        let m = self.map(rgb);
+        [e.encode(m.x), e.encode(m.y), e.encode(m.z)]
     }
+
+    /// Appends the 8-bit sRGB values of `pixels` to `out`, 3 bytes per pixel.
+    pub fn encode_pixels(&self, pixels: &[Vec3], out: &mut Vec<u8>) {
+        let e = Srgb8Encoder::get();
+        out.reserve(3 * pixels.len());
+        for &p in pixels {
+            let m = self.map(p);
+            out.extend_from_slice(&[e.encode(m.x), e.encode(m.y), e.encode(m.z)]);
+        }
+    }
+}
+
+/// Number of bins of [`Srgb8Encoder`]'s table.
+const BINS: usize = 4096;
+
+/// Encodes display-linear values in [0, 1] as 8-bit sRGB codes, round(255 ·
+/// [`linear_to_srgb`]), without a `powf` (the display step of every frame encodes every pixel).
+/// The linear values where the code steps up are tabulated; a 4096-bin table gives the code at
+/// the start of a value's bin, and one comparison with the next step finishes it. The steps
+/// are at least 1/(255 · 12.92) ≈ 3.0e-4 apart, more than a bin (2.4e-4), so a bin holds at
+/// most one step.
+#[derive(Debug)]
+pub struct Srgb8Encoder {
+    steps: [f32; 255],
+    start: [u8; BINS],
+}
+
+impl Srgb8Encoder {
+    /// The shared encoder (its tables are built on first use).
+    pub fn get() -> &'static Self {
+        static ENCODER: std::sync::LazyLock<Srgb8Encoder> = std::sync::LazyLock::new(|| {
+            let steps: [f32; 255] = std::array::from_fn(|k| srgb_to_linear((k as f32 + 0.5) / 255.0));
+            let start =
+                std::array::from_fn(|i| steps.partition_point(|&step| step <= i as f32 / BINS as f32) as u8);
+            Srgb8Encoder { steps, start }
+        });
+        &ENCODER
+    }
+
+    /// The code of `c` (NaN and negative values give 0, values ≥ 1 give 255).
+    #[inline]
+    pub fn encode(&self, c: f32) -> u8 {
+        let bin = ((c * BINS as f32) as usize).min(BINS - 1);
+        let code = self.start[bin];
+        match self.steps.get(code as usize) {
+            Some(&step) if c >= step => code + 1,
+            _ => code,
+        }
+    }
+}
+
+/// The 8-bit sRGB code of a display-linear value (see [`Srgb8Encoder`]).
+#[inline]
+pub fn encode_srgb8(c: f32) -> u8 {
+    Srgb8Encoder::get().encode(c)
 }
 
 /// The sRGB transfer function (IEC 61966-2-1) of a display-linear value in [0, 1].

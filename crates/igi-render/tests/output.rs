@@ -101,6 +101,21 @@ fn exposure_is_a_plain_scale_and_srgb_round_trips() {
 }
 
 #[test]
+fn srgb8_encoding_rounds_the_transfer_function() {
+    use igi_render::tonemap::encode_srgb8;
+    for i in 0..=100_000 {
+        let c = i as f32 / 100_000.0;
+        let exact = linear_to_srgb(c) * 255.0;
+        let code = f32::from(encode_srgb8(c));
+        // Equal to the rounded value, except within float noise of a rounding boundary.
+        assert!((code - exact).abs() <= 0.5 + 1e-3, "{c}: {code} vs {exact}");
+    }
+    assert_eq!(encode_srgb8(-1.0), 0);
+    assert_eq!(encode_srgb8(f32::NAN), 0);
+    assert_eq!(encode_srgb8(2.0), 255);
+}
+
+#[test]
 fn files_are_byte_for_byte_reproducible() {
     let film = test_film();
     for name in ["a.exr", "a.png"] {

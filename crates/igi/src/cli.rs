@@ -25,7 +25,7 @@ pub enum Command {
     Render(cmd_render::RenderArgs),
     /// Print what a scene contains: geometry, materials, lights, bounds, camera.
     Info(cmd_info::InfoArgs),
-    /// Measure throughput (`igi bench rays`).
+    /// Measure throughput (`igi bench frame`, `igi bench rays`).
     #[command(subcommand)]
     Bench(bench::BenchCommand),
 }

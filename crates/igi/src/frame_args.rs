@@ -51,7 +51,7 @@ pub struct FrameArgs {
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
     /// Tile edge length in pixels (the image does not depend on it).
-    #[arg(long, default_value_t = 32)]
+    #[arg(long, default_value_t = 64)]
     pub tile_size: u32,
     /// Camera overrides.
     #[command(flatten)]

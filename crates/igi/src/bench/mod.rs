@@ -1,7 +1,9 @@
-//! `igi bench`: throughput measurements. `igi bench rays` times the two ray kinds of an
+//! `igi bench`: throughput measurements. `igi bench frame` times whole frames of the
+//! instant-global-illumination pipeline. `igi bench rays` times the two ray kinds of an
 //! instant-radiosity frame (primary rays, shadow rays to virtual point lights) on exactly the
 //! workload of `../shared/tools/embree-bench`, so the two can be compared ray for ray.
 
+pub mod frame;
 pub mod rays;
 mod workload;
 
@@ -10,6 +12,8 @@ use clap::Subcommand;
 /// The benchmarks.
 #[derive(Debug, Subcommand)]
 pub enum BenchCommand {
+    /// Frames per second of the whole pipeline, with the time per phase.
+    Frame(frame::FrameBenchArgs),
     /// Ray throughput of the traversal kernels on the instant-radiosity workload.
     Rays(rays::RaysArgs),
 }
@@ -17,6 +21,7 @@ pub enum BenchCommand {
 /// Runs one benchmark.
 pub fn run(cmd: BenchCommand) -> anyhow::Result<()> {
     match cmd {
+        BenchCommand::Frame(args) => frame::run(&args),
         BenchCommand::Rays(args) => rays::run(&args),
     }
 }

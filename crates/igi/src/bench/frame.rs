@@ -1,0 +1,200 @@
+//! `igi bench frame`: frames per second of the whole instant-global-illumination pipeline
+//! (VPL generation, primary rays, shading, shadow rays, specular rays, filter, tone mapping to
+//! 8-bit), with the time per phase, Mrays/s, rays per pixel and the energy the VPL clamp
+//! removes.
+
+use crate::frame_args::FrameArgs;
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use igi_render::frame_renderer::FrameRenderer;
+use igi_render::lights::luminance;
+use igi_render::{FrameState, Phase, PreparedScene, ToneMap, ToneMapper};
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use std::time::Duration;
+
+/// Arguments of `igi bench frame`.
+#[derive(Debug, Args)]
+pub struct FrameBenchArgs {
+    /// Built-in scene name or scene file.
+    pub scene: String,
+    /// Timed frames (after the warm-up).
+    #[arg(long, default_value_t = 20)]
+    pub frames: u32,
+    /// Untimed frames first (thread start-up, caches).
+    #[arg(long, default_value_t = 2)]
+    pub warmup: u32,
+    /// Fresh VPLs every frame (as in progressive accumulation); otherwise the VPLs stay.
+    #[arg(long)]
+    pub reseed: bool,
+    /// Write the results as JSON.
+    #[arg(long)]
+    pub json: Option<PathBuf>,
+    /// Frame options.
+    #[command(flatten)]
+    pub frame: FrameArgs,
+}
+
+/// The results, as printed and written.
+#[derive(Debug, Serialize)]
+struct Report {
+    scene: String,
+    width: u32,
+    height: u32,
+    threads: usize,
+    vpls_per_pixel: u32,
+    interleave: [u32; 2],
+    aa: u32,
+    filter: bool,
+    clamp: f32,
+    frames: u32,
+    /// Frames per second: timed frames over their total wall time.
+    fps: f64,
+    /// Mean wall time per frame.
+    frame_ms: f64,
+    /// Fastest frame.
+    min_frame_ms: f64,
+    /// Per phase: thread time per frame divided by the thread count (the phase's share of the
+    /// wall time when the load is even).
+    phases_ms: BTreeMap<&'static str, f64>,
+    mrays_per_s: f64,
+    rays_per_pixel: f64,
+    primary_rays: u64,
+    shadow_rays: u64,
+    specular_rays: u64,
+    /// Surface VPLs per frame over all sets.
+    vpls_per_frame: usize,
+    /// Fraction of the image's luminance removed by the clamp (frame 0 against the same frame
+    /// unclamped).
+    clamp_energy_loss: f64,
+}
+
+/// Runs `igi bench frame`.
+pub fn run(args: &FrameBenchArgs) -> Result<()> {
+    if !(1..=100_000).contains(&args.frames) {
+        bail!("--frames must be between 1 and 100000");
+    }
+    let scene = igi_scene::load_named(&args.scene).context("cannot load scene")?;
+    let mut frame = args.frame.frame_state(&scene)?;
+    frame.settings.reseed_per_frame = args.reseed;
+    let prepared = PreparedScene::new(scene);
+    let renderer = FrameRenderer::new(args.frame.threads);
+    let threads = renderer.threads();
+
+    let loss = clamp_energy_loss(&renderer, &prepared, &frame)?;
+
+    // As a viewer does: each frame is tone-mapped (to 8-bit, in the tiles) with the parameters
+    // from the previous frame's statistics.
+    let mut mapper = ToneMapper::new(ToneMap::default(), &Default::default());
+    let mut step = |f: &mut FrameState, index: u32| -> Result<igi_render::FrameOutput> {
+        f.frame = index;
+        f.tone_map = mapper;
+        let out = renderer.render(&prepared, f, &|_, _| {})?;
+        mapper = ToneMapper::new(ToneMap::default(), &out.stats);
+        Ok(out)
+    };
+    for i in 0..args.warmup {
+        step(&mut frame, i)?;
+    }
+    let mut total = Duration::ZERO;
+    let mut fastest = Duration::MAX;
+    let mut rays = igi_render::RayCounts::default();
+    let mut times = igi_render::PhaseTimes::default();
+    let mut vpls = 0;
+    for i in 0..args.frames {
+        let out = step(&mut frame, args.warmup + i)?;
+        total += out.elapsed;
+        fastest = fastest.min(out.elapsed);
+        rays += out.rays;
+        times += out.times;
+        vpls += out.vpls;
+    }
+
+    let s = &frame.settings;
+    let n = f64::from(args.frames);
+    let per_frame_ms = |d: Duration| d.as_secs_f64() * 1e3 / n / threads as f64;
+    let phases_ms = Phase::ALL
+        .iter()
+        .map(|&p| {
+            // VPL generation runs on one thread before the tiles: report its wall time.
+            let scale = if p == Phase::VplGeneration { threads as f64 } else { 1.0 };
+            (p.name(), per_frame_ms(times.get(p)) * scale)
+        })
+        .collect();
+    let report = Report {
+        scene: args.scene.clone(),
+        width: s.width,
+        height: s.height,
+        threads,
+        vpls_per_pixel: s.vpls_per_pixel,
+        interleave: s.interleave,
+        aa: s.aa,
+        filter: s.filter.is_some(),
+        clamp: s.clamp,
+        frames: args.frames,
+        fps: n / total.as_secs_f64().max(1e-12),
+        frame_ms: total.as_secs_f64() * 1e3 / n,
+        min_frame_ms: fastest.as_secs_f64() * 1e3,
+        phases_ms,
+        mrays_per_s: rays.total() as f64 * 1e-6 / total.as_secs_f64().max(1e-12),
+        rays_per_pixel: rays.total() as f64 / (n * f64::from(s.width) * f64::from(s.height)),
+        primary_rays: rays.primary,
+        shadow_rays: rays.shadow,
+        specular_rays: rays.specular,
+        vpls_per_frame: vpls / args.frames as usize,
+        clamp_energy_loss: loss,
+    };
+    print_report(&report);
+    if let Some(path) = &args.json {
+        std::fs::write(path, serde_json::to_string_pretty(&report)?)
+            .with_context(|| format!("cannot write {}", path.display()))?;
+    }
+    Ok(())
+}
+
+/// 1 − (luminance of frame 0) / (luminance of frame 0 without clamping): the same VPLs and
+/// rays, so the difference is exactly what the clamp removes.
+fn clamp_energy_loss(renderer: &FrameRenderer, scene: &PreparedScene, frame: &FrameState) -> Result<f64> {
+    if frame.settings.clamp == 0.0 {
+        return Ok(0.0);
+    }
+    let total = |f: &FrameState| -> Result<f64> {
+        let out = renderer.render(scene, f, &|_, _| {})?;
+        Ok(out.film.pixels().iter().map(|&p| f64::from(luminance(p))).sum())
+    };
+    let clamped = total(frame)?;
+    let mut unclamped_frame = *frame;
+    unclamped_frame.settings.clamp = 0.0;
+    let unclamped = total(&unclamped_frame)?;
+    Ok(if unclamped > 0.0 { 1.0 - clamped / unclamped } else { 0.0 })
+}
+
+fn print_report(r: &Report) {
+    outln!(
+        "{}: {}x{}, {} VPLs/pixel in {}x{} sets ({} surface VPLs/frame), aa {}, filter {}, clamp {:.3}, {} thread(s)",
+        r.scene,
+        r.width,
+        r.height,
+        r.vpls_per_pixel,
+        r.interleave[0],
+        r.interleave[1],
+        r.vpls_per_frame,
+        r.aa,
+        if r.filter { "on" } else { "off" },
+        r.clamp,
+        r.threads
+    );
+    outln!(
+        "  {:.2} fps ({:.2} ms/frame, fastest {:.2} ms), {:.1} Mrays/s, {:.1} rays/pixel",
+        r.fps,
+        r.frame_ms,
+        r.min_frame_ms,
+        r.mrays_per_s,
+        r.rays_per_pixel
+    );
+    let phases: Vec<String> =
+        Phase::ALL.iter().map(|p| format!("{} {:.2}", p.name(), r.phases_ms[p.name()])).collect();
+    outln!("  ms per phase: {}", phases.join(", "));
+    outln!("  clamp removes {:.2} % of the image's luminance", 100.0 * r.clamp_energy_loss);
+}
