@@ -284,11 +284,12 @@ impl<'a> TilePipeline<'a> {
             }
             _ if state.bounces >= self.specular_depth => {}
             Scattering::Mirror { reflectance } => {
-                let mut dir = reflect(ray.dir, ns);
-                if dir.dot(ng) <= 0.0 {
-                    dir = reflect(ray.dir, ng);
+                // About the shading normal; a reflection that an interpolated normal sends
+                // below the surface ends the path (as in the VPL walk and the path tracer).
+                let dir = reflect(ray.dir, ns);
+                if dir.dot(ng) > 0.0 {
+                    self.continue_path(state, 0, reflectance, depth, offset_ray_origin(sp.position, ng), dir, s);
                 }
-                self.continue_path(state, 0, reflectance, depth, offset_ray_origin(sp.position, ng), dir, s);
             }
             Scattering::Glass { ior } => {
                 let interface = Interface::new(ray.dir, sp.geometric_normal, ior);
