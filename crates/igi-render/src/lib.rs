@@ -30,7 +30,7 @@
 //! let prepared = PreparedScene::new(scene);
 //! let camera = prepared.camera().copied().unwrap_or_else(|| default_camera(&prepared.bounds()));
 //! let settings = IgiSettings { clamp: IgiSettings::clamp_for(prepared.bounds().diagonal()), ..IgiSettings::default() };
-//! let frame = FrameState { camera, settings, tone_map: ToneMapper { scale: 1.0, compress: false }, frame: 0, seed: 0 };
+//! let frame = FrameState { camera, settings, tone_map: ToneMapper::LINEAR, frame: 0, seed: 0 };
 //! let out = FrameRenderer::new(0).render(&prepared, &frame, &|_, _| {})?;
 //! let mapper = ToneMapper::new(ToneMap::default(), &out.stats);
 //! write_image(&out.film, "out.png".as_ref(), &mapper)?;

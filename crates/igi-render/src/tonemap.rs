@@ -4,8 +4,9 @@
 //! - [`ToneMap::Reinhard`] (the default): the global operator of Reinhard et al. 2002,
 //!   "Photographic Tone Reproduction for Digital Images", eq. 1-3. The log-average luminance
 //!   L̄ = exp(mean(ln(δ + L))) of the image maps to the middle grey `key` (0.18), then
-//!   L_d = L / (1 + L) compresses highlights. Colours are scaled by L_d / L (hue kept) and
-//!   clipped per channel.
+//!   L_d = L (1 + L / L_white²) / (1 + L) compresses highlights, with L_white the image's
+//!   largest (scaled) luminance (eq. 4), so the brightest pixel just reaches white. Colours
+//!   are scaled by L_d / L (hue kept) and clipped per channel.
 //! - [`ToneMap::Exposure`]: a fixed linear scale by 2^stops and a clip at 1, for comparable
 //!   images across frames and scenes.
 //!
@@ -95,19 +96,30 @@ impl ToneMap {
 pub struct ToneMapper {
     /// Linear scale applied to radiance first.
     pub scale: f32,
-    /// Whether the Reinhard compression L / (1 + L) follows.
+    /// Whether the Reinhard compression L (1 + L / L_white²) / (1 + L) follows.
     pub compress: bool,
+    /// L_white of the compression after scaling, the smallest luminance shown as white; 0 for
+    /// none (plain L / (1 + L)).
+    pub white: f32,
+}
+
+impl ToneMapper {
+    /// No tone mapping: radiance clipped to [0, 1] (for frames whose 8-bit output is unused).
+    pub const LINEAR: Self = Self { scale: 1.0, compress: false, white: 0.0 };
 }
 
 impl ToneMapper {
     /// Fixes the parameters of `op` for an image with statistics `stats`.
     pub fn new(op: ToneMap, stats: &LuminanceStats) -> Self {
         match op {
-            ToneMap::Exposure { stops } => Self { scale: stops.exp2(), compress: false },
+            ToneMap::Exposure { stops } => Self { scale: stops.exp2(), compress: false, white: 0.0 },
             ToneMap::Reinhard { key } => {
                 let scale =
                     stats.log_average().filter(|a| *a > 0.0 && a.is_finite()).map_or(1.0, |a| key / a);
-                Self { scale, compress: true }
+                // Reinhard's eq. 4 with L_white the largest luminance: the brightest pixel maps
+                // to white, everything below keeps more contrast than with L / (1 + L).
+                let white = stats.max * scale;
+                Self { scale, compress: true, white: if white.is_finite() { white } else { 0.0 } }
             }
         }
     }
@@ -124,7 +136,8 @@ impl ToneMapper {
         let rgb = Vec3::select(rgb.cmpgt(Vec3::ZERO) & rgb.is_finite_mask(), rgb, Vec3::ZERO) * self.scale;
         let out = if self.compress {
             let l = luminance(rgb);
-            if l > 0.0 { rgb * (1.0 / (1.0 + l)) } else { Vec3::ZERO }
+            let burn = if self.white > 0.0 { 1.0 + l / (self.white * self.white) } else { 1.0 };
+            if l > 0.0 { rgb * (burn / (1.0 + l)) } else { Vec3::ZERO }
         } else {
             rgb
         };

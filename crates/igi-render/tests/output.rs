@@ -74,11 +74,21 @@ fn write_image_picks_the_format_from_the_extension() {
 
 #[test]
 fn reinhard_maps_the_log_average_to_the_key() {
-    // A uniform grey image: log-average = its luminance, so it maps to key / (1 + key).
-    let film = Film::from_pixels(4, 4, vec![Vec3::splat(3.7); 16]);
+    // Half the pixels at 1, half at 100: log-average 10 maps to the key 0.18 before the
+    // compression, the maximum 100 to L_white = 1.8 (eq. 4), which comes out white.
+    let mut px = vec![Vec3::ONE; 16];
+    px[8..].fill(Vec3::splat(100.0));
+    let film = Film::from_pixels(4, 4, px);
     let m = ToneMapper::for_film(ToneMap::Reinhard { key: 0.18 }, &film);
-    let v = m.map(Vec3::splat(3.7));
-    assert!((v.x - 0.18 / 1.18).abs() < 1e-5, "{v}");
+    assert!((m.scale - 0.018).abs() < 1e-6 && (m.white - 1.8).abs() < 1e-4, "{m:?}");
+    let v = m.map(Vec3::splat(10.0));
+    let want = 0.18 * (1.0 + 0.18 / (1.8 * 1.8)) / 1.18;
+    assert!((v.x - want).abs() < 1e-5, "{v} vs {want}");
+    assert!((m.map(Vec3::splat(100.0)).x - 1.0).abs() < 1e-5);
+    // A uniform image is its own maximum: it shows as white.
+    let uniform = Film::from_pixels(2, 2, vec![Vec3::splat(3.7); 4]);
+    let u = ToneMapper::for_film(ToneMap::Reinhard { key: 0.18 }, &uniform).map(Vec3::splat(3.7));
+    assert!((u.x - 1.0).abs() < 1e-5, "{u}");
     // Black pixels do not drag the average down.
     let mut px = vec![Vec3::splat(3.7); 16];
     px[..8].fill(Vec3::ZERO);

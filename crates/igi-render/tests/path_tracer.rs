@@ -21,7 +21,7 @@ fn frame(camera: Camera, width: u32, height: u32, seed: u32, tile_size: u32) -> 
     FrameState {
         camera,
         settings: IgiSettings { width, height, tile_size, ..IgiSettings::default() },
-        tone_map: ToneMapper { scale: 1.0, compress: false },
+        tone_map: ToneMapper::LINEAR,
         frame: 0,
         seed,
     }

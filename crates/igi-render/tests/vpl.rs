@@ -18,7 +18,7 @@ fn frame(seed: u32, vpls: u32) -> FrameState {
     FrameState {
         camera: camera(Vec3::new(0.0, 1.0, 3.5), Vec3::new(0.0, 1.0, 0.0), 39.3),
         settings: IgiSettings { vpls_per_pixel: vpls, interleave: [4, 4], ..IgiSettings::default() },
-        tone_map: ToneMapper { scale: 1.0, compress: false },
+        tone_map: ToneMapper::LINEAR,
         frame: 0,
         seed,
     }

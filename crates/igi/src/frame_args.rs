@@ -91,7 +91,7 @@ impl FrameArgs {
         Ok(FrameState {
             camera,
             settings,
-            tone_map: ToneMapper { scale: 1.0, compress: false },
+            tone_map: ToneMapper::LINEAR,
             frame: 0,
             seed: self.seed,
         })
