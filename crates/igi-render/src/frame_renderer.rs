@@ -80,9 +80,12 @@ impl FrameRenderer {
         let s = &frame.settings;
         let grid = TileGrid::new(s.width, s.height, s.tile_size);
         let pipeline = TilePipeline::new(scene, frame, &vpls);
-        let tiles = self.scheduler.run(&grid, TileScratch::default, |scratch, tile| {
-            pipeline.render_tile(tile, scratch)
-        }, progress);
+        let tiles = self.scheduler.run(
+            &grid,
+            TileScratch::default,
+            |scratch, tile| pipeline.render_tile(tile, scratch),
+            progress,
+        );
 
         let mut film = Film::new(s.width, s.height);
         let mut srgb8 = vec![0u8; 3 * s.width as usize * s.height as usize];
@@ -100,7 +103,16 @@ impl FrameRenderer {
             times += t.times;
         }
         let vpl_count = (0..vpls.set_count()).map(|set| vpls.set(set).len()).sum();
-        Ok(FrameOutput { film, srgb8, stats, rays, times, elapsed: start.elapsed(), vpls: vpl_count, frames: 1 })
+        Ok(FrameOutput {
+            film,
+            srgb8,
+            stats,
+            rays,
+            times,
+            elapsed: start.elapsed(),
+            vpls: vpl_count,
+            frames: 1,
+        })
     }
 
     /// The average of `frames` frames from `frame` on (frame numbers `frame.frame`,
@@ -135,7 +147,11 @@ impl FrameRenderer {
             out.vpls += one.vpls;
         }
         let scale = 1.0 / frames as f32;
-        let film = Film::from_pixels(f.settings.width, f.settings.height, sum.into_iter().map(|p| p * scale).collect());
+        let film = Film::from_pixels(
+            f.settings.width,
+            f.settings.height,
+            sum.into_iter().map(|p| p * scale).collect(),
+        );
         out.stats = LuminanceStats::of_pixels(film.pixels());
         out.srgb8 = crate::output::to_srgb8(&film, &frame.tone_map);
         out.film = film;

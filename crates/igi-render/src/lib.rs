@@ -60,10 +60,10 @@ pub mod vpl_lighting;
 
 pub use camera::{PinholeCamera, default_camera};
 pub use film::Film;
-pub use output::{OutputError, write_exr, write_image, write_png};
-pub use prepared::{PreparedScene, SurfacePoint};
 pub use frame::{FrameState, IgiSettings};
 pub use frame_renderer::{FrameOutput, FrameRenderer};
+pub use output::{OutputError, write_exr, write_image, write_png};
+pub use prepared::{PreparedScene, SurfacePoint};
 pub use stats::{Phase, PhaseTimes, RayCounts};
 pub use tile::{Tile, TileGrid};
 pub use tonemap::{ToneMap, ToneMapper};

@@ -43,11 +43,15 @@ impl Scattering {
         match material.kind {
             MaterialKind::Plastic => Self::Diffuse { albedo },
             MaterialKind::Mirror => Self::Mirror {
-                reflectance: if material.specular.max_element() > 0.0 { material.specular } else { Vec3::ONE },
+                reflectance: if material.specular.max_element() > 0.0 {
+                    material.specular
+                } else {
+                    Vec3::ONE
+                },
             },
-            MaterialKind::Glass => {
-                Self::Glass { ior: if material.ior > 0.0 && material.ior != 1.0 { material.ior } else { 1.5 } }
-            }
+            MaterialKind::Glass => Self::Glass {
+                ior: if material.ior > 0.0 && material.ior != 1.0 { material.ior } else { 1.5 },
+            },
         }
     }
 
@@ -148,8 +152,11 @@ pub fn concentric_disc(u: Vec2) -> Vec2 {
     if o == Vec2::ZERO {
         return Vec2::ZERO;
     }
-    let (r, theta) =
-        if o.x.abs() > o.y.abs() { (o.x, PI / 4.0 * (o.y / o.x)) } else { (o.y, PI / 2.0 - PI / 4.0 * (o.x / o.y)) };
+    let (r, theta) = if o.x.abs() > o.y.abs() {
+        (o.x, PI / 4.0 * (o.y / o.x))
+    } else {
+        (o.y, PI / 2.0 - PI / 4.0 * (o.x / o.y))
+    };
     r * Vec2::new(theta.cos(), theta.sin())
 }
 

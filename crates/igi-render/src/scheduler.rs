@@ -80,10 +80,15 @@ mod tests {
         for threads in [1, 3] {
             let scheduler = TileScheduler::new(threads);
             assert_eq!(scheduler.threads(), threads);
-            let out = scheduler.run(&grid, || 0u32, |n, t| {
-                *n += 1;
-                t.index
-            }, &|_, _| {});
+            let out = scheduler.run(
+                &grid,
+                || 0u32,
+                |n, t| {
+                    *n += 1;
+                    t.index
+                },
+                &|_, _| {},
+            );
             assert_eq!(out, (0..grid.len()).collect::<Vec<_>>());
         }
     }

@@ -174,7 +174,14 @@ impl<'a> TilePipeline<'a> {
     }
 
     /// Step 1: the camera rays of sample `sample` of the pixels of `set`, packet by packet.
-    fn trace_primary(&self, region: &Region, set: u32, sample: u32, s: &mut TileScratch, rays: &mut RayCounts) {
+    fn trace_primary(
+        &self,
+        region: &Region,
+        set: u32,
+        sample: u32,
+        s: &mut TileScratch,
+        rays: &mut RayCounts,
+    ) {
         s.packets.clear();
         let accel = self.scene.accel();
         self.interleave.packets(region, set, |lanes| {
@@ -206,14 +213,8 @@ impl<'a> TilePipeline<'a> {
                 if hit_bits & (1 << lane) == 0 {
                     continue;
                 }
-                let state = PathState {
-                    pixel,
-                    sample,
-                    path: 1,
-                    throughput: Vec3::ONE,
-                    depth: 0.0,
-                    bounces: 0,
-                };
+                let state =
+                    PathState { pixel, sample, path: 1, throughput: Vec3::ONE, depth: 0.0, bounces: 0 };
                 self.shade_hit(&packet.ray(lane), &hits.hit(lane), state, s);
             }
         }
@@ -258,8 +259,11 @@ impl<'a> TilePipeline<'a> {
         let scene = self.scene;
         let sp = scene.surface(hit);
         let front = sp.geometric_normal.dot(ray.dir) < 0.0;
-        let (ng, ns) =
-            if front { (sp.geometric_normal, sp.shading_normal) } else { (-sp.geometric_normal, -sp.shading_normal) };
+        let (ng, ns) = if front {
+            (sp.geometric_normal, sp.shading_normal)
+        } else {
+            (-sp.geometric_normal, -sp.shading_normal)
+        };
         let material = &scene.materials()[sp.material as usize];
         if front && material.is_emissive() {
             s.emitted[(state.pixel * self.interleave.aa + state.sample) as usize] +=
@@ -288,7 +292,15 @@ impl<'a> TilePipeline<'a> {
                 // below the surface ends the path (as in the VPL walk and the path tracer).
                 let dir = reflect(ray.dir, ns);
                 if dir.dot(ng) > 0.0 {
-                    self.continue_path(state, 0, reflectance, depth, offset_ray_origin(sp.position, ng), dir, s);
+                    self.continue_path(
+                        state,
+                        0,
+                        reflectance,
+                        depth,
+                        offset_ray_origin(sp.position, ng),
+                        dir,
+                        s,
+                    );
                 }
             }
             Scattering::Glass { ior } => {
@@ -296,7 +308,15 @@ impl<'a> TilePipeline<'a> {
                 let n = interface.normal;
                 let f = interface.reflectance;
                 let reflected = reflect(ray.dir, n);
-                self.continue_path(state, 0, Vec3::splat(f), depth, offset_ray_origin(sp.position, n), reflected, s);
+                self.continue_path(
+                    state,
+                    0,
+                    Vec3::splat(f),
+                    depth,
+                    offset_ray_origin(sp.position, n),
+                    reflected,
+                    s,
+                );
                 if let Some(t) = refract(ray.dir, n, interface.eta) {
                     let origin = offset_ray_origin(sp.position, -n);
                     self.continue_path(state, 1, Vec3::splat(1.0 - f), depth, origin, t, s);

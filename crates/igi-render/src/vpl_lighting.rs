@@ -151,7 +151,8 @@ impl Receivers {
                     continue;
                 }
                 let g = cos_x * cos_y / dist2.max(d_min2);
-                let packet = RayPacket8 { origin, dir: wi, tnear: zero, tfar: dist * F32x8::splat(SHADOW_SHORTEN) };
+                let packet =
+                    RayPacket8 { origin, dir: wi, tnear: zero, tfar: dist * F32x8::splat(SHADOW_SHORTEN) };
                 let lit = unoccluded(accel, &packet, valid, counts);
                 accumulate(acc, F32x8::select(lit, g, zero), colour);
             }
@@ -175,7 +176,13 @@ impl Receivers {
                         let axis = Vec3x8::splat(direction.normalize_or_zero().to_array());
                         let cos_half = F32x8::splat((0.5 * angle_deg.to_radians()).cos());
                         let inside = (-axis.dot(wi)).ge(cos_half);
-                        (wi, dist, F32x8::splat(1.0) / dist2, intensity * FRAC_1_PI, active & inside & dist2.gt(zero))
+                        (
+                            wi,
+                            dist,
+                            F32x8::splat(1.0) / dist2,
+                            intensity * FRAC_1_PI,
+                            active & inside & dist2.gt(zero),
+                        )
                     }
                     Light::Directional { direction, irradiance } => {
                         let dir = -direction.normalize_or_zero();
@@ -191,7 +198,8 @@ impl Receivers {
                 if valid.none() {
                     continue;
                 }
-                let packet = RayPacket8 { origin, dir: wi, tnear: zero, tfar: tfar * F32x8::splat(SHADOW_SHORTEN) };
+                let packet =
+                    RayPacket8 { origin, dir: wi, tnear: zero, tfar: tfar * F32x8::splat(SHADOW_SHORTEN) };
                 let lit = unoccluded(accel, &packet, valid, counts);
                 accumulate(acc, F32x8::select(lit, cos_x * g, zero), colour);
             }

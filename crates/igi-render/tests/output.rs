@@ -65,7 +65,8 @@ fn write_image_picks_the_format_from_the_extension() {
     let film = test_film();
     assert_eq!(ImageFormat::from_path("a.PNG".as_ref()).unwrap(), ImageFormat::Png);
     assert_eq!(ImageFormat::from_path("a.exr".as_ref()).unwrap(), ImageFormat::Exr);
-    let err = write_image(&film, &tmp("bad.jpg"), &ToneMapper::for_film(ToneMap::default(), &film)).unwrap_err();
+    let err =
+        write_image(&film, &tmp("bad.jpg"), &ToneMapper::for_film(ToneMap::default(), &film)).unwrap_err();
     assert!(err.to_string().contains("bad.jpg"), "{err}");
     let path = tmp("pick.exr");
     write_image(&film, &path, &ToneMapper::for_film(ToneMap::default(), &film)).unwrap();

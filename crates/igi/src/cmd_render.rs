@@ -81,7 +81,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             (out.film, out.stats, summary)
         }
         Mode::Path => {
-            let (film, rays) = render_path_traced(&prepared, &frame, args.spp, renderer.scheduler(), &progress);
+            let (film, rays) =
+                render_path_traced(&prepared, &frame, args.spp, renderer.scheduler(), &progress);
             let elapsed = start.elapsed().as_secs_f64();
             let summary = format!(
                 "path tracer, {} spp: {:.2} M rays, {:.1} Mrays/s",

@@ -88,13 +88,7 @@ impl FrameArgs {
             reseed_per_frame: false,
         };
         settings.validate()?;
-        Ok(FrameState {
-            camera,
-            settings,
-            tone_map: ToneMapper::LINEAR,
-            frame: 0,
-            seed: self.seed,
-        })
+        Ok(FrameState { camera, settings, tone_map: ToneMapper::LINEAR, frame: 0, seed: self.seed })
     }
 }
 

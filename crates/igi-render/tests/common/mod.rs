@@ -53,3 +53,64 @@ pub fn camera(position: Vec3, target: Vec3, fov_y_deg: f32) -> Camera {
 pub fn rel_err(got: Vec3, want: Vec3) -> f32 {
     ((got - want).abs() / want.abs().max(Vec3::splat(1e-12))).max_element()
 }
+
+// ---- Helpers of the IGI renderer tests (tests/igi_*.rs). ----
+
+/// The IGI frame of the brief: `width` × `height`, default settings (12 VPLs per pixel, 3 × 3
+/// interleave, aa 4, filter on, tile 32) but clamp 0 (unbiased), linear tone map, frame 0,
+/// seed 0.
+pub fn igi_frame(camera: Camera, width: u32, height: u32) -> igi_render::FrameState {
+    igi_render::FrameState {
+        camera,
+        settings: igi_render::IgiSettings { width, height, clamp: 0.0, ..igi_render::IgiSettings::default() },
+        tone_map: igi_render::ToneMapper::LINEAR,
+        frame: 0,
+        seed: 0,
+    }
+}
+
+/// The quad `p` wound so that its normal points toward `toward`.
+pub fn quad_facing(name: &str, p: [Vec3; 4], toward: Vec3, material: u32) -> Mesh {
+    let n = (p[1] - p[0]).cross(p[2] - p[0]);
+    let centre = 0.25 * (p[0] + p[1] + p[2] + p[3]);
+    if n.dot(toward - centre) > 0.0 {
+        quad(name, p, material)
+    } else {
+        quad(name, [p[0], p[3], p[2], p[1]], material)
+    }
+}
+
+/// The six faces of the box `centre ± half`, wound to face inward (`inward`) or outward.
+pub fn box_faces(centre: Vec3, half: Vec3, inward: bool, material: u32) -> Vec<Mesh> {
+    let mut faces = Vec::new();
+    for axis in 0..3 {
+        for sign in [-1.0f32, 1.0] {
+            let corner = |a: f32, b: f32| {
+                let mut c = [0.0; 3];
+                c[axis] = sign;
+                c[(axis + 1) % 3] = a;
+                c[(axis + 2) % 3] = b;
+                centre + Vec3::from(c) * half
+            };
+            let p = [corner(-1.0, -1.0), corner(1.0, -1.0), corner(1.0, 1.0), corner(-1.0, 1.0)];
+            let face_centre = 0.25 * (p[0] + p[1] + p[2] + p[3]);
+            let toward = if inward { centre } else { 2.0 * face_centre - centre };
+            faces.push(quad_facing("face", p, toward, material));
+        }
+    }
+    faces
+}
+
+/// Mean of a film's pixels, accumulated in f64.
+pub fn film_mean(film: &igi_render::Film) -> Vec3 {
+    let sum = film.pixels().iter().fold([0.0f64; 3], |acc, p| {
+        [acc[0] + f64::from(p.x), acc[1] + f64::from(p.y), acc[2] + f64::from(p.z)]
+    });
+    let n = film.pixels().len().max(1) as f64;
+    Vec3::new((sum[0] / n) as f32, (sum[1] / n) as f32, (sum[2] / n) as f32)
+}
+
+/// A film's pixels as raw bits, for bit-for-bit comparisons.
+pub fn film_bits(film: &igi_render::Film) -> Vec<[u32; 3]> {
+    film.pixels().iter().map(|p| p.to_array().map(f32::to_bits)).collect()
+}
