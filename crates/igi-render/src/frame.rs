@@ -188,10 +188,39 @@ pub struct FrameState {
     pub seed: u32,
 }
 
+/// Where a frame's samples lie in an Owen-scrambled Sobol sequence: the scramble seed and the
+/// index of the frame's first sample.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SequenceSpan {
+    /// Scramble seed.
+    pub seed: u32,
+    /// Index of the frame's first sample.
+    pub first: u32,
+}
+
 impl FrameState {
-    /// The seed this frame's VPLs and pixel sample patterns derive from: the base seed, mixed
-    /// with the frame number if `reseed_per_frame` is set.
+    /// The seed this frame's samples derive from: the base seed, mixed with the frame number if
+    /// `reseed_per_frame` is set.
     pub fn sample_seed(&self) -> u32 {
         if self.settings.reseed_per_frame { hash_combine(self.seed, self.frame) } else { self.seed }
+    }
+
+    /// The part of a sample sequence this frame uses when each frame takes `per_frame`
+    /// samples of it. Without `reseed_per_frame` every frame takes the first ones (a still
+    /// scene does not flicker). With it, consecutive frames take consecutive blocks of one
+    /// sequence, so an average over frames keeps the stratification of the Sobol points
+    /// instead of averaging independent sets; the scramble changes only when a sequence of
+    /// [`MAX_SAMPLES`](crate::sampling::MAX_SAMPLES) points is used up.
+    pub fn sequence(&self, per_frame: u32) -> SequenceSpan {
+        if !self.settings.reseed_per_frame {
+            return SequenceSpan { seed: self.seed, first: 0 };
+        }
+        let per_frame = per_frame.clamp(1, crate::sampling::MAX_SAMPLES);
+        let frames_per_sequence = crate::sampling::MAX_SAMPLES / per_frame;
+        let epoch = self.frame / frames_per_sequence;
+        SequenceSpan {
+            seed: hash_combine(self.seed, epoch),
+            first: (self.frame % frames_per_sequence) * per_frame,
+        }
     }
 }

@@ -107,15 +107,16 @@ impl Interleave {
         }
     }
 
-    /// Where sample `j` of pixel `(x, y)` lies in the pixel, as offsets in [0, 1)² from its
-    /// top-left corner: the centre for a single sample, else point j of an Owen-scrambled
-    /// Sobol sequence seeded by the pixel and the frame seed (stratified within the pixel).
+    /// Where sample `index` of pixel `(x, y)` lies in the pixel, as offsets in [0, 1)² from its
+    /// top-left corner: the centre if `centre` (one sample per pixel in a still frame), else
+    /// point `index` of an Owen-scrambled Sobol sequence seeded by the pixel and `seed`
+    /// (stratified within the pixel; see [`crate::frame::FrameState::sequence`] for the index).
     #[inline]
-    pub fn sample_offset(&self, x: u32, y: u32, j: u32, seed: u32) -> (f32, f32) {
-        if self.aa == 1 {
+    pub fn sample_offset(&self, x: u32, y: u32, index: u32, seed: u32, centre: bool) -> (f32, f32) {
+        if centre {
             return (0.5, 0.5);
         }
-        let [u, v, _, _] = sobol4(j, 0, pixel_seed(x, y, seed));
+        let [u, v, _, _] = sobol4(index, 0, pixel_seed(x, y, seed));
         (u, v)
     }
 

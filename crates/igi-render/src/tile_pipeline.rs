@@ -21,7 +21,7 @@
 
 use crate::camera::PinholeCamera;
 use crate::discontinuity::{DiscontinuityBuffer, FilterSample};
-use crate::frame::{FilterSettings, FrameState};
+use crate::frame::{FilterSettings, FrameState, SequenceSpan};
 use crate::interleave::{Interleave, Region};
 use crate::prepared::PreparedScene;
 use crate::scattering::{Interface, Scattering, reflect, refract};
@@ -112,7 +112,9 @@ pub struct TilePipeline<'a> {
     vpls: &'a VplSets,
     interleave: Interleave,
     camera: PinholeCamera,
-    seed: u32,
+    sequence: SequenceSpan,
+    /// One ray through each pixel centre (one sample per pixel, no reseeding).
+    pixel_centres: bool,
     d_min2: f32,
     filter: Option<FilterSettings>,
     specular_depth: u32,
@@ -129,7 +131,8 @@ impl<'a> TilePipeline<'a> {
             vpls,
             interleave: Interleave::of(s),
             camera: PinholeCamera::new(&frame.camera, s.width, s.height),
-            seed: frame.sample_seed(),
+            sequence: frame.sequence(s.aa),
+            pixel_centres: s.aa == 1 && !s.reseed_per_frame,
             d_min2: s.clamp * s.clamp,
             filter: s.filter,
             specular_depth: s.specular_depth,
@@ -188,7 +191,13 @@ impl<'a> TilePipeline<'a> {
             let mut batch = [Ray::new(self.camera.origin, self.camera.forward); 8];
             let mut pixels = [0u32; 8];
             for (lane, &(x, y)) in lanes.iter().enumerate() {
-                let (dx, dy) = self.interleave.sample_offset(x, y, sample, self.seed);
+                let (dx, dy) = self.interleave.sample_offset(
+                    x,
+                    y,
+                    self.sequence.first + sample,
+                    self.sequence.seed,
+                    self.pixel_centres,
+                );
                 batch[lane] = self.camera.ray_at(x, y, dx, dy);
                 pixels[lane] = region.index(x, y) as u32;
             }

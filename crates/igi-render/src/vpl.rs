@@ -60,9 +60,12 @@
 //!
 //! # Sampling
 //!
-//! Each set is an independent randomized quasi-Monte Carlo estimate: path k of set s uses
-//! sample k of the Owen-scrambled Sobol sequence ([`sobol4`]) whose scramble seed is
-//! `hash_combine(hash_combine(frame.sample_seed(), VPL_STREAM), s)`. Its 4D dimension sets are
+//! The sets of a frame are consecutive blocks of one Owen-scrambled Sobol sequence
+//! ([`sobol4`]): path k of set s is sample `first + s·P + k`, with the scramble seed
+//! `hash_combine(span.seed, VPL_STREAM)` and `span = frame.sequence(S·P)`. Each set is then a
+//! randomized quasi-Monte Carlo estimate on its own, the S sets that the filter combines are
+//! stratified together, and progressive frames continue the same sequence. Its 4D dimension
+//! sets are
 //! 0: light choice, triangle choice, point on the triangle or directional disc;
 //! 1: emission direction; 2 + b: roulette or Fresnel choice and direction at surface
 //! interaction b. Sets run in parallel and are returned in set order, so the VPLs depend only
@@ -167,7 +170,9 @@ impl VplSets {
         let expected_vpls_per_path = emitters.pilot();
         let light_count = u32::try_from(lights.len()).unwrap_or(u32::MAX);
         let target = frame.settings.vpls_per_pixel.saturating_sub(light_count).max(1);
-        let max_paths = target.saturating_mul(MAX_PATHS_PER_TARGET).min(MAX_SAMPLES);
+        // All sets of a frame share one Sobol sequence, so P times the set count must fit in it.
+        let max_paths =
+            target.saturating_mul(MAX_PATHS_PER_TARGET).min(MAX_SAMPLES / frame.settings.set_count().max(1));
         let paths_per_set = if expected_vpls_per_path > 0.0 {
             // The float-to-int cast saturates; the clamp keeps at least one path.
             ((target as f32 / expected_vpls_per_path).round() as u32).clamp(1, max_paths)
@@ -175,15 +180,17 @@ impl VplSets {
             max_paths
         };
 
-        let seed = hash_combine(frame.sample_seed(), VPL_STREAM);
+        let set_count = frame.settings.set_count();
+        let span = frame.sequence(paths_per_set.saturating_mul(set_count));
+        let seed = hash_combine(span.seed, VPL_STREAM);
         let capacity = (paths_per_set as f32 * expected_vpls_per_path * 1.25) as usize + 8;
-        let sets = (0..frame.settings.set_count())
+        let sets = (0..set_count)
             .into_par_iter()
             .map(|s| {
                 let mut vpls = Vec::with_capacity(capacity);
-                let set_seed = hash_combine(seed, s);
-                for k in 0..paths_per_set {
-                    emitters.trace_path(k, set_seed, paths_per_set, &mut vpls);
+                let first = span.first + s * paths_per_set;
+                for k in first..first + paths_per_set {
+                    emitters.trace_path(k, seed, paths_per_set, &mut vpls);
                 }
                 vpls
             })
