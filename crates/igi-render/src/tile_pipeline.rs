@@ -84,6 +84,23 @@ struct ShadingPoint {
     irradiance: Vec3,
 }
 
+/// A traced primary packet: directions, hits and pixels per lane, occupied lanes.
+#[derive(Clone, Copy, Debug)]
+struct PrimaryPacket {
+    dirs: [Vec3; 8],
+    hits: [Hit; 8],
+    pixels: [u32; 8],
+    bits: u32,
+}
+
+/// The hits of a packet as single records (one store per field instead of one per lane and
+/// field).
+fn unpack_hits(h: &HitPacket8) -> [Hit; 8] {
+    let (t, u, v) = (h.t.to_array(), h.u.to_array(), h.v.to_array());
+    let (instance, prim) = (h.instance.to_array(), h.prim.to_array());
+    std::array::from_fn(|i| Hit { t: t[i], u: u[i], v: v[i], instance: instance[i] as u32, prim: prim[i] as u32 })
+}
+
 /// A ray of the specular stream.
 #[derive(Clone, Copy, Debug)]
 struct SpecularRay {
@@ -96,7 +113,7 @@ struct SpecularRay {
 pub struct TileScratch {
     emitted: Vec<Vec3>,
     points: Vec<ShadingPoint>,
-    packets: Vec<(RayPacket8, HitPacket8, [u32; 8], u32)>,
+    packets: Vec<PrimaryPacket>,
     stream: Vec<SpecularRay>,
     next_stream: Vec<SpecularRay>,
     receivers: Receivers,
@@ -187,7 +204,9 @@ impl<'a> TilePipeline<'a> {
     ) {
         s.packets.clear();
         let accel = self.scene.accel();
+        let mut primary = 0u64;
         self.interleave.packets(region, set, |lanes| {
+            primary += lanes.len() as u64;
             let mut batch = [Ray::new(self.camera.origin, self.camera.forward); 8];
             let mut pixels = [0u32; 8];
             for (lane, &(x, y)) in lanes.iter().enumerate() {
@@ -208,23 +227,23 @@ impl<'a> TilePipeline<'a> {
             let bits = (1u32 << lanes.len()) - 1;
             let packet = RayPacket8::from_rays(&batch);
             let hits = accel.intersect8(&packet, M32x8::from_bitmask(bits));
-            s.packets.push((packet, hits, pixels, bits));
+            let bits = bits & hits.hit_mask().bitmask();
+            s.packets.push(PrimaryPacket { dirs: batch.map(|r| r.dir), hits: unpack_hits(&hits), pixels, bits });
         });
-        rays.primary += s.packets.iter().map(|p| u64::from(p.3.count_ones())).sum::<u64>();
+        rays.primary += primary;
     }
 
     /// Step 2: shading inputs of every primary hit.
     fn shade_primary(&self, sample: u32, s: &mut TileScratch) {
         let packets = std::mem::take(&mut s.packets);
-        for (packet, hits, pixels, bits) in &packets {
-            let hit_bits = hits.hit_mask().bitmask() & bits;
-            for (lane, &pixel) in pixels.iter().enumerate() {
-                if hit_bits & (1 << lane) == 0 {
+        for p in &packets {
+            for (lane, &pixel) in p.pixels.iter().enumerate() {
+                if p.bits & (1 << lane) == 0 {
                     continue;
                 }
                 let state =
                     PathState { pixel, sample, path: 1, throughput: Vec3::ONE, depth: 0.0, bounces: 0 };
-                self.shade_hit(&packet.ray(lane), &hits.hit(lane), state, s);
+                self.shade_hit(p.dirs[lane], &p.hits[lane], state, s);
             }
         }
         s.packets = packets;
@@ -248,11 +267,10 @@ impl<'a> TilePipeline<'a> {
                 let bits = (1u32 << chunk.len()) - 1;
                 rays.specular += u64::from(bits.count_ones());
                 let packet = RayPacket8::from_rays(&batch);
-                let hits = accel.intersect8(&packet, M32x8::from_bitmask(bits));
-                for (lane, r) in chunk.iter().enumerate() {
-                    let hit = hits.hit(lane);
+                let hits = unpack_hits(&accel.intersect8(&packet, M32x8::from_bitmask(bits)));
+                for (r, hit) in chunk.iter().zip(&hits) {
                     if hit.is_hit() {
-                        self.shade_hit(&r.ray, &hit, r.state, s);
+                        self.shade_hit(r.ray.dir, hit, r.state, s);
                     }
                 }
             }
@@ -264,10 +282,10 @@ impl<'a> TilePipeline<'a> {
     /// Shading inputs at `hit` of `ray` (unit direction): emission seen, a shading point for a
     /// diffuse surface, or the reflection and refraction rays of a specular one (into the
     /// next stream).
-    fn shade_hit(&self, ray: &Ray, hit: &Hit, state: PathState, s: &mut TileScratch) {
+    fn shade_hit(&self, dir: Vec3, hit: &Hit, state: PathState, s: &mut TileScratch) {
         let scene = self.scene;
         let sp = scene.surface(hit);
-        let front = sp.geometric_normal.dot(ray.dir) < 0.0;
+        let front = sp.geometric_normal.dot(dir) < 0.0;
         let (ng, ns) = if front {
             (sp.geometric_normal, sp.shading_normal)
         } else {
@@ -299,7 +317,7 @@ impl<'a> TilePipeline<'a> {
             Scattering::Mirror { reflectance } => {
                 // About the shading normal; a reflection that an interpolated normal sends
                 // below the surface ends the path (as in the VPL walk and the path tracer).
-                let dir = reflect(ray.dir, ns);
+                let dir = reflect(dir, ns);
                 if dir.dot(ng) > 0.0 {
                     self.continue_path(
                         state,
@@ -313,10 +331,10 @@ impl<'a> TilePipeline<'a> {
                 }
             }
             Scattering::Glass { ior } => {
-                let interface = Interface::new(ray.dir, sp.geometric_normal, ior);
+                let interface = Interface::new(dir, sp.geometric_normal, ior);
                 let n = interface.normal;
                 let f = interface.reflectance;
-                let reflected = reflect(ray.dir, n);
+                let reflected = reflect(dir, n);
                 self.continue_path(
                     state,
                     0,
@@ -326,7 +344,7 @@ impl<'a> TilePipeline<'a> {
                     reflected,
                     s,
                 );
-                if let Some(t) = refract(ray.dir, n, interface.eta) {
+                if let Some(t) = refract(dir, n, interface.eta) {
                     let origin = offset_ray_origin(sp.position, -n);
                     self.continue_path(state, 1, Vec3::splat(1.0 - f), depth, origin, t, s);
                 }
