@@ -35,14 +35,27 @@ pub struct FilterSample {
     pub irradiance: Vec3,
 }
 
+/// What the filter reads of a shading point, stored in a pixel grid per layer so that the
+/// neighbours of a pixel lie next to each other in memory.
+#[derive(Clone, Copy, Debug)]
+struct Cell {
+    normal: Vec3,
+    depth: f32,
+    irradiance: Vec3,
+    /// Material index, or [`EMPTY`] if the layer has no point at this pixel.
+    material: u32,
+}
+
 /// No shading point at this pixel in this layer.
 const EMPTY: u32 = u32::MAX;
+
+const EMPTY_CELL: Cell = Cell { normal: Vec3::ZERO, depth: 0.0, irradiance: Vec3::ZERO, material: EMPTY };
 
 /// Scratch space of the filter: one pixel grid per (sample, path) layer, reused across tiles.
 #[derive(Clone, Debug, Default)]
 pub struct DiscontinuityBuffer {
     keys: Vec<(u32, u32)>,
-    grids: Vec<Vec<u32>>,
+    grids: Vec<Vec<Cell>>,
     /// Layer of each point.
     layers: Vec<u32>,
 }
@@ -71,19 +84,16 @@ impl DiscontinuityBuffer {
                 continue;
             }
             let grid = &self.grids[self.layers[i] as usize];
+            let (x0, x1) = (x.saturating_sub(left), (x + right).min(region.x1 - 1));
             let mut sum = Vec3::ZERO;
             let mut count = 0u32;
             for qy in y.saturating_sub(up)..=(y + down).min(region.y1 - 1) {
-                for qx in x.saturating_sub(left)..=(x + right).min(region.x1 - 1) {
-                    let q = grid[region.index(qx, qy)];
-                    if q == EMPTY {
-                        continue;
-                    }
+                let row = region.index(x0, qy)..=region.index(x1, qy);
+                for (qx, q) in (x0..).zip(&grid[row]) {
                     // The centre always counts (a normal's dot product with itself can round
                     // below a threshold of 1), so count ≥ 1.
-                    let qp = &points[q as usize];
-                    if q as usize == i || similar(p, qp, settings) {
-                        sum += qp.irradiance;
+                    if (qx == x && qy == y) || similar(p, q, settings) {
+                        sum += q.irradiance;
                         count += 1;
                     }
                 }
@@ -92,12 +102,12 @@ impl DiscontinuityBuffer {
         }
     }
 
-    /// Builds one pixel grid per (sample, path) layer pointing at the points.
+    /// Builds one pixel grid per (sample, path) layer holding the points.
     fn index(&mut self, region: &Region, points: &[FilterSample]) {
         self.keys.clear();
         self.layers.clear();
         let mut last: Option<((u32, u32), u32)> = None;
-        for (i, p) in points.iter().enumerate() {
+        for p in points {
             let key = (p.sample, p.path);
             // Points come in runs of one layer: look the key up only when it changes.
             let layer = match last {
@@ -111,21 +121,23 @@ impl DiscontinuityBuffer {
                         }
                         let grid = &mut self.grids[self.keys.len() - 1];
                         grid.clear();
-                        grid.resize(region.len(), EMPTY);
+                        grid.resize(region.len(), EMPTY_CELL);
                         (self.keys.len() - 1) as u32
                     }
                 },
             };
             last = Some((key, layer));
             self.layers.push(layer);
-            self.grids[layer as usize][p.pixel as usize] = i as u32;
+            self.grids[layer as usize][p.pixel as usize] =
+                Cell { normal: p.normal, depth: p.depth, irradiance: p.irradiance, material: p.material };
         }
     }
 }
 
-/// The discontinuity test: same material, normals and path distances close enough.
+/// The discontinuity test: same material (an empty cell has none), normals and path
+/// distances close enough.
 #[inline]
-fn similar(a: &FilterSample, b: &FilterSample, settings: &FilterSettings) -> bool {
+fn similar(a: &FilterSample, b: &Cell, settings: &FilterSettings) -> bool {
     a.material == b.material
         && a.normal.dot(b.normal) >= settings.min_normal_cos
         && (a.depth - b.depth).abs() <= settings.max_depth_ratio * a.depth

@@ -98,7 +98,13 @@ struct PrimaryPacket {
 fn unpack_hits(h: &HitPacket8) -> [Hit; 8] {
     let (t, u, v) = (h.t.to_array(), h.u.to_array(), h.v.to_array());
     let (instance, prim) = (h.instance.to_array(), h.prim.to_array());
-    std::array::from_fn(|i| Hit { t: t[i], u: u[i], v: v[i], instance: instance[i] as u32, prim: prim[i] as u32 })
+    std::array::from_fn(|i| Hit {
+        t: t[i],
+        u: u[i],
+        v: v[i],
+        instance: instance[i] as u32,
+        prim: prim[i] as u32,
+    })
 }
 
 /// A ray of the specular stream.
@@ -228,7 +234,12 @@ impl<'a> TilePipeline<'a> {
             let packet = RayPacket8::from_rays(&batch);
             let hits = accel.intersect8(&packet, M32x8::from_bitmask(bits));
             let bits = bits & hits.hit_mask().bitmask();
-            s.packets.push(PrimaryPacket { dirs: batch.map(|r| r.dir), hits: unpack_hits(&hits), pixels, bits });
+            s.packets.push(PrimaryPacket {
+                dirs: batch.map(|r| r.dir),
+                hits: unpack_hits(&hits),
+                pixels,
+                bits,
+            });
         });
         rays.primary += primary;
     }
