@@ -98,6 +98,8 @@ pub mod limits {
     pub const MAX_SPECULAR_DEPTH: u32 = 16;
     /// Largest tile side.
     pub const MAX_TILE: u32 = 1024;
+    /// Largest number of tiles in a frame (each carries its own buffers).
+    pub const MAX_TILES: u64 = 1 << 20;
 }
 
 impl IgiSettings {
@@ -153,6 +155,18 @@ impl IgiSettings {
         }
         if !(1..=limits::MAX_TILE).contains(&self.tile_size) {
             return err("tile-size", format!("{} is not between 1 and {}", self.tile_size, limits::MAX_TILE));
+        }
+        let tiles =
+            u64::from(self.width.div_ceil(self.tile_size)) * u64::from(self.height.div_ceil(self.tile_size));
+        if tiles > limits::MAX_TILES {
+            return err(
+                "tile-size",
+                format!(
+                    "{} cuts the image into {tiles} tiles, more than {}",
+                    self.tile_size,
+                    limits::MAX_TILES
+                ),
+            );
         }
         if let Some(f) = self.filter {
             if !(-1.0..=1.0).contains(&f.min_normal_cos) {

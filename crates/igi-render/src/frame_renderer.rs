@@ -74,7 +74,7 @@ impl FrameRenderer {
         frame.settings.validate()?;
         let start = Instant::now();
         let mut times = PhaseTimes::default();
-        let vpls = VplSets::generate(scene, frame);
+        let vpls = self.scheduler.install(|| VplSets::generate(scene, frame));
         times.add(Phase::VplGeneration, start.elapsed());
 
         let s = &frame.settings;
@@ -135,7 +135,7 @@ impl FrameRenderer {
         let mut render_frame = |i: u32| {
             f.frame = frame.frame.wrapping_add(i);
             let done_before = per_frame.saturating_mul(i);
-            self.render(scene, &f, &|done, _| progress(done_before + done, total))
+            self.render(scene, &f, &|done, _| progress(done_before.saturating_add(done), total))
         };
         let mut out = render_frame(0)?;
         let mut sum: Vec<Vec3> = out.film.pixels().to_vec();

@@ -62,12 +62,11 @@
 //! # Normals
 //!
 //! Normals are turned toward the side the ray arrives from (two-sided reflection). Cosines,
-//! the cosine bounce and the mirror and Fresnel directions use the shading normal; the
+//! the cosine bounce and the mirror direction use the shading normal; the
 //! geometric normal decides sides: a light or scattered direction that would cross the
 //! geometric surface where it should not (possible where the shading normal is bent) counts
 //! nothing, and ray origins are moved off the surface along it ([`offset_ray_origin`]). Glass
-//! tells inside from outside by the shading normal, which always lies in the geometric
-//! normal's hemisphere.
+//! refracts about the geometric normal, as in the VPL walk and the IGI pipeline.
 //!
 //! # Random numbers
 //!
@@ -393,9 +392,9 @@ impl Side {
 /// reflection, where F = 1). `None` if the direction falls on the wrong side of the geometric
 /// surface (a bent shading normal).
 fn glass(s: &SurfacePoint, d: Vec3, ior: f32, lobe: f32) -> Option<Ray> {
-    // Inside and outside follow the shading normal, so a smooth-shaded glass object refracts
-    // smoothly.
-    let interface = Interface::new(d, s.shading_normal, ior);
+    // The geometric normal, as in the VPL walk and the IGI camera paths (so all three estimate
+    // the same glass; smooth-shaded glass refracts facet by facet).
+    let interface = Interface::new(d, s.geometric_normal, ior);
     let arriving = if s.geometric_normal.dot(d) < 0.0 { s.geometric_normal } else { -s.geometric_normal };
     let refracted =
         if lobe < interface.reflectance { None } else { refract(d, interface.normal, interface.eta) };

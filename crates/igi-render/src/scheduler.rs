@@ -28,6 +28,12 @@ impl TileScheduler {
         Self { pool }
     }
 
+    /// Runs `f` on the calling thread with the scheduler's threads as the pool of any rayon
+    /// work inside it (so `--threads` bounds every phase of a frame).
+    pub fn install<R: Send>(&self, f: impl FnOnce() -> R + Send) -> R {
+        self.pool.install(f)
+    }
+
     /// Number of worker threads.
     pub fn threads(&self) -> usize {
         self.pool.current_num_threads()

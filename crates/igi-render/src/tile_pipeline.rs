@@ -14,7 +14,9 @@
 //! Specular rays run before the shadow phase (not after it, as in a Whitted tracer) so that
 //! every shading point of the group, seen directly or through glass, is lit in one pass over
 //! the VPLs while their data is hot. Then the tile is filtered ([`crate::discontinuity`]) and
-//! composed: pixel = 1/N Σ_samples (emission seen + Σ_points throughput · albedo · D̃).
+//! composed: pixel = 1/N Σ_samples (emission seen + Σ_points throughput · albedo · (D̃ + D_l)),
+//! where D̃ is the filtered VPL term and D_l the exact light of point, spot and directional
+//! lights, which the filter leaves alone so their shadow edges stay sharp.
 //!
 //! Every value depends only on the scene, the [`FrameState`] and the pixel, and the apron
 //! pixels are computed exactly as in their own tile, so a tiled image equals an untiled one.
@@ -34,6 +36,15 @@ use glam::Vec3;
 use igi_bvh::{Hit, HitPacket8, Ray, RayPacket8, offset_ray_origin};
 use igi_simd::M32x8;
 use std::time::Instant;
+
+/// Specular chains carrying less than this (per channel, relative to the camera ray) end: glass
+/// splits every ray in two, and without a floor the branches of weak internal reflections
+/// would grow as 2^depth. Two glass reflections (0.04² at normal incidence) still pass.
+const MIN_SPECULAR_THROUGHPUT: f32 = 1e-3;
+
+/// Largest number of rays in one bounce of a group's specular stream (a memory bound for
+/// pathological scenes; ordinary mirrors and glass stay far below it).
+const MAX_SPECULAR_STREAM: usize = 1 << 18;
 
 /// A finished tile: linear radiance and what it cost.
 #[derive(Clone, Debug)]
@@ -81,7 +92,11 @@ struct ShadingPoint {
     depth: f32,
     material: u32,
     albedo: Vec3,
+    /// D = E/π from the VPLs (filtered).
     irradiance: Vec3,
+    /// D = E/π from point, spot and directional lights: exact, so never filtered (their
+    /// shadow edges stay sharp).
+    exact: Vec3,
 }
 
 /// A traced primary packet: directions, hits and pixels per lane, occupied lanes.
@@ -321,6 +336,7 @@ impl<'a> TilePipeline<'a> {
                         material: sp.material,
                         albedo,
                         irradiance: Vec3::ZERO,
+                        exact: Vec3::ZERO,
                     });
                 }
             }
@@ -376,7 +392,10 @@ impl<'a> TilePipeline<'a> {
         s: &mut TileScratch,
     ) {
         let throughput = state.throughput * weight;
-        if throughput.max_element() <= 0.0 || !dir.is_finite() {
+        if throughput.max_element() < MIN_SPECULAR_THROUGHPUT
+            || !dir.is_finite()
+            || s.next_stream.len() >= MAX_SPECULAR_STREAM
+        {
             return;
         }
         s.next_stream.push(SpecularRay {
@@ -404,7 +423,13 @@ impl<'a> TilePipeline<'a> {
             receivers.push(p.origin, p.ns, p.ng);
         }
         let accel = self.scene.accel();
-        receivers.add_lights(accel, self.vpls.lights(), rays);
+        if !self.vpls.lights().is_empty() {
+            receivers.add_lights(accel, self.vpls.lights(), rays);
+            for (i, p) in points.iter_mut().enumerate() {
+                p.exact = receivers.irradiance(i);
+            }
+            receivers.reset_irradiance();
+        }
         let aa = self.interleave.aa as usize;
         let vpls = self.vpls.set(set).iter().skip(sample as usize).step_by(aa);
         receivers.add_vpls(accel, vpls, aa as f32, self.d_min2, rays);
@@ -447,7 +472,7 @@ impl<'a> TilePipeline<'a> {
         };
         for (p, d) in points.iter().zip(filtered.iter()) {
             if let Some(i) = tile_index(p.state.pixel) {
-                pixels[i] += p.state.throughput * p.albedo * *d;
+                pixels[i] += p.state.throughput * p.albedo * (*d + p.exact);
             }
         }
         let scale = 1.0 / aa as f32;

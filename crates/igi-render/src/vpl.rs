@@ -62,9 +62,10 @@
 //!
 //! The sets of a frame are consecutive blocks of one Owen-scrambled Sobol sequence
 //! ([`sobol4`]): path k of set s is sample `first + s·P + k`, with the scramble seed
-//! `hash_combine(span.seed, VPL_STREAM)` and `span = frame.sequence(S·P)`. Each set is then a
-//! randomized quasi-Monte Carlo estimate on its own, the S sets that the filter combines are
-//! stratified together, and progressive frames continue the same sequence. Its 4D dimension
+//! `hash_combine(span.seed, VPL_STREAM)` and `span = frame.sequence(S·P)`. Each set is then an
+//! unbiased randomized quasi-Monte Carlo estimate on its own (a stratified net when P is a
+//! power of two), the S sets that the filter combines are spread evenly together, and
+//! progressive frames continue the same sequence. Its 4D dimension
 //! sets are
 //! 0: light choice, triangle choice, point on the triangle or directional disc;
 //! 1: emission direction; 2 + b: roulette or Fresnel choice and direction at surface
@@ -175,7 +176,16 @@ impl VplSets {
             target.saturating_mul(MAX_PATHS_PER_TARGET).min(MAX_SAMPLES / frame.settings.set_count().max(1));
         let paths_per_set = if expected_vpls_per_path > 0.0 {
             // The float-to-int cast saturates; the clamp keeps at least one path.
-            ((target as f32 / expected_vpls_per_path).round() as u32).clamp(1, max_paths)
+            let wanted = (target as f32 / expected_vpls_per_path).round() as u32;
+            if wanted > max_paths {
+                tracing::warn!(
+                    "{} VPLs per pixel need {wanted} light paths per set; using {max_paths}, the most one \
+                     sequence of {MAX_SAMPLES} samples holds for {} sets",
+                    frame.settings.vpls_per_pixel,
+                    frame.settings.set_count()
+                );
+            }
+            wanted.clamp(1, max_paths)
         } else {
             max_paths
         };

@@ -111,6 +111,11 @@ impl Receivers {
         self.len += 1;
     }
 
+    /// Sets the accumulated D of every point back to zero (the points stay).
+    pub fn reset_irradiance(&mut self) {
+        self.irradiance.iter_mut().for_each(|d| *d = Vec3x8::splat([0.0; 3]));
+    }
+
     /// D = E/π accumulated at point `i` (in the order of [`Receivers::push`]).
     pub fn irradiance(&self, i: usize) -> Vec3 {
         Vec3::from(self.irradiance[i / 8].lane(i % 8))

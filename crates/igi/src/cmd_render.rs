@@ -34,7 +34,8 @@ pub struct RenderArgs {
     /// Rendering method.
     #[arg(long, value_enum, default_value_t = Mode::Igi)]
     pub mode: Mode,
-    /// IGI: frames averaged, each with fresh VPLs (progressive convergence).
+    /// IGI: frames averaged, each with fresh VPLs (progressive convergence to the unclamped
+    /// solution: the clamp defaults to 0 here).
     #[arg(long, default_value_t = 1)]
     pub frames: u32,
     /// Path tracer: samples per pixel.
@@ -64,7 +65,11 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let t_load = Instant::now();
     let scene = igi_scene::load_named(&args.scene).context("cannot load scene")?;
     let load = t_load.elapsed();
-    let frame = args.frame.frame_state(&scene)?;
+    let mut frame = args.frame.frame_state(&scene)?;
+    if args.frames > 1 && args.frame.clamp.is_none() {
+        // Accumulation converges to what it averages: unclamped unless asked otherwise.
+        frame.settings.clamp = 0.0;
+    }
 
     let t_build = Instant::now();
     let prepared = PreparedScene::new(scene);

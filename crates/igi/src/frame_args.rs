@@ -8,6 +8,9 @@ use igi_render::frame::{FilterSettings, FrameState, IgiSettings};
 use igi_render::tonemap::ToneMapper;
 use igi_scene::Scene;
 
+/// Largest `--threads`.
+const MAX_THREADS: usize = 1024;
+
 /// Options describing a frame.
 #[derive(Debug, Args)]
 pub struct FrameArgs {
@@ -38,7 +41,8 @@ pub struct FrameArgs {
     #[arg(long, default_value_t = FilterSettings::default().max_depth_ratio)]
     pub filter_depth: f32,
     /// d_min of the VPL contribution 1/max(d², d_min²) in scene units; 0 turns clamping off.
-    /// Default: 2 % of the scene's bounding-box diagonal.
+    /// Default: 2 % of the scene's bounding-box diagonal (0 for `render --frames` above 1, so
+    /// accumulation converges to the unclamped solution).
     #[arg(long, allow_hyphen_values = true)]
     pub clamp: Option<f32>,
     /// Largest number of mirror and glass bounces followed from the camera.
@@ -70,6 +74,9 @@ pub fn parse_interleave(s: &str) -> Result<[u32; 2], String> {
 impl FrameArgs {
     /// The first frame of `scene` with these options, checked (errors name the flag).
     pub fn frame_state(&self, scene: &Scene) -> Result<FrameState> {
+        if self.threads > MAX_THREADS {
+            anyhow::bail!("--threads: {} is more than {MAX_THREADS}", self.threads);
+        }
         let camera = self.camera.resolve(scene)?;
         let diagonal = crate::cli::scene_bounds(scene).diagonal();
         let settings = IgiSettings {
