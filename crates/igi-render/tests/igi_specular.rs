@@ -224,3 +224,32 @@ fn lit_plane_behind_glass_is_dimmed_by_the_fresnel_chain() {
         }
     }
 }
+
+#[test]
+fn stacked_glass_between_mirrors_stays_bounded_at_the_deepest_chain() {
+    // Four glass panes between two facing mirrors, seen at the deepest specular chain the
+    // settings allow: every glass hit splits the ray, so without the throughput floor the
+    // stream would grow as 2^16 per camera ray. The frame must finish with finite values and
+    // a bounded number of specular rays (but many: the chains are followed).
+    let mut meshes = Vec::new();
+    for (i, z) in [-0.6f32, -0.2, 0.2, 0.6].into_iter().enumerate() {
+        let toward = if i % 2 == 0 { Vec3::Z } else { -Vec3::Z };
+        meshes.push(square_z(z, 2.0, toward, 0));
+    }
+    meshes.push(square_z(-1.0, 3.0, Vec3::Z, 1));
+    meshes.push(square_z(1.0, 3.0, -Vec3::Z, 1));
+    meshes.push(horizontal_square("floor", Vec3::new(0.0, -2.0, 0.0), Vec2::new(3.0, 3.0), true, 2));
+    let mirror = Material { kind: MaterialKind::Mirror, specular: Vec3::splat(0.99), ..Material::default() };
+    let prepared = PreparedScene::new(scene(
+        meshes,
+        vec![glass(), mirror, diffuse("floor", 0.5)],
+        vec![Light::Point { position: Vec3::new(0.0, 1.5, 0.0), intensity: Vec3::ONE }],
+    ));
+    let mut frame = exact_frame(camera(Vec3::new(0.3, 0.2, 0.9), Vec3::new(-0.2, -0.1, -1.0), 60.0), 24, 24);
+    frame.settings.specular_depth = igi_render::frame::limits::MAX_SPECULAR_DEPTH;
+    let out = FrameRenderer::new(2).render(&prepared, &frame, &|_, _| {}).expect("valid settings");
+    assert!(out.film.pixels().iter().all(|p| p.is_finite()));
+    let per_pixel = out.rays.specular as f64 / (24.0 * 24.0);
+    eprintln!("{per_pixel} specular rays per pixel");
+    assert!((10.0..2000.0).contains(&per_pixel), "{per_pixel} specular rays per pixel");
+}
