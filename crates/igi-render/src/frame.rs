@@ -28,6 +28,10 @@ pub struct IgiSettings {
     /// d_min of the VPL contribution `… / max(d², d_min²)` (DESIGN.md section 1); 0 turns
     /// clamping off (unbiased, noisier).
     pub clamp: f32,
+    /// Recover the light the clamp removes with short path-traced rays (bias compensation,
+    /// Kollig & Keller 2004; see `TilePipeline`): unbiased up to second-order terms, with the
+    /// low variance of the clamped estimate, for about one more ray per shading point.
+    pub compensate_clamp: bool,
     /// Largest number of specular bounces (mirror and glass) followed from the camera.
     pub specular_depth: u32,
     /// Edge length of the square tiles; the image does not depend on it.
@@ -57,6 +61,11 @@ impl Default for FilterSettings {
 /// diagonal (see [`IgiSettings::clamp_for`]).
 pub const DEFAULT_CLAMP_FRACTION: f32 = 0.02;
 
+/// The scale of the default clamp of progressive rendering, where the bias compensation
+/// restores what the clamp removes: a larger d_min moves more of the near field from the
+/// high-variance VPL term to the compensation rays.
+pub const COMPENSATED_CLAMP_FRACTION: f32 = 0.05;
+
 impl Default for IgiSettings {
     fn default() -> Self {
         Self {
@@ -67,6 +76,7 @@ impl Default for IgiSettings {
             aa: 4,
             filter: Some(FilterSettings::default()),
             clamp: 0.0,
+            compensate_clamp: false,
             specular_depth: 5,
             tile_size: 64,
             reseed_per_frame: false,
@@ -183,6 +193,11 @@ impl IgiSettings {
     /// [`DEFAULT_CLAMP_FRACTION`] of it, so the clamp scales with the scene's units.
     pub fn clamp_for(diagonal: f32) -> f32 {
         if diagonal.is_finite() && diagonal > 0.0 { DEFAULT_CLAMP_FRACTION * diagonal } else { 0.0 }
+    }
+
+    /// The default d_min with bias compensation: [`COMPENSATED_CLAMP_FRACTION`] of the diagonal.
+    pub fn compensated_clamp_for(diagonal: f32) -> f32 {
+        if diagonal.is_finite() && diagonal > 0.0 { COMPENSATED_CLAMP_FRACTION * diagonal } else { 0.0 }
     }
 }
 

@@ -13,12 +13,14 @@ pub struct RayCounts {
     pub shadow: u64,
     /// Mirror and glass rays from the camera path (closest hit).
     pub specular: u64,
+    /// Short rays of the clamp's bias compensation (closest hit).
+    pub compensation: u64,
 }
 
 impl RayCounts {
     /// All rays.
     pub fn total(&self) -> u64 {
-        self.primary + self.shadow + self.specular
+        self.primary + self.shadow + self.specular + self.compensation
     }
 }
 
@@ -27,6 +29,7 @@ impl AddAssign for RayCounts {
         self.primary += o.primary;
         self.shadow += o.shadow;
         self.specular += o.specular;
+        self.compensation += o.compensation;
     }
 }
 
@@ -43,6 +46,8 @@ pub enum Phase {
     Shadow,
     /// Mirror and glass rays.
     Specular,
+    /// Bias compensation of the VPL clamp.
+    Compensation,
     /// The discontinuity filter and the final multiply by the albedo.
     Filter,
     /// Luminance statistics and the mapping to display values.
@@ -51,12 +56,13 @@ pub enum Phase {
 
 impl Phase {
     /// Every phase, in pipeline order.
-    pub const ALL: [Phase; 7] = [
+    pub const ALL: [Phase; 8] = [
         Phase::VplGeneration,
         Phase::Primary,
         Phase::Shading,
         Phase::Shadow,
         Phase::Specular,
+        Phase::Compensation,
         Phase::Filter,
         Phase::ToneMap,
     ];
@@ -69,6 +75,7 @@ impl Phase {
             Phase::Shading => "shading",
             Phase::Shadow => "shadow",
             Phase::Specular => "specular",
+            Phase::Compensation => "compensation",
             Phase::Filter => "filter",
             Phase::ToneMap => "tone_map",
         }
@@ -77,7 +84,7 @@ impl Phase {
 
 /// Time spent in each phase (summed over threads for the tile phases).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct PhaseTimes([Duration; 7]);
+pub struct PhaseTimes([Duration; 8]);
 
 impl PhaseTimes {
     /// Time of `phase`.

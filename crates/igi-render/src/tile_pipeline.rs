@@ -26,7 +26,8 @@ use crate::discontinuity::{DiscontinuityBuffer, FilterSample};
 use crate::frame::{FilterSettings, FrameState, SequenceSpan};
 use crate::interleave::{Interleave, Region};
 use crate::prepared::PreparedScene;
-use crate::scattering::{Interface, Scattering, reflect, refract};
+use crate::sampling::{pixel_seed, sobol4};
+use crate::scattering::{Interface, Scattering, cosine_hemisphere, reflect, refract};
 use crate::stats::{Phase, PhaseTimes, RayCounts};
 use crate::tile::Tile;
 use crate::tonemap::{LuminanceStats, ToneMapper};
@@ -45,6 +46,15 @@ const MIN_SPECULAR_THROUGHPUT: f32 = 1e-3;
 /// Largest number of rays in one bounce of a group's specular stream (a memory bound for
 /// pathological scenes; ordinary mirrors and glass stay far below it).
 const MAX_SPECULAR_STREAM: usize = 1 << 18;
+
+/// Path-code bit of the shading points found by the clamp's bias compensation
+/// ([`TilePipeline::compensate`]); the filter keeps them apart from the camera's own points.
+const COMPENSATION: u32 = 1 << 31;
+
+/// Levels of the bias compensation: the points it finds are compensated in turn, since they lie
+/// where the clamp removes most (creases, contacts). Each level carries at most ρ·w of the
+/// previous one; a fourth would change the Cornell box by far less than its noise.
+const COMPENSATION_LEVELS: u32 = 3;
 
 /// A finished tile: linear radiance and what it cost.
 #[derive(Clone, Debug)]
@@ -154,6 +164,7 @@ pub struct TilePipeline<'a> {
     /// One ray through each pixel centre (one sample per pixel, no reseeding).
     pixel_centres: bool,
     d_min2: f32,
+    compensate_clamp: bool,
     filter: Option<FilterSettings>,
     specular_depth: u32,
     size: (u32, u32),
@@ -172,6 +183,7 @@ impl<'a> TilePipeline<'a> {
             sequence: frame.sequence(s.aa),
             pixel_centres: s.aa == 1 && !s.reseed_per_frame,
             d_min2: s.clamp * s.clamp,
+            compensate_clamp: s.compensate_clamp,
             filter: s.filter,
             specular_depth: s.specular_depth,
             size: (s.width, s.height),
@@ -200,6 +212,10 @@ impl<'a> TilePipeline<'a> {
                 times.lap(Phase::Shading, &mut clock);
                 self.trace_specular(scratch, &mut rays);
                 times.lap(Phase::Specular, &mut clock);
+                if self.compensate_clamp && self.d_min2 > 0.0 {
+                    self.compensate(&region, sample, first, scratch, &mut rays);
+                    times.lap(Phase::Compensation, &mut clock);
+                }
                 self.light(set, sample, first, scratch, &mut rays);
                 times.lap(Phase::Shadow, &mut clock);
             }
@@ -410,6 +426,94 @@ impl<'a> TilePipeline<'a> {
         });
     }
 
+    /// Step 3b, with a clamp and `compensate_clamp`: the bias compensation of Kollig & Keller (2004). The clamp
+    /// replaces 1/d² by 1/max(d², d_min²); the light it removes at x,
+    ///
+    /// ```text
+    /// R(x) = ρ_x/π ∫ L(y → x) cosθ_x · w(|x − y|) dω,   w(d) = max(0, 1 − d²/d_min²),
+    /// ```
+    ///
+    /// comes only from surfaces closer than d_min. One cosine-distributed ray per shading point,
+    /// at most d_min long, estimates it as ρ_x · w(d) · L(y → x): the point y it hits becomes a
+    /// shading point of the group with throughput ρ_x · w(d) (its emission counts directly),
+    /// lit by the same VPLs, and is compensated in turn, up to [`COMPENSATION_LEVELS`]. What
+    /// remains biased is the clamp below the last level and the light of specular surfaces at
+    /// y, which it drops. The rays are short, and few hit anything away from creases and
+    /// contacts.
+    fn compensate(
+        &self,
+        region: &Region,
+        sample: u32,
+        first: usize,
+        s: &mut TileScratch,
+        rays: &mut RayCounts,
+    ) {
+        let d_min = self.d_min2.sqrt();
+        let accel = self.scene.accel();
+        let rw = region.width();
+        let index = self.sequence.first + sample;
+        // Level 0 starts from the group's own points; each level compensates the points the
+        // previous one found (their near field is clamped too).
+        let (mut lo, mut hi) = (first, s.points.len());
+        for level in 0..COMPENSATION_LEVELS {
+            let mut start = lo;
+            while start < hi {
+                let chunk_end = (start + 8).min(hi);
+                let mut batch = [Ray::new(Vec3::ZERO, Vec3::Z); 8];
+                let mut parents = [usize::MAX; 8];
+                let mut bits = 0u32;
+                for (lane, i) in (start..chunk_end).enumerate() {
+                    let p = &s.points[i];
+                    let (x, y) = (region.x0 + p.state.pixel % rw, region.y0 + p.state.pixel / rw);
+                    let [_, _, u, v] = sobol4(index, 1 + level, pixel_seed(x, y, self.sequence.seed));
+                    let dir = cosine_hemisphere(p.ns, glam::Vec2::new(u, v));
+                    if dir.dot(p.ng) <= 0.0 {
+                        continue;
+                    }
+                    batch[lane] = Ray { origin: p.origin, dir, tnear: 0.0, tfar: d_min };
+                    parents[lane] = i;
+                    bits |= 1 << lane;
+                }
+                start = chunk_end;
+                if bits == 0 {
+                    continue;
+                }
+                let first_lane = bits.trailing_zeros() as usize;
+                for lane in 0..8 {
+                    if bits & (1 << lane) == 0 {
+                        batch[lane] = batch[first_lane];
+                    }
+                }
+                rays.compensation += u64::from(bits.count_ones());
+                let packet = RayPacket8::from_rays(&batch);
+                let hits = unpack_hits(&accel.intersect8(&packet, M32x8::from_bitmask(bits)));
+                for (lane, hit) in hits.iter().enumerate() {
+                    if bits & (1 << lane) == 0 || !hit.is_hit() {
+                        continue;
+                    }
+                    let p = s.points[parents[lane]];
+                    let w = 1.0 - hit.t * hit.t / self.d_min2;
+                    if w <= 0.0 {
+                        continue;
+                    }
+                    let state = PathState {
+                        path: p.state.path | COMPENSATION,
+                        throughput: p.state.throughput * p.albedo * w,
+                        depth: p.depth,
+                        // No specular continuation from y.
+                        bounces: self.specular_depth,
+                        ..p.state
+                    };
+                    self.shade_hit(batch[lane].dir, hit, state, s);
+                }
+            }
+            (lo, hi) = (hi, s.points.len());
+            if lo == hi {
+                break;
+            }
+        }
+    }
+
     /// Step 4: the lights and the VPLs of the group (set `set`, sample `sample`) on the
     /// shading points from index `first` on.
     fn light(&self, set: u32, sample: u32, first: usize, s: &mut TileScratch, rays: &mut RayCounts) {
@@ -454,6 +558,13 @@ impl<'a> TilePipeline<'a> {
                     irradiance: p.irradiance,
                 }));
                 filter.filter(region, tile, &self.interleave, settings, filter_samples, filtered);
+                // The compensation's points lie wherever its rays landed, not on a pixel grid:
+                // averaging their D over neighbours would weight it by the wrong distances.
+                for (d, p) in filtered.iter_mut().zip(points.iter()) {
+                    if p.state.path & COMPENSATION != 0 {
+                        *d = p.irradiance;
+                    }
+                }
             }
             None => {
                 filtered.clear();

@@ -74,6 +74,7 @@ fn validate_rejects_each_bad_setting_and_names_its_flag() {
         aa: limits::MAX_AA,
         filter: Some(FilterSettings { min_normal_cos: -1.0, max_depth_ratio: 0.0 }),
         clamp: 0.0,
+        compensate_clamp: true,
         specular_depth: limits::MAX_SPECULAR_DEPTH,
         tile_size: limits::MAX_TILE,
         reseed_per_frame: true,

@@ -8,7 +8,7 @@ use igi_render::frame_renderer::{FrameOutput, FrameRenderer};
 use igi_render::output::ImageFormat;
 use igi_render::path_tracer::render_path_traced;
 use igi_render::sampling::MAX_SAMPLES;
-use igi_render::{PreparedScene, ToneMap, ToneMapper, write_image};
+use igi_render::{IgiSettings, PreparedScene, ToneMap, ToneMapper, write_image};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -35,7 +35,7 @@ pub struct RenderArgs {
     #[arg(long, value_enum, default_value_t = Mode::Igi)]
     pub mode: Mode,
     /// IGI: frames averaged, each with fresh VPLs (progressive convergence to the unclamped
-    /// solution: the clamp defaults to 0 here).
+    /// solution: with more than one frame the clamp's bias is compensated).
     #[arg(long, default_value_t = 1)]
     pub frames: u32,
     /// Path tracer: samples per pixel.
@@ -66,9 +66,14 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let scene = igi_scene::load_named(&args.scene).context("cannot load scene")?;
     let load = t_load.elapsed();
     let mut frame = args.frame.frame_state(&scene)?;
-    if args.frames > 1 && args.frame.clamp.is_none() {
-        // Accumulation converges to what it averages: unclamped unless asked otherwise.
-        frame.settings.clamp = 0.0;
+    if args.frames > 1 && frame.settings.clamp > 0.0 {
+        // Accumulation converges to what it averages: the clamp's bias is compensated, and
+        // the larger default clamp keeps the VPLs' near-field noise low.
+        frame.settings.compensate_clamp = true;
+        if args.frame.clamp.is_none() {
+            frame.settings.clamp =
+                IgiSettings::compensated_clamp_for(crate::cli::scene_bounds(&scene).diagonal());
+        }
     }
 
     let t_build = Instant::now();
