@@ -62,11 +62,11 @@
 //! # Normals
 //!
 //! Normals are turned toward the side the ray arrives from (two-sided reflection). Cosines,
-//! the cosine bounce and the mirror direction use the shading normal; the
+//! the cosine bounce and the mirror and glass directions use the shading normal; the
 //! geometric normal decides sides: a light or scattered direction that would cross the
 //! geometric surface where it should not (possible where the shading normal is bent) counts
 //! nothing, and ray origins are moved off the surface along it ([`offset_ray_origin`]). Glass
-//! refracts about the geometric normal, as in the VPL walk and the IGI pipeline.
+//! refracts about the shading normal, as in the VPL walk and the IGI pipeline.
 //!
 //! # Random numbers
 //!
@@ -90,7 +90,7 @@ use crate::frame::{FrameState, SettingsError};
 use crate::lights::{self, luminance};
 use crate::prepared::{PreparedScene, SurfacePoint};
 use crate::sampling::{MAX_SAMPLES, hash_combine, pixel_seed, sobol4};
-use crate::scattering::{Interface, Scattering, cosine_hemisphere, reflect, refract};
+use crate::scattering::{Interface, Scattering, cosine_hemisphere, glass_exit_side, reflect, refract};
 use crate::scheduler::TileScheduler;
 use crate::tile::{Tile, TileGrid};
 use glam::{Vec2, Vec3};
@@ -392,17 +392,13 @@ impl Side {
 /// reflection, where F = 1). `None` if the direction falls on the wrong side of the geometric
 /// surface (a bent shading normal).
 fn glass(s: &SurfacePoint, d: Vec3, ior: f32, lobe: f32) -> Option<Ray> {
-    // The geometric normal, as in the VPL walk and the IGI camera paths (so all three estimate
-    // the same glass; smooth-shaded glass refracts facet by facet).
-    let interface = Interface::new(d, s.geometric_normal, ior);
-    let arriving = if s.geometric_normal.dot(d) < 0.0 { s.geometric_normal } else { -s.geometric_normal };
+    // About the shading normal, as in the VPL walk and the IGI camera paths.
+    let interface = Interface::new(d, s.shading_normal, ior);
     let refracted =
         if lobe < interface.reflectance { None } else { refract(d, interface.normal, interface.eta) };
-    let (dir, ng) = match refracted {
-        Some(t) => (t, -arriving),
-        None => (reflect(d, interface.normal), arriving),
-    };
-    (ng.dot(dir) > 0.0).then(|| Ray::new(offset_ray_origin(s.position, ng), dir))
+    let dir = refracted.unwrap_or_else(|| reflect(d, interface.normal));
+    let side = glass_exit_side(d, dir, s.geometric_normal, refracted.is_none())?;
+    Some(Ray::new(offset_ray_origin(s.position, side), dir))
 }
 
 /// The random numbers of one camera path: sample `index` of its pixel's sequence `seed`.

@@ -8,7 +8,8 @@
 //! - [`MaterialKind::Mirror`]: perfect specular reflection with reflectance `specular` (white
 //!   if the material gives none).
 //! - [`MaterialKind::Glass`]: a smooth dielectric of index `ior` (1.5 if unset): Fresnel
-//!   reflection and refraction, no absorption.
+//!   reflection and refraction about the shading normal (so smooth-shaded glass refracts
+//!   smoothly), no absorption; the inside is the side opposite the normal.
 //!
 //! Every surface reflects on both sides; a triangle emits only toward its winding normal.
 
@@ -116,6 +117,16 @@ impl Interface {
         let (normal, eta) = if entering { (ng, 1.0 / ior) } else { (-ng, ior) };
         Self { normal, eta, reflectance: fresnel_dielectric(-d.dot(normal), eta) }
     }
+}
+
+/// The side of the geometric surface (unit normal `ng`) a ray continuing a glass interaction
+/// must leave from: a reflection (`reflected`) stays on the side the incoming direction `d_in`
+/// arrived from, a refraction crosses. Glass refracts about the shading normal, so where it
+/// is bent the continuation `d_out` can point to the wrong side; then `None` (the path ends).
+pub fn glass_exit_side(d_in: Vec3, d_out: Vec3, ng: Vec3, reflected: bool) -> Option<Vec3> {
+    let arriving = if d_in.dot(ng) < 0.0 { ng } else { -ng };
+    let side = if reflected { arriving } else { -arriving };
+    (d_out.dot(side) > 0.0).then_some(side)
 }
 
 /// A unit vector on the hemisphere around the unit normal `n`, distributed with density

@@ -27,7 +27,7 @@ use crate::frame::{FilterSettings, FrameState, SequenceSpan};
 use crate::interleave::{Interleave, Region};
 use crate::prepared::PreparedScene;
 use crate::sampling::{pixel_seed, sobol4};
-use crate::scattering::{Interface, Scattering, cosine_hemisphere, reflect, refract};
+use crate::scattering::{Interface, Scattering, cosine_hemisphere, glass_exit_side, reflect, refract};
 use crate::stats::{Phase, PhaseTimes, RayCounts};
 use crate::tile::Tile;
 use crate::tonemap::{LuminanceStats, ToneMapper};
@@ -374,21 +374,21 @@ impl<'a> TilePipeline<'a> {
                 }
             }
             Scattering::Glass { ior } => {
-                let interface = Interface::new(dir, sp.geometric_normal, ior);
+                // About the shading normal; a continuation that a bent normal sends to the
+                // wrong side of the geometric surface ends (as in the walk and path tracer).
+                let interface = Interface::new(dir, sp.shading_normal, ior);
                 let n = interface.normal;
                 let f = interface.reflectance;
+                let ng = sp.geometric_normal;
                 let reflected = reflect(dir, n);
-                self.continue_path(
-                    state,
-                    0,
-                    Vec3::splat(f),
-                    depth,
-                    offset_ray_origin(sp.position, n),
-                    reflected,
-                    s,
-                );
-                if let Some(t) = refract(dir, n, interface.eta) {
-                    let origin = offset_ray_origin(sp.position, -n);
+                if let Some(side) = glass_exit_side(dir, reflected, ng, true) {
+                    let origin = offset_ray_origin(sp.position, side);
+                    self.continue_path(state, 0, Vec3::splat(f), depth, origin, reflected, s);
+                }
+                let refracted = refract(dir, n, interface.eta)
+                    .and_then(|t| Some((t, glass_exit_side(dir, t, ng, false)?)));
+                if let Some((t, side)) = refracted {
+                    let origin = offset_ray_origin(sp.position, side);
                     self.continue_path(state, 1, Vec3::splat(1.0 - f), depth, origin, t, s);
                 }
             }

@@ -95,7 +95,8 @@ use crate::lights::{eye_light, luminance};
 use crate::prepared::PreparedScene;
 use crate::sampling::{Cdf, MAX_SAMPLES, hash_combine, sobol4};
 use crate::scattering::{
-    Interface, Scattering, concentric_disc, cosine_hemisphere, reflect, refract, uniform_cone, uniform_sphere,
+    Interface, Scattering, concentric_disc, cosine_hemisphere, glass_exit_side, reflect, refract,
+    uniform_cone, uniform_sphere,
 };
 use glam::{Vec2, Vec3};
 use igi_bvh::{Ray, offset_ray_origin};
@@ -388,17 +389,21 @@ impl<'a> Emitters<'a> {
                     dir = reflect(dir, ns);
                 }
                 Scattering::Glass { ior } => {
-                    let interface = Interface::new(dir, s.geometric_normal, ior);
+                    let interface = Interface::new(dir, s.shading_normal, ior);
                     let mirrored = reflect(dir, interface.normal);
                     // Under total internal reflection F = 1, so `refract` is only asked when
                     // it has an answer; the fallback guards rounding at the critical angle.
-                    dir = if u_choice < interface.reflectance {
-                        mirrored
+                    let refracted = if u_choice < interface.reflectance {
+                        None
                     } else {
-                        refract(dir, interface.normal, interface.eta).unwrap_or(mirrored)
+                        refract(dir, interface.normal, interface.eta)
                     };
-                    // Reflected or transmitted, both are legitimate sides of a dielectric.
-                    let side = if dir.dot(ng) > 0.0 { ng } else { -ng };
+                    let out = refracted.unwrap_or(mirrored);
+                    let Some(side) = glass_exit_side(dir, out, s.geometric_normal, refracted.is_none())
+                    else {
+                        return;
+                    };
+                    dir = out;
                     origin = offset_ray_origin(s.position, side);
                     continue;
                 }
