@@ -272,3 +272,26 @@ fn gltf_hierarchies_cameras_lights_and_emission() {
     );
     assert_eq!(helmet.emissive_triangle_count(), 15_452);
 }
+
+#[test]
+fn repository_conference_scene_file_lights_the_room_from_below_the_ceiling() {
+    // `scenes/conference.toml` (in the repository) references the shared OBJ; its quad light
+    // must face down into the room (a light wound upwards would light only the ceiling).
+    if scenes_dir("repository_conference_scene_file").is_none() {
+        return;
+    }
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/conference.toml");
+    let (scene, _) = load_with_report(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.triangle_count(), 331_179 + 2);
+    assert_eq!(scene.emissive_triangle_count(), 2);
+    let mesh = scene
+        .meshes
+        .iter()
+        .find(|m| m.material_ids.iter().any(|&id| scene.materials[id as usize].is_emissive()));
+    let mesh = mesh.expect("the light's mesh");
+    for t in 0..mesh.indices.len() {
+        if scene.materials[mesh.material_ids[t] as usize].is_emissive() {
+            assert!((mesh.triangle_normal(t) - Vec3::NEG_Y).length() < 1e-6, "the light must face down");
+        }
+    }
+}
