@@ -7,49 +7,9 @@
 mod common;
 
 use common::*;
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 use igi_render::frame::{FilterSettings, FrameState};
-use igi_render::{Film, FrameOutput, FrameRenderer, PreparedScene};
-use igi_scene::{Light, Material, MaterialKind};
-
-/// A small room in which every code path runs: floor, area light, point light, a blocker, a
-/// mirror and a glass pane (specular streams, shading points behind specular chains).
-fn room() -> PreparedScene {
-    let meshes = vec![
-        horizontal_square("floor", Vec3::ZERO, Vec2::new(2.0, 2.0), true, 0),
-        horizontal_square("light", Vec3::new(0.0, 1.9, 0.0), Vec2::new(0.4, 0.3), false, 1),
-        horizontal_square("blocker", Vec3::new(0.2, 0.7, 0.1), Vec2::new(0.3, 0.3), true, 2),
-        quad(
-            "mirror",
-            [
-                Vec3::new(-2.0, 0.0, -1.5),
-                Vec3::new(2.0, 0.0, -1.5),
-                Vec3::new(2.0, 2.0, -1.5),
-                Vec3::new(-2.0, 2.0, -1.5),
-            ],
-            3,
-        ),
-        quad(
-            "pane",
-            [
-                Vec3::new(-1.0, 0.0, 0.5),
-                Vec3::new(-0.2, 0.0, 0.5),
-                Vec3::new(-0.2, 1.0, 0.2),
-                Vec3::new(-1.0, 1.0, 0.2),
-            ],
-            4,
-        ),
-    ];
-    let materials = vec![
-        diffuse("floor", 0.7),
-        emitter("light", Vec3::new(17.0, 12.0, 4.0)),
-        Material { diffuse: Vec3::new(0.6, 0.1, 0.1), ..Material::default() },
-        Material { kind: MaterialKind::Mirror, specular: Vec3::splat(0.8), ..Material::default() },
-        Material { kind: MaterialKind::Glass, ior: 1.5, ..Material::default() },
-    ];
-    let lights = vec![Light::Point { position: Vec3::new(-1.0, 1.5, 1.0), intensity: Vec3::splat(0.5) }];
-    PreparedScene::new(scene(meshes, materials, lights))
-}
+use igi_render::{Film, FrameOutput, FrameRenderer};
 
 /// A frame of the room at a size that is a multiple of neither the tile sizes, the 3 × 3
 /// interleave nor the 4 × 2 packets.
@@ -71,7 +31,7 @@ fn fingerprint(out: &FrameOutput) -> Fingerprint {
 
 #[test]
 fn same_image_at_any_thread_count_and_tile_size() {
-    let scene = room();
+    let scene = every_path_room();
     let renderers = [FrameRenderer::new(1), FrameRenderer::new(2), FrameRenderer::new(3)];
     for filter in [Some(FilterSettings::default()), None] {
         for aa in [1, 4] {
@@ -104,7 +64,7 @@ fn same_image_at_any_thread_count_and_tile_size() {
 fn display_bytes_are_the_tone_mapped_film() {
     // The compositor copies each tile's 8-bit pixels into place: they must be the frame's tone
     // map of the film at the same position (a misplaced tile row shows here).
-    let scene = room();
+    let scene = every_path_room();
     let mut f = frame(3);
     f.settings.tile_size = 7;
     f.tone_map.scale = 4.0;
@@ -116,7 +76,7 @@ fn display_bytes_are_the_tone_mapped_film() {
 
 #[test]
 fn the_seed_and_the_reseeded_frame_number_are_the_only_randomness() {
-    let scene = room();
+    let scene = every_path_room();
     let r = FrameRenderer::new(2);
     let render = |f: &FrameState| r.render(&scene, f, &|_, _| {}).expect("valid settings").film;
     let base = frame(7);
@@ -145,7 +105,7 @@ fn accumulation_is_the_mean_of_the_reseeded_frames() {
     // render_accumulated(n) from frame k averages frames k .. k + n − 1 with fresh VPLs: the
     // same as rendering those frames with reseeding and averaging (sum in order, then × 1/n),
     // bit for bit; one frame is the plain render.
-    let scene = room();
+    let scene = every_path_room();
     let r = FrameRenderer::new(2);
     let mut f = frame(5);
     f.frame = 10;

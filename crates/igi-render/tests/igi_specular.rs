@@ -29,21 +29,6 @@ fn exact_frame(camera: igi_scene::Camera, width: u32, height: u32) -> FrameState
     f
 }
 
-/// Where the ray from `origin` along `d` meets the plane y = 0 inside |x|, |z| < `half`.
-fn hit_floor(origin: Vec3, d: Vec3, half: f32) -> Option<Vec3> {
-    if d.y >= 0.0 {
-        return None;
-    }
-    let p = origin - origin.y / d.y * d;
-    (p.x.abs() < half && p.z.abs() < half).then_some(p)
-}
-
-/// Radiance of a Lambertian surface of albedo [`RHO`] at `p` (normal +Y) under a point light.
-fn point_lit(p: Vec3, light: Vec3, intensity: Vec3) -> Vec3 {
-    let l = light - p;
-    RHO / PI * intensity * (l.y / l.length()) / l.length_squared()
-}
-
 #[test]
 fn plane_seen_in_a_mirror_is_the_plane_times_the_reflectance() {
     // A 1 × 1 grey target at y = 0 under a spot light, seen only in a vertical mirror at
@@ -83,7 +68,7 @@ fn plane_seen_in_a_mirror_is_the_plane_times_the_reflectance() {
     for y in 0..h {
         for x in 0..w {
             if let Some(p) = through_mirror(pin.direction(x, y)) {
-                let want = r * point_lit(p, light, intensity);
+                let want = r * point_lit(p, light, intensity, RHO);
                 let got = film.get(x, y);
                 assert!(rel_err(got, want) < 1e-4, "pixel ({x}, {y}) sees {p}: got {got}, want {want}");
                 n += 1;

@@ -121,51 +121,6 @@ fn assert_in_range(scene: &PreparedScene, cam: &Camera, f: impl Fn(Vec3) -> Opti
     n
 }
 
-/// Where the ray from `origin` along `d` meets the plane y = 0 inside |x|, |z| < `half`.
-fn hit_floor(origin: Vec3, d: Vec3, half: f32) -> Option<Vec3> {
-    if d.y >= 0.0 {
-        return None;
-    }
-    let p = origin - origin.y / d.y * d;
-    (p.x.abs() < half && p.z.abs() < half).then_some(p)
-}
-
-/// Radiance of the Lambertian plane (albedo [`RHO`]) at `p` under a point light.
-fn point_lit(p: Vec3, light: Vec3, intensity: Vec3) -> Vec3 {
-    let l = light - p;
-    RHO / PI * intensity * (l.y / l.length()) / l.length_squared()
-}
-
-/// A quad with its winding normal turned toward `inside`.
-fn facing(name: &str, p: [Vec3; 4], inside: Vec3, material: u32) -> Mesh {
-    let n = (p[1] - p[0]).cross(p[2] - p[0]);
-    let centre = 0.25 * (p[0] + p[1] + p[2] + p[3]);
-    if n.dot(inside - centre) > 0.0 {
-        quad(name, p, material)
-    } else {
-        quad(name, [p[0], p[3], p[2], p[1]], material)
-    }
-}
-
-/// The six faces of the cube [-1, 1]³, all facing its centre.
-fn inward_cube(material: u32) -> Vec<Mesh> {
-    let mut faces = Vec::new();
-    for axis in 0..3 {
-        for sign in [-1.0f32, 1.0] {
-            let corner = |a: f32, b: f32| {
-                let mut c = [0.0; 3];
-                c[axis] = sign;
-                c[(axis + 1) % 3] = a;
-                c[(axis + 2) % 3] = b;
-                Vec3::from(c)
-            };
-            let p = [corner(-1.0, -1.0), corner(1.0, -1.0), corner(1.0, 1.0), corner(-1.0, 1.0)];
-            faces.push(facing("face", p, Vec3::ZERO, material));
-        }
-    }
-    faces
-}
-
 #[test]
 fn white_furnace_converges_to_le_over_one_minus_albedo() {
     // Inside a closed box whose walls all emit L_e and reflect with albedo a, the radiance is
@@ -176,7 +131,7 @@ fn white_furnace_converges_to_le_over_one_minus_albedo() {
     // double-counted emitter gives up to 3 L_e, a lost one L_e.
     let (a, le) = (0.5, Vec3::new(1.0, 0.5, 0.25));
     let wall = Material { diffuse: Vec3::splat(a), emission: le, ..Material::default() };
-    let prepared = PreparedScene::new(scene(inward_cube(0), vec![wall], vec![]));
+    let prepared = PreparedScene::new(scene(box_faces(Vec3::ZERO, Vec3::ONE, true, 0), vec![wall], vec![]));
     // A wide view from off the centre, with edges and corners in sight: where an emitting wall
     // meets the lit one, the shadow-ray estimate alone would be the noisiest.
     let cam = camera(Vec3::new(0.2, -0.1, 0.6), Vec3::new(-0.3, 0.2, -1.0), 100.0);
@@ -201,7 +156,7 @@ fn point_light_matches_inverse_square_law() {
     let cam = camera(Vec3::new(0.0, 3.0, 4.0), Vec3::ZERO, 40.0);
     // The plane cannot see itself, so there is no indirect light.
     let n = assert_in_range(&prepared, &cam, |d| {
-        hit_floor(cam.position, d, 9.0).map(|p| point_lit(p, light, intensity))
+        hit_floor(cam.position, d, 9.0).map(|p| point_lit(p, light, intensity, RHO))
     });
     assert!(n > 1000, "the plane should fill most of the image, saw {n} pixels");
 }
@@ -229,7 +184,9 @@ fn spot_light_lights_its_cone_only() {
     let cam = camera(Vec3::new(0.0, 4.0, 3.0), Vec3::ZERO, 50.0);
     let radius = |p: Vec3| (p.x * p.x + p.z * p.z).sqrt();
     let inside = assert_in_range(&prepared, &cam, |d| {
-        hit_floor(cam.position, d, 9.0).filter(|&p| radius(p) < 1.1).map(|p| point_lit(p, light, intensity))
+        hit_floor(cam.position, d, 9.0)
+            .filter(|&p| radius(p) < 1.1)
+            .map(|p| point_lit(p, light, intensity, RHO))
     });
     // Outside the cone, exactly nothing (the range is [0, 0]).
     let outside = assert_in_range(&prepared, &cam, |d| {
@@ -298,7 +255,7 @@ fn occluded_points_are_black() {
     let lit = assert_in_range(&prepared, &cam, |d| {
         hit_floor(cam.position, d, 9.0)
             .filter(|p| p.x.abs() > 0.45 || p.z.abs() > 0.45)
-            .map(|p| point_lit(p, light, intensity))
+            .map(|p| point_lit(p, light, intensity, RHO))
     });
     assert!(dark > 20 && lit > 100, "dark {dark}, lit {lit}");
 }
@@ -329,7 +286,7 @@ fn scene_without_lights_gets_a_headlight() {
     let f = frame(cam, 32, 24, 0, 16);
     assert_eq!(PathTracer::new(&prepared, &f, 1).punctual_lights(), &[eye_light(&prepared, &cam)]);
     let n = assert_in_range(&prepared, &cam, |d| {
-        hit_floor(cam.position, d, 9.0).map(|p| point_lit(p, position, intensity))
+        hit_floor(cam.position, d, 9.0).map(|p| point_lit(p, position, intensity, RHO))
     });
     assert!(n > 100, "{n} plane pixels");
 }
@@ -348,7 +305,7 @@ fn mirror_shows_the_lit_plane_times_its_reflectance() {
         ..Material::default()
     };
     let (y0, y1, zh) = (0.3, 3.0, 2.0);
-    let mirror = facing(
+    let mirror = quad_facing(
         "mirror",
         [Vec3::new(2.0, y0, -zh), Vec3::new(2.0, y0, zh), Vec3::new(2.0, y1, zh), Vec3::new(2.0, y1, -zh)],
         Vec3::ZERO,
@@ -373,7 +330,7 @@ fn mirror_shows_the_lit_plane_times_its_reflectance() {
             return None;
         }
         let p = hit_floor(m, Vec3::new(-d.x, d.y, d.z), 0.5)?;
-        Some(reflectance * point_lit(p, light, intensity))
+        Some(reflectance * point_lit(p, light, intensity, RHO))
     });
     assert!(n > 40, "only {n} pixels see the target in the mirror");
 }
@@ -394,7 +351,7 @@ fn glass_slab_transmits_one_minus_f_over_one_plus_f() {
             Vec3::new(half, half, z),
             Vec3::new(-half, half, z),
         ];
-        facing("square", p, outside, material)
+        quad_facing("square", p, outside, material)
     };
     let meshes = vec![
         square(-2.0, 10.0, Vec3::ZERO, 0),
@@ -444,52 +401,13 @@ fn paths_between_two_perfect_mirrors_stop_at_the_cap() {
     assert_eq!(rays, u64::from(w * h * spp * MAX_VERTICES));
 }
 
-/// A small room in which every code path runs: floor, area light, point light, a blocker, a
-/// mirror and a glass pane.
-fn room() -> PreparedScene {
-    let meshes = vec![
-        horizontal_square("floor", Vec3::ZERO, Vec2::new(2.0, 2.0), true, 0),
-        horizontal_square("light", Vec3::new(0.0, 1.9, 0.0), Vec2::new(0.4, 0.3), false, 1),
-        horizontal_square("blocker", Vec3::new(0.2, 0.7, 0.1), Vec2::new(0.3, 0.3), true, 2),
-        quad(
-            "mirror",
-            [
-                Vec3::new(-2.0, 0.0, -1.5),
-                Vec3::new(2.0, 0.0, -1.5),
-                Vec3::new(2.0, 2.0, -1.5),
-                Vec3::new(-2.0, 2.0, -1.5),
-            ],
-            3,
-        ),
-        quad(
-            "pane",
-            [
-                Vec3::new(-1.0, 0.0, 0.5),
-                Vec3::new(-0.2, 0.0, 0.5),
-                Vec3::new(-0.2, 1.0, 0.2),
-                Vec3::new(-1.0, 1.0, 0.2),
-            ],
-            4,
-        ),
-    ];
-    let materials = vec![
-        diffuse("floor", 0.7),
-        emitter("light", Vec3::new(17.0, 12.0, 4.0)),
-        Material { diffuse: Vec3::new(0.6, 0.1, 0.1), ..Material::default() },
-        Material { kind: MaterialKind::Mirror, specular: Vec3::splat(0.8), ..Material::default() },
-        Material { kind: MaterialKind::Glass, ior: 1.5, ..Material::default() },
-    ];
-    let lights = vec![Light::Point { position: Vec3::new(-1.0, 1.5, 1.0), intensity: Vec3::splat(0.5) }];
-    PreparedScene::new(scene(meshes, materials, lights))
-}
-
 fn bits(film: &Film) -> Vec<[u32; 3]> {
     film.pixels().iter().map(|p| p.to_array().map(f32::to_bits)).collect()
 }
 
 #[test]
 fn same_image_for_any_thread_count_and_tile_size() {
-    let scene = room();
+    let scene = every_path_room();
     let cam = camera(Vec3::new(0.0, 1.0, 3.0), Vec3::new(0.0, 0.5, 0.0), 50.0);
     // A size that is a multiple of neither tile size.
     let (w, h, spp) = (37, 23, 4);
@@ -531,7 +449,7 @@ fn bad_spp_is_reported_and_clamped() {
         assert!(e.to_string().starts_with("--spp: "), "{e}");
     }
     // The library itself never panics on them: it clamps.
-    let scene = room();
+    let scene = every_path_room();
     let f = frame(camera(Vec3::new(0.0, 1.0, 3.0), Vec3::new(0.0, 0.5, 0.0), 50.0), 4, 4, 0, 4);
     assert_eq!(PathTracer::new(&scene, &f, 0).spp(), 1);
     assert_eq!(PathTracer::new(&scene, &f, u32::MAX).spp(), MAX_SAMPLES);

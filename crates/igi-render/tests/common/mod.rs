@@ -114,3 +114,58 @@ pub fn film_mean(film: &igi_render::Film) -> Vec3 {
 pub fn film_bits(film: &igi_render::Film) -> Vec<[u32; 3]> {
     film.pixels().iter().map(|p| p.to_array().map(f32::to_bits)).collect()
 }
+
+/// Where the ray from `origin` along `d` meets the plane y = 0 inside |x|, |z| < `half`.
+pub fn hit_floor(origin: Vec3, d: Vec3, half: f32) -> Option<Vec3> {
+    if d.y >= 0.0 {
+        return None;
+    }
+    let p = origin - origin.y / d.y * d;
+    (p.x.abs() < half && p.z.abs() < half).then_some(p)
+}
+
+/// Radiance of a Lambertian surface of albedo `rho` at `p` (normal +Y) under a point light
+/// of intensity `intensity` at `light`: ρ/π · I · cosθ / d².
+pub fn point_lit(p: Vec3, light: Vec3, intensity: Vec3, rho: f32) -> Vec3 {
+    let l = light - p;
+    rho / std::f32::consts::PI * intensity * (l.y / l.length()) / l.length_squared()
+}
+
+/// A small room in which every code path runs: floor, area light, point light, a blocker, a
+/// mirror and a glass pane.
+pub fn every_path_room() -> igi_render::PreparedScene {
+    let meshes = vec![
+        horizontal_square("floor", Vec3::ZERO, Vec2::new(2.0, 2.0), true, 0),
+        horizontal_square("light", Vec3::new(0.0, 1.9, 0.0), Vec2::new(0.4, 0.3), false, 1),
+        horizontal_square("blocker", Vec3::new(0.2, 0.7, 0.1), Vec2::new(0.3, 0.3), true, 2),
+        quad(
+            "mirror",
+            [
+                Vec3::new(-2.0, 0.0, -1.5),
+                Vec3::new(2.0, 0.0, -1.5),
+                Vec3::new(2.0, 2.0, -1.5),
+                Vec3::new(-2.0, 2.0, -1.5),
+            ],
+            3,
+        ),
+        quad(
+            "pane",
+            [
+                Vec3::new(-1.0, 0.0, 0.5),
+                Vec3::new(-0.2, 0.0, 0.5),
+                Vec3::new(-0.2, 1.0, 0.2),
+                Vec3::new(-1.0, 1.0, 0.2),
+            ],
+            4,
+        ),
+    ];
+    let materials = vec![
+        diffuse("floor", 0.7),
+        emitter("light", Vec3::new(17.0, 12.0, 4.0)),
+        Material { diffuse: Vec3::new(0.6, 0.1, 0.1), ..Material::default() },
+        Material { kind: igi_scene::MaterialKind::Mirror, specular: Vec3::splat(0.8), ..Material::default() },
+        Material { kind: igi_scene::MaterialKind::Glass, ior: 1.5, ..Material::default() },
+    ];
+    let lights = vec![Light::Point { position: Vec3::new(-1.0, 1.5, 1.0), intensity: Vec3::splat(0.5) }];
+    igi_render::PreparedScene::new(scene(meshes, materials, lights))
+}
