@@ -623,6 +623,7 @@ impl Loader<'_> {
             },
             ior: material.ior().filter(|&ior| ior > 0.0).unwrap_or(1.5),
             kind,
+            shader: None,
         }
     }
 

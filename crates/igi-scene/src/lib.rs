@@ -31,6 +31,7 @@ pub mod ply;
 mod report;
 mod resources;
 pub mod scene_file;
+mod shader;
 mod texture;
 mod validate;
 
@@ -40,6 +41,7 @@ pub use builtin::{builtin, builtin_names};
 pub use error::{Location, SceneError};
 pub use model::{Bounds, Camera, Instance, Light, Material, MaterialKind, Mesh, Scene, Texture};
 pub use report::LoadReport;
+pub use shader::{Pattern, ShaderDesc};
 
 /// The file formats [`load`] reads, by extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -5,6 +5,7 @@
 //! Area lights are not a separate type: any triangle whose material has a non-zero `emission`
 //! is an area light, and a `quad` light of a scene file becomes two such triangles.
 
+use crate::shader::ShaderDesc;
 use glam::{Affine3A, Vec2, Vec3};
 
 /// A triangle mesh in its own object space. Meshes are placed in the world by [`Instance`]s.
@@ -69,6 +70,9 @@ pub struct Material {
     pub ior: f32,
     /// Perfect-mirror or glass behaviour requested by the source (MTL `illum` 3-7).
     pub kind: MaterialKind,
+    /// A procedural shader that replaces the constant and textured parameters above (scene
+    /// file `[[shader]]`); `emission` still makes the material an area light.
+    pub shader: Option<ShaderDesc>,
 }
 
 /// The BRDF family a material asks for.
@@ -96,6 +100,7 @@ impl Default for Material {
             transparency: 0.0,
             ior: 1.0,
             kind: MaterialKind::Plastic,
+            shader: None,
         }
     }
 }

@@ -224,6 +224,7 @@ fn material(
             defaults.ior
         }),
         kind,
+        shader: None,
     }
 }
 

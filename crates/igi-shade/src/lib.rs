@@ -1,0 +1,21 @@
+//! Programmable shading (paper 3.2, Figure 3): the shading model is split in two so the
+//! expensive part stays fast.
+//!
+//! - **Surface shaders** ([`SurfaceShader`]) turn a hit (position, normals, texture
+//!   coordinates, tangents, object, time) into [`BrdfParams`]: albedo, glossy colour and
+//!   exponent, mirror and glass weights, index of refraction, shading normal and emission.
+//!   They are arbitrary code (textures, procedural noise, bump mapping) and run once per hit,
+//!   eight hits at a time, over all hits of an interleave group before the VPL loop.
+//! - **BRDF shaders** ([`brdf`]) are a small fixed set (Lambert, modified Phong, perfect
+//!   mirror, smooth dielectric) that read those parameters inside the VPL loop, eight shading
+//!   points per packet, and that sample directions for the VPL random walk and the path
+//!   tracer.
+
+pub mod brdf;
+mod hit;
+mod params;
+mod surface_shader;
+
+pub use hit::ShadingHit8;
+pub use params::{BrdfParams, BrdfParams8};
+pub use surface_shader::SurfaceShader;
