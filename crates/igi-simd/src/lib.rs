@@ -38,6 +38,7 @@ mod portable;
 )))]
 pub use portable::{F32x8, I32x8, M32x8};
 
+mod math;
 mod vec3x8;
 pub use vec3x8::Vec3x8;
 

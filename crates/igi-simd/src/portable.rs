@@ -173,6 +173,12 @@ impl F32x8 {
     pub fn to_bits(self) -> I32x8 {
         I32x8(self.0.map(|v| v.to_bits() as i32))
     }
+
+    /// Per lane `table[idx & 15]`.
+    #[inline(always)]
+    pub fn lookup16(table: &[f32; 16], idx: I32x8) -> Self {
+        Self(idx.0.map(|i| table[(i & 15) as usize]))
+    }
 }
 
 macro_rules! lanewise {
@@ -262,6 +268,28 @@ impl I32x8 {
     #[inline(always)]
     pub fn to_f32(self) -> F32x8 {
         F32x8(self.0.map(|v| v as f32))
+    }
+
+    /// Each lane shifted left by `N` bits (`N` in 0..32), zeros shifted in.
+    #[inline(always)]
+    pub fn shl<const N: i32>(self) -> Self {
+        const { assert!(N >= 0 && N < 32) };
+        Self(self.0.map(|v| v << N))
+    }
+
+    /// Each lane shifted right by `N` bits (`N` in 0..32), copies of the sign bit shifted in
+    /// (arithmetic shift: floor division by 2^N).
+    #[inline(always)]
+    pub fn shr<const N: i32>(self) -> Self {
+        const { assert!(N >= 0 && N < 32) };
+        Self(self.0.map(|v| v >> N))
+    }
+
+    /// Per lane `table[idx & (N - 1)]` (`N` a power of two).
+    #[inline(always)]
+    pub fn gather<const N: usize>(table: &[i32; N], idx: Self) -> Self {
+        const { assert!(N.is_power_of_two() && N <= 1 << 30) };
+        Self(idx.0.map(|i| table[(i & (N - 1) as i32) as usize]))
     }
 
     /// The bits of each lane reinterpreted as `f32`.

@@ -129,3 +129,97 @@ fn vec3_ops() {
     assert_eq!((a - b + a).lane(2), [2.0, 3.0, 6.0]);
     assert_eq!((a * F32x8::splat(2.0)).lane(7), [2.0, 4.0, 6.0]);
 }
+
+#[test]
+fn shifts_gather_and_lookup() {
+    let a = I32x8::from_array([1, -2, 3, i32::MAX, 0, -1, i32::MIN, 8]);
+    for (i, v) in a.to_array().iter().enumerate() {
+        assert_eq!(a.shl::<3>().lane(i), v << 3);
+        assert_eq!(a.shr::<3>().lane(i), v >> 3, "arithmetic shift");
+    }
+    let table: [i32; 16] = std::array::from_fn(|i| (i * i) as i32 - 7);
+    let idx = I32x8::from_array([0, 15, 16, 17, -1, -16, 255, 7]);
+    let g = I32x8::gather(&table, idx);
+    for (i, v) in idx.to_array().iter().enumerate() {
+        assert_eq!(g.lane(i), table[(v & 15) as usize]);
+    }
+    let ftable: [f32; 16] = std::array::from_fn(|i| i as f32 * 1.5 - 4.0);
+    let l = F32x8::lookup16(&ftable, idx);
+    for (i, v) in idx.to_array().iter().enumerate() {
+        assert_eq!(l.lane(i), ftable[(v & 15) as usize]);
+    }
+}
+
+/// Relative error of `got` against the f64 reference `want`.
+fn rel(got: f32, want: f64) -> f64 {
+    if want == 0.0 { got.abs() as f64 } else { ((got as f64 - want) / want).abs() }
+}
+
+#[test]
+fn exp2_accuracy_sweep() {
+    let mut worst: f64 = 0.0;
+    for i in 0..=200_000 {
+        let x = -126.0 + 253.9 * i as f32 / 200_000.0;
+        let got = F32x8::splat(x).exp2().lane(0);
+        worst = worst.max(rel(got, (x as f64).exp2()));
+    }
+    assert!(worst < 1e-6, "exp2 relative error {worst}");
+    let special = F32x8::from_array([0.0, 1.0, -1.0, 10.0, 128.0, f32::NEG_INFINITY, -149.0, f32::NAN]);
+    let r = special.exp2().to_array();
+    assert_eq!(&r[..4], &[1.0, 2.0, 0.5, 1024.0]);
+    assert_eq!(r[4], f32::INFINITY);
+    assert_eq!(r[5], 0.0);
+    assert_eq!(r[6], f32::from_bits(1), "2^-149 is the smallest subnormal");
+    assert!(r[7].is_nan());
+}
+
+#[test]
+fn log2_accuracy_sweep() {
+    let mut worst: f64 = 0.0;
+    // Geometric sweep over all normal floats, plus a dense sweep around 1 where log2 → 0.
+    let mut x = f32::MIN_POSITIVE;
+    while x < f32::MAX / 1.001 {
+        let got = F32x8::splat(x).log2().lane(0);
+        worst = worst.max(rel(got, (x as f64).log2()));
+        x *= 1.000_37;
+    }
+    for i in 1..100_000 {
+        let x = 0.9 + 0.2 * i as f32 / 100_000.0;
+        if x != 1.0 {
+            worst = worst.max(rel(F32x8::splat(x).log2().lane(0), (x as f64).log2()));
+        }
+    }
+    assert!(worst < 1e-6, "log2 relative error {worst}");
+    let special = F32x8::from_array([1.0, 2.0, 0.5, 0.0, f32::INFINITY, -1.0, f32::NAN, 1e-40]);
+    let r = special.log2().to_array();
+    assert_eq!(&r[..3], &[0.0, 1.0, -1.0]);
+    assert_eq!(r[3], f32::NEG_INFINITY);
+    assert_eq!(r[4], f32::INFINITY);
+    assert!(r[5].is_nan() && r[6].is_nan());
+    assert!(rel(r[7], (1e-40f32 as f64).log2()) < 1e-6, "subnormal");
+}
+
+#[test]
+fn powf_accuracy_sweep() {
+    let mut worst: f64 = 0.0;
+    for i in 1..=2000 {
+        let x = i as f32 / 2000.0 * 1.5;
+        for e in [0.5f32, 1.0, 2.0, 3.7, 10.0, 60.0, 250.0, 1000.0, 5000.0] {
+            let want = (x as f64).powf(e as f64);
+            // The documented range: results in [2^-16, 2^16].
+            if !(2f64.powi(-16)..=2f64.powi(16)).contains(&want) {
+                continue;
+            }
+            let got = F32x8::splat(x).powf(F32x8::splat(e)).lane(0);
+            worst = worst.max(rel(got, want));
+            assert!(rel(got, x.powf(e) as f64) < 3e-6, "{x}^{e}");
+        }
+    }
+    assert!(worst < 2e-6, "powf relative error {worst}");
+    let x = F32x8::from_array([0.0, 0.0, 0.3, 1.0, 0.0, 2.0, 0.7, 4.0]);
+    let e = F32x8::from_array([2.0, 0.0, 0.0, 7.0, 1e-3, 10.0, 1.0, 0.5]);
+    let r = x.powf(e).to_array();
+    assert_eq!(&r[..4], &[0.0, 1.0, 1.0, 1.0]);
+    assert_eq!(r[4], 0.0);
+    assert!(rel(r[5], 1024.0) < 1e-6 && rel(r[6], 0.7) < 1e-6 && rel(r[7], 2.0) < 1e-6);
+}
