@@ -3,8 +3,9 @@
 //! noise. Averaging the irradiance over the n×m window around the pixel combines all sets, but
 //! only across neighbours that see a similar surface: the same material, normals within a
 //! cosine threshold and distances along the camera path within a relative threshold. Edges,
-//! creases and depth steps stay sharp, and the filtered quantity is D = E/π before the albedo
-//! multiplies it back in, so texture detail stays sharp too.
+//! creases and depth steps stay sharp, and the filtered quantities are D = E/π and the glossy
+//! term G before the albedo and the glossy reflectance multiply them back in, so texture
+//! detail stays sharp too.
 //!
 //! Shading points are matched by (sample index, camera path): sample j of a pixel is filtered
 //! with sample j of its neighbours, and a point seen through a mirror or glass with the point
@@ -33,6 +34,8 @@ pub struct FilterSample {
     pub material: u32,
     /// D = E/π before filtering.
     pub irradiance: Vec3,
+    /// The glossy term G (radiance per unit glossy reflectance) before filtering.
+    pub glossy: Vec3,
 }
 
 /// What the filter reads of a shading point, stored in a pixel grid per layer so that the
@@ -41,7 +44,8 @@ pub struct FilterSample {
 struct Cell {
     normal: Vec3,
     depth: f32,
-    irradiance: Vec3,
+    /// D and G.
+    values: [Vec3; 2],
     /// Material index, or [`EMPTY`] if the layer has no point at this pixel.
     material: u32,
 }
@@ -49,7 +53,7 @@ struct Cell {
 /// No shading point at this pixel in this layer.
 const EMPTY: u32 = u32::MAX;
 
-const EMPTY_CELL: Cell = Cell { normal: Vec3::ZERO, depth: 0.0, irradiance: Vec3::ZERO, material: EMPTY };
+const EMPTY_CELL: Cell = Cell { normal: Vec3::ZERO, depth: 0.0, values: [Vec3::ZERO; 2], material: EMPTY };
 
 /// Scratch space of the filter: one pixel grid per (sample, path) layer, reused across tiles.
 #[derive(Clone, Debug, Default)]
@@ -61,8 +65,8 @@ pub struct DiscontinuityBuffer {
 }
 
 impl DiscontinuityBuffer {
-    /// Filters the irradiance of the points of `tile`: `out[i]` becomes the filtered D of
-    /// `points[i]` for points inside the tile (points in the apron get their own value).
+    /// Filters the irradiance of the points of `tile`: `out[i]` becomes the filtered D and G
+    /// of `points[i]` for points inside the tile (points in the apron get their own values).
     /// `points` must cover `region`, the tile plus the apron of [`Interleave::region`].
     pub fn filter(
         &mut self,
@@ -71,13 +75,15 @@ impl DiscontinuityBuffer {
         interleave: &Interleave,
         settings: &FilterSettings,
         points: &[FilterSample],
-        out: &mut Vec<Vec3>,
+        out: &mut Vec<[Vec3; 2]>,
     ) {
         self.index(region, points);
         out.clear();
-        out.extend(points.iter().map(|p| p.irradiance));
+        out.extend(points.iter().map(|p| [p.irradiance, p.glossy]));
         let ([left, right], [up, down]) = interleave.window();
         let w = region.width();
+        // Most tiles have no glossy point: skip the second channel there.
+        let glossy = points.iter().any(|p| p.glossy != Vec3::ZERO);
         for (i, p) in points.iter().enumerate() {
             let (x, y) = (region.x0 + p.pixel % w, region.y0 + p.pixel / w);
             if !(x >= tile.x0 && x < tile.x1 && y >= tile.y0 && y < tile.y1) {
@@ -85,7 +91,7 @@ impl DiscontinuityBuffer {
             }
             let grid = &self.grids[self.layers[i] as usize];
             let (x0, x1) = (x.saturating_sub(left), (x + right).min(region.x1 - 1));
-            let mut sum = Vec3::ZERO;
+            let mut sum = [Vec3::ZERO; 2];
             let mut count = 0u32;
             for qy in y.saturating_sub(up)..=(y + down).min(region.y1 - 1) {
                 let row = region.index(x0, qy)..=region.index(x1, qy);
@@ -93,12 +99,15 @@ impl DiscontinuityBuffer {
                     // The centre always counts (a normal's dot product with itself can round
                     // below a threshold of 1), so count ≥ 1.
                     if (qx == x && qy == y) || similar(p, q, settings) {
-                        sum += q.irradiance;
+                        sum[0] += q.values[0];
+                        if glossy {
+                            sum[1] += q.values[1];
+                        }
                         count += 1;
                     }
                 }
             }
-            out[i] = sum / count as f32;
+            out[i] = sum.map(|v| v / count as f32);
         }
     }
 
@@ -128,8 +137,12 @@ impl DiscontinuityBuffer {
             };
             last = Some((key, layer));
             self.layers.push(layer);
-            self.grids[layer as usize][p.pixel as usize] =
-                Cell { normal: p.normal, depth: p.depth, irradiance: p.irradiance, material: p.material };
+            self.grids[layer as usize][p.pixel as usize] = Cell {
+                normal: p.normal,
+                depth: p.depth,
+                values: [p.irradiance, p.glossy],
+                material: p.material,
+            };
         }
     }
 }
@@ -160,6 +173,7 @@ mod tests {
                     depth,
                     material: 0,
                     irradiance,
+                    glossy: Vec3::ZERO,
                 });
             }
         }
@@ -177,7 +191,7 @@ mod tests {
             points,
             &mut out,
         );
-        out
+        out.into_iter().map(|[d, _]| d).collect()
     }
 
     #[test]

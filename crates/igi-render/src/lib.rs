@@ -7,9 +7,9 @@
 //! - [`prepared`]: [`PreparedScene`], the scene plus its acceleration structure and shading
 //!   tables (materials per triangle, normals, texture coordinates, emissive triangles).
 //! - [`camera`]: the pinhole camera ([`PinholeCamera`]), identical to the Embree benchmark's.
-//! - [`lights`], [`sampling`] and [`scattering`]: light sources, deterministic sample
-//!   sequences, and how materials scatter light (shared by every estimator).
-//! - [`texture`]: texture filtering.
+//! - [`lights`] and [`sampling`]: light sources and deterministic sample sequences. How
+//!   surfaces scatter light (surface shaders feeding BRDF shaders) is the `igi-shade` crate's,
+//!   shared by every estimator here.
 //! - [`vpl`]: virtual point lights from random walks (instant radiosity).
 //! - [`interleave`]: interleaved sampling of VPL sets and anti-aliasing samples.
 //! - [`tile_pipeline`] and [`vpl_lighting`]: the streaming per-tile pipeline and its inner
@@ -48,10 +48,8 @@ pub mod output;
 pub mod path_tracer;
 pub mod prepared;
 pub mod sampling;
-pub mod scattering;
 pub mod scheduler;
 pub mod stats;
-pub mod texture;
 pub mod tile;
 pub mod tile_pipeline;
 pub mod tonemap;

@@ -5,54 +5,54 @@
 //!
 //! # Physics
 //!
-//! Exactly what [`crate::scattering`] defines: [`Scattering::of`] turns a material into a
-//! Lambertian reflector (ρ/π, the Phong lobe ignored), a mirror or a smooth dielectric; every
-//! surface reflects on both sides; a triangle emits `material.emission` only toward its winding
-//! normal; point, spot and directional lights arrive as [`lights::incident`] says; a scene
-//! without lights is lit by the headlight [`lights::eye_light`]; rays leaving the scene see
-//! black.
+//! The surface shaders give the BRDF parameters at every vertex ([`PreparedScene::shade`]) and
+//! [`Bsdf`] evaluates and samples their lobes (diffuse, modified Phong, mirror, glass), as in
+//! the VPL walk and the IGI pipeline; every surface reflects on both sides; a surface emits
+//! the shader's emission only toward its winding normal (area-light sampling uses the
+//! material's `emission`, which the built-in shaders pass on unchanged); point, spot and
+//! directional lights arrive as [`lights::incident`] says; a scene without lights is lit by
+//! the headlight [`lights::eye_light`]; rays leaving the scene see black.
 //!
 //! # Estimator
 //!
 //! A pixel's value is the mean of `spp` camera paths, the k-th starting through the sub-pixel
 //! point (x + u₀, y + u₁) (a box filter over the pixel). Along a path x₀ x₁ … with throughput
-//! β_j (1 at the camera, then the product of BSDF × cos / pdf of the bounces so far, divided by
-//! the Russian-roulette probabilities),
+//! β_j (1 at the camera, then the product of the BSDF sample weights f·cos/pdf of the bounces
+//! so far, divided by the Russian-roulette probabilities), and f_j the non-delta (diffuse plus
+//! glossy) BRDF at x_j toward x_{j−1},
 //!
 //! ```text
 //! L ≈ Σ_j β_j · (  w_e L_e(x_j → x_{j−1})                                         (1)
-//!                + [x_j diffuse] ρ/π w_l L_e(y) cosθ_x cosθ_y V(x_j, y)
-//!                                   / (|x_j − y|² p_A(y))                         (2)
-//!                + [x_j diffuse] Σ_l ρ/π E_l(x_j) cosθ_x V(x_j, l) )              (3)
+//!                + f_j(ω_y) w_l L_e(y) cosθ_x cosθ_y V(x_j, y) / (|x_j − y|² p_A(y))   (2)
+//!                + Σ_l f_j(ω_l) E_l(x_j) cosθ_x V(x_j, l) )                        (3)
 //! ```
 //!
 //! 1. Emission where the path hits the front of an emitter.
-//! 2. Next-event estimation of the area lights: one point y per diffuse vertex, chosen by
-//!    power and uniformly by area ([`AreaLights::sample`](crate::lights::AreaLights::sample),
-//!    density p_A), one shadow ray.
+//! 2. Next-event estimation of the area lights: one point y per vertex with a non-delta lobe,
+//!    chosen by power and uniformly by area
+//!    ([`AreaLights::sample`](crate::lights::AreaLights::sample), density p_A), one shadow ray.
 //! 3. Every point, spot and directional light, one shadow ray each (E_l = I/d² or E).
 //!
-//! An emitter seen from a diffuse vertex x is found twice, by (2) with the solid-angle density
-//! p_l = p_A(y) |x − y|² / cosθ_y and by the cosine bounce of (1) with p_b = cosθ_x / π, so the
-//! two are weighted by the power heuristic (Veach 1997): w_l = p_l² / (p_l² + p_b²) and, after a
-//! diffuse bounce, w_e = p_b² / (p_b² + p_l²). The weights sum to one, so the estimate stays
-//! unbiased. On the camera ray and after a mirror or glass bounce, where next-event estimation
-//! cannot reach, w_e = 1. Counting emission only there, without weights, would be unbiased
-//! too, but with uniform area sampling the shadow-ray estimate (2) of an emitter that comes
-//! close to the shading point (an emitting wall meeting a lit one) grows like 1/d² and has
-//! unbounded variance; the weights hand that region to the cosine bounce, whose estimate is
-//! bounded. In the white-furnace test (emitting walls, 64 spp) the worst pixel is 8 % off with
-//! the weights and 700 % without.
+//! An emitter seen from a vertex x is found twice, by (2) with the solid-angle density
+//! p_l = p_A(y) |x − y|² / cosθ_y and by the BSDF sample of (1) with its density p_b
+//! ([`Bsdf::pdf`]), so the two are weighted by the power heuristic (Veach 1997):
+//! w_l = p_l² / (p_l² + p_b²) and, after a diffuse or glossy bounce, w_e = p_b² / (p_b² + p_l²).
+//! The weights sum to one, so the estimate stays unbiased. On the camera ray and after a
+//! mirror or glass bounce, where next-event estimation cannot reach, w_e = 1. Counting
+//! emission only there, without weights, would be unbiased too, but with uniform area sampling
+//! the shadow-ray estimate (2) of an emitter that comes close to the shading point (an
+//! emitting wall meeting a lit one) grows like 1/d² and has unbounded variance; the weights
+//! hand that region to the BSDF sample, whose estimate is bounded. In the white-furnace test
+//! (emitting walls, 64 spp) the worst pixel is 8 % off with the weights and 700 % without.
 //!
-//! The path continues from a diffuse vertex in a cosine-distributed direction about the
-//! shading normal, so β ×= ρ (ρ/π · cos θ / (cos θ / π)); from a mirror in the mirror
-//! direction, β ×= reflectance; from glass by reflection with probability F (the Fresnel
-//! reflectance) and refraction otherwise, β unchanged (F / F and (1 − F) / (1 − F)).
-//! From the [`ROULETTE_START`]-th vertex on, Russian roulette keeps the path with probability
-//! q = min(1, max channel of β) and divides β by q, which leaves the estimate unbiased. A path
-//! ends for good at [`MAX_VERTICES`] surface hits. With Russian roulette only chains of
-//! (nearly) lossless bounces get there, such as two facing perfect mirrors; in a closed room
-//! of albedo ρ the cut loses the fraction ρ⁶⁴ of the light (10⁻³ for ρ = 0.9, 10⁻⁶ for 0.8).
+//! The path continues in the direction [`Bsdf::sample`] draws from the whole BSDF (the lobe
+//! chosen by reflectance; glass reflects with probability F and refracts otherwise), and β is
+//! multiplied by the sample's weight. From the [`ROULETTE_START`]-th vertex on, Russian
+//! roulette keeps the path with probability q = min(1, max channel of β) and divides β by q,
+//! which leaves the estimate unbiased. A path ends for good at [`MAX_VERTICES`] surface hits.
+//! With Russian roulette only chains of (nearly) lossless bounces get there, such as two
+//! facing perfect mirrors; in a closed room of albedo ρ the cut loses the fraction ρ⁶⁴ of the
+//! light (10⁻³ for ρ = 0.9, 10⁻⁶ for 0.8).
 //!
 //! Paths from a point, spot or directional light through a mirror or glass onto a diffuse
 //! surface (caustics of punctual lights) have zero probability in this estimator: the light is
@@ -61,12 +61,12 @@
 //!
 //! # Normals
 //!
-//! Normals are turned toward the side the ray arrives from (two-sided reflection). Cosines,
-//! the cosine bounce and the mirror and glass directions use the shading normal; the
-//! geometric normal decides sides: a light or scattered direction that would cross the
-//! geometric surface where it should not (possible where the shading normal is bent) counts
-//! nothing, and ray origins are moved off the surface along it ([`offset_ray_origin`]). Glass
-//! refracts about the shading normal, as in the VPL walk and the IGI pipeline.
+//! Normals are turned toward the side the ray arrives from (two-sided reflection). Cosines and
+//! lobe directions use the shader's shading normal; the geometric normal decides sides: a
+//! light or scattered direction that would cross the geometric surface where it should not
+//! (possible where the shading normal is bent) counts nothing, and ray origins are moved off
+//! the surface along it ([`offset_ray_origin`]). Glass refracts about the shading normal, as in
+//! the VPL walk and the IGI pipeline.
 //!
 //! # Random numbers
 //!
@@ -77,7 +77,7 @@
 //! |---|---|
 //! | 0 | sub-pixel position (u₀, u₁), –, – |
 //! | 2j + 1 | vertex j: light choice, light point (u, v), Russian roulette |
-//! | 2j + 2 | vertex j: scattered direction (u, v), glass lobe choice, – |
+//! | 2j + 2 | vertex j: scattered direction (u, v), lobe choice, – |
 //!
 //! Sobol sets run out after `sobol_burley::NUM_DIMENSION_SETS_4D` (vertex 31 on); deeper
 //! vertices, which carry little light, use hashed uniform numbers instead. Nothing depends on
@@ -90,13 +90,12 @@ use crate::frame::{FrameState, SettingsError};
 use crate::lights::{self, luminance};
 use crate::prepared::{PreparedScene, SurfacePoint};
 use crate::sampling::{MAX_SAMPLES, hash_combine, pixel_seed, sobol4};
-use crate::scattering::{Interface, Scattering, cosine_hemisphere, glass_exit_side, reflect, refract};
 use crate::scheduler::TileScheduler;
 use crate::tile::{Tile, TileGrid};
 use glam::{Vec2, Vec3};
 use igi_bvh::{Ray, offset_ray_origin};
 use igi_scene::Light;
-use std::f32::consts::FRAC_1_PI;
+use igi_shade::brdf::Bsdf;
 
 /// Most surface hits of one path (the hard cap; see the module documentation).
 pub const MAX_VERTICES: u32 = 64;
@@ -211,46 +210,34 @@ impl<'a> PathTracer<'a> {
                 break;
             }
             let s = scene.surface(&hit);
-            // Every direction here is unit length (camera, cosine, mirror and refraction
-            // directions all are), so `hit.t` is the distance.
+            // Every direction here is unit length (camera and sampled directions all are), so
+            // `hit.t` is the distance.
             let d = ray.dir;
-            let material = &scene.materials()[s.material as usize];
+            let params = scene.shade(&s, 0.0);
             let cos_l = -s.geometric_normal.dot(d);
-            if cos_l > 0.0 && material.is_emissive() {
+            if cos_l > 0.0 && params.emission.max_element() > 0.0 {
                 let weight = bounce_pdf.map_or(1.0, |p_b| {
-                    power_heuristic(p_b, self.light_pdf(material.emission, hit.t * hit.t, cos_l))
+                    power_heuristic(p_b, self.light_pdf(params.emission, hit.t * hit.t, cos_l))
                 });
-                radiance += beta * material.emission * weight;
+                radiance += beta * params.emission * weight;
             }
             let [select, light_u, light_v, roulette] = samples.get(2 * vertex + 1);
             let [dir_u, dir_v, lobe, _] = samples.get(2 * vertex + 2);
 
-            let next = match Scattering::of(material, scene.albedo(s.material, s.uv)) {
-                Scattering::Diffuse { albedo } => {
-                    if albedo.max_element() <= 0.0 {
-                        break;
-                    }
-                    let side = Side::facing(&s, d);
-                    let direct = self.area_light(&side, select, Vec2::new(light_u, light_v), rays)
-                        + self.punctual_light(&side, rays);
-                    radiance += beta * albedo * FRAC_1_PI * direct;
-                    let wi = cosine_hemisphere(side.ns, Vec2::new(dir_u, dir_v));
-                    bounce_pdf = Some(side.ns.dot(wi).max(0.0) * FRAC_1_PI);
-                    beta *= albedo;
-                    side.leave(wi)
-                }
-                Scattering::Mirror { reflectance } => {
-                    let side = Side::facing(&s, d);
-                    bounce_pdf = None;
-                    beta *= reflectance;
-                    side.leave(reflect(d, side.ns))
-                }
-                Scattering::Glass { ior } => {
-                    bounce_pdf = None;
-                    glass(&s, d, ior, lobe)
-                }
-            };
-            let Some(next) = next else { break };
+            let bsdf = Bsdf::new(params, s.geometric_normal);
+            let wo = -d;
+            let side = Side::facing(&s, d, params.shading_normal);
+            if params.has_non_delta() {
+                radiance += beta
+                    * (self.area_light(&side, &bsdf, wo, select, Vec2::new(light_u, light_v), rays)
+                        + self.punctual_light(&side, &bsdf, wo, rays));
+            }
+            let Some(sample) = bsdf.sample(wo, lobe, Vec2::new(dir_u, dir_v)) else { break };
+            bounce_pdf = (!sample.lobe.is_delta()).then_some(sample.pdf);
+            beta *= sample.weight;
+            // A reflection leaves on the arrival side, a refraction on the other.
+            let exit = if sample.wi.dot(side.ng) > 0.0 { side.ng } else { -side.ng };
+            let next = Ray::new(offset_ray_origin(s.position, exit), sample.wi);
             if vertex + 1 >= ROULETTE_START {
                 let keep = beta.max_element().min(1.0);
                 if roulette >= keep {
@@ -263,10 +250,10 @@ impl<'a> PathTracer<'a> {
         radiance
     }
 
-    /// Term (2) of the estimator without the BRDF: one area-light sample's MIS-weighted
-    /// estimate w_l L_e cosθ_x cosθ_y / (d² p_A) of the irradiance from the area lights, 0 if
+    /// Term (2) of the estimator: one area-light sample's MIS-weighted estimate
+    /// w_l f(ω_o, ω_i) L_e cosθ_x cosθ_y / (d² p_A) of the light reflected toward `wo`, 0 if
     /// the sample is hidden or faces away.
-    fn area_light(&self, side: &Side, select: f32, uv: Vec2, rays: &mut u64) -> Vec3 {
+    fn area_light(&self, side: &Side, bsdf: &Bsdf, wo: Vec3, select: f32, uv: Vec2, rays: &mut u64) -> Vec3 {
         let Some(ls) = self.scene.area_lights().sample(select, uv) else { return Vec3::ZERO };
         let to_light = ls.point - side.position;
         let dist2 = to_light.length_squared();
@@ -279,17 +266,21 @@ impl<'a> PathTracer<'a> {
         if cos_x <= 0.0 || cos_l <= 0.0 || side.ng.dot(wi) <= 0.0 {
             return Vec3::ZERO;
         }
-        let weight = power_heuristic(self.light_pdf(ls.emission, dist2, cos_l), cos_x * FRAC_1_PI);
-        let e = ls.emission * (weight * cos_x * cos_l / (dist2 * ls.pdf_area));
+        let f = bsdf.f(wo, wi);
+        if f == Vec3::ZERO {
+            return Vec3::ZERO;
+        }
+        let weight = power_heuristic(self.light_pdf(ls.emission, dist2, cos_l), bsdf.pdf(wo, wi));
+        let e = f * ls.emission * (weight * cos_x * cos_l / (dist2 * ls.pdf_area));
         if !(e.is_finite() && e.max_element() > 0.0) {
             return Vec3::ZERO;
         }
         if self.visible(side.origin, ls.point, rays) { e } else { Vec3::ZERO }
     }
 
-    /// Term (3) of the estimator without the BRDF: the irradiance Σ E_l cosθ_x from the visible
-    /// point, spot and directional lights.
-    fn punctual_light(&self, side: &Side, rays: &mut u64) -> Vec3 {
+    /// Term (3) of the estimator: Σ f(ω_o, ω_l) E_l cosθ_x from the visible point, spot and
+    /// directional lights.
+    fn punctual_light(&self, side: &Side, bsdf: &Bsdf, wo: Vec3, rays: &mut u64) -> Vec3 {
         let mut sum = Vec3::ZERO;
         for light in &self.punctual {
             let Some(inc) = lights::incident(light, side.position) else { continue };
@@ -297,7 +288,7 @@ impl<'a> PathTracer<'a> {
             if cos_x <= 0.0 || side.ng.dot(inc.dir) <= 0.0 {
                 continue;
             }
-            let e = inc.irradiance * cos_x;
+            let e = bsdf.f(wo, inc.dir) * inc.irradiance * cos_x;
             if !(e.is_finite() && e.max_element() > 0.0) {
                 continue;
             }
@@ -368,37 +359,13 @@ struct Side {
 }
 
 impl Side {
-    /// The side of `s` that the unit direction `d` arrives on.
-    fn facing(s: &SurfacePoint, d: Vec3) -> Self {
+    /// The side of `s` that the unit direction `d` arrives on, with the shading normal `ns`
+    /// (the surface shader's, in the hemisphere of the geometric normal).
+    fn facing(s: &SurfacePoint, d: Vec3, ns: Vec3) -> Self {
         let sign = if s.geometric_normal.dot(d) < 0.0 { 1.0 } else { -1.0 };
         let ng = sign * s.geometric_normal;
-        Self {
-            position: s.position,
-            ng,
-            ns: sign * s.shading_normal,
-            origin: offset_ray_origin(s.position, ng),
-        }
+        Self { position: s.position, ng, ns: sign * ns, origin: offset_ray_origin(s.position, ng) }
     }
-
-    /// The ray leaving this side in direction `dir`, or `None` if `dir` points below the
-    /// geometric surface (possible where the shading normal is bent).
-    fn leave(&self, dir: Vec3) -> Option<Ray> {
-        (self.ng.dot(dir) > 0.0).then(|| Ray::new(self.origin, dir))
-    }
-}
-
-/// The ray continuing a path that meets glass of index `ior` at `s` in unit direction `d`:
-/// reflection if `lobe` < F, else refraction (always reflection under total internal
-/// reflection, where F = 1). `None` if the direction falls on the wrong side of the geometric
-/// surface (a bent shading normal).
-fn glass(s: &SurfacePoint, d: Vec3, ior: f32, lobe: f32) -> Option<Ray> {
-    // About the shading normal, as in the VPL walk and the IGI camera paths.
-    let interface = Interface::new(d, s.shading_normal, ior);
-    let refracted =
-        if lobe < interface.reflectance { None } else { refract(d, interface.normal, interface.eta) };
-    let dir = refracted.unwrap_or_else(|| reflect(d, interface.normal));
-    let side = glass_exit_side(d, dir, s.geometric_normal, refracted.is_none())?;
-    Some(Ray::new(offset_ray_origin(s.position, side), dir))
 }
 
 /// The random numbers of one camera path: sample `index` of its pixel's sequence `seed`.

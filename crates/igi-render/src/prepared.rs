@@ -5,14 +5,20 @@
 //! lights and the table of emissive triangles.
 //!
 //! Shading reads a hit through [`PreparedScene::surface`]: world position (from the
-//! barycentrics, not from `t`, for a robust shadow-ray origin), geometric and shading normal,
-//! texture coordinates and material.
+//! barycentrics, not from `t`, for a robust shadow-ray origin), object-space position,
+//! geometric and shading normal, texture coordinates, tangents and material; then the
+//! material's surface shader ([`PreparedScene::shade8`], eight hits at a time) turns it into
+//! BRDF parameters. Each material gets its shader from [`ShaderTable`] (its procedural
+//! `[[shader]]`, or the textured material shader), and a user may replace it by their own
+//! [`SurfaceShader`] ([`PreparedScene::set_shader`]).
 
 use crate::lights::{AreaLights, EmissiveTriangle};
-use crate::texture::{self, Filter};
 use glam::{Affine3A, Mat3A, Vec2, Vec3};
 use igi_bvh::{Aabb, Accel, Hit, TriangleMesh};
 use igi_scene::{Camera, Light, Material, Scene, Texture};
+use igi_shade::{BrdfParams, BrdfParams8, ShaderTable, ShadingHit8, SurfaceShader};
+use igi_simd::{F32x8, I32x8, M32x8, Vec3x8};
+use std::sync::Arc;
 
 /// Per-triangle and per-vertex shading data of one mesh, in the accel's triangle order.
 #[derive(Clone, Debug, Default)]
@@ -28,10 +34,12 @@ pub struct MeshShading {
 }
 
 /// Everything shading needs to know about a ray hit, in world space.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SurfacePoint {
     /// Hit position, interpolated from the triangle's corners.
     pub position: Vec3,
+    /// The hit position in the object space of its instance.
+    pub object_position: Vec3,
     /// Unit geometric normal, following the triangle's winding (the emitting side of an area
     /// light).
     pub geometric_normal: Vec3,
@@ -40,6 +48,14 @@ pub struct SurfacePoint {
     pub shading_normal: Vec3,
     /// Interpolated texture coordinates (zero if the mesh has none).
     pub uv: Vec2,
+    /// World-space ∂p/∂u and ∂p/∂v of the triangle's texture mapping (without texture
+    /// coordinates, or where they are degenerate: the triangle's two edges from its first
+    /// corner).
+    pub dpdu: Vec3,
+    /// See `dpdu`.
+    pub dpdv: Vec3,
+    /// The instance hit.
+    pub instance: u32,
     /// Material index.
     pub material: u32,
 }
@@ -57,7 +73,10 @@ pub struct PreparedScene {
     /// Per instance: the matrix taking object-space normals to world space (inverse
     /// transpose), or `None` for the identity.
     normal_matrices: Vec<Option<Mat3A>>,
-    texture_filter: Filter,
+    /// The surface shader of each material.
+    shaders: Vec<Arc<dyn SurfaceShader>>,
+    /// Scene time handed to the surface shaders.
+    time: f32,
 }
 
 impl PreparedScene {
@@ -111,8 +130,10 @@ impl PreparedScene {
             camera,
             area_lights: AreaLights::default(),
             normal_matrices,
-            texture_filter: Filter::Bilinear,
+            shaders: Vec::new(),
+            time: 0.0,
         };
+        prepared.shaders = ShaderTable::new(&prepared.materials, &prepared.textures).into_shaders();
         prepared.area_lights = AreaLights::new(prepared.collect_emissive());
         if !prepared.has_lights() {
             tracing::warn!("the scene has no light source; lighting it with a headlight at the camera");
@@ -202,11 +223,6 @@ impl PreparedScene {
             .sum()
     }
 
-    /// Texture filter used by [`PreparedScene::albedo`] (bilinear by default).
-    pub fn set_texture_filter(&mut self, filter: Filter) {
-        self.texture_filter = filter;
-    }
-
     /// Material index of stored triangle `prim` of `instance`.
     #[inline]
     pub fn material_id(&self, instance: u32, prim: u32) -> u32 {
@@ -264,28 +280,141 @@ impl PreparedScene {
             .filter(|n| *n != Vec3::ZERO && n.is_finite())
             .map_or(geometric_normal, |n| if n.dot(geometric_normal) < 0.0 { -n } else { n });
 
-        let uv = shading.uvs.as_ref().map_or(Vec2::ZERO, |t| {
-            let [t0, t1, t2] = idx.map(|i| t[i as usize]);
-            w * t0 + u * t1 + v * t2
-        });
+        let corner_uvs = shading.uvs.as_ref().map(|t| idx.map(|i| t[i as usize]));
+        let uv = corner_uvs.map_or(Vec2::ZERO, |[t0, t1, t2]| w * t0 + u * t1 + v * t2);
+        let (dpdu, dpdv) = tangents(b - a, c - a, corner_uvs);
+        let (dpdu, dpdv) = if self.normal_matrices[instance as usize].is_some() {
+            (m.transform_vector3(dpdu), m.transform_vector3(dpdv))
+        } else {
+            (dpdu, dpdv)
+        };
 
         SurfacePoint {
             position,
+            object_position: local,
             geometric_normal,
             shading_normal,
             uv,
+            dpdu,
+            dpdv,
+            instance,
             material: shading.material_ids[prim as usize],
         }
     }
 
-    /// Diffuse reflectance ρ at texture coordinates `uv` of `material`: the material's
-    /// `diffuse` times its diffuse texture (RGB), if any.
-    #[inline]
-    pub fn albedo(&self, material: u32, uv: Vec2) -> Vec3 {
-        let m = &self.materials[material as usize];
-        match m.diffuse_texture.and_then(|t| self.textures.get(t as usize)) {
-            Some(tex) => m.diffuse * texture::sample(tex, uv, self.texture_filter).truncate(),
-            None => m.diffuse,
+    /// The surface shader of material `material`.
+    pub fn shader(&self, material: u32) -> &dyn SurfaceShader {
+        self.shaders[material as usize].as_ref()
+    }
+
+    /// Replaces the surface shader of every material named `name` by `shader` (a user's own
+    /// [`SurfaceShader`]); returns how many materials it now shades.
+    pub fn set_shader(&mut self, name: &str, shader: Arc<dyn SurfaceShader>) -> usize {
+        let mut count = 0;
+        for (material, slot) in self.materials.iter().zip(&mut self.shaders) {
+            if material.name == name {
+                *slot = Arc::clone(&shader);
+                count += 1;
+            }
+        }
+        count
+    }
+
+    /// Runs the surface shader of `material` on `n` ≤ 8 points of that material, `point(i)`
+    /// giving point i and its camera-ray footprint, and writes their energy-conserving BRDF
+    /// parameters into `out[..n]`, with shading normals unit and in the hemisphere of the
+    /// geometric normal (the interpolated normal where a shader's is unusable).
+    pub fn shade8<'p>(
+        &self,
+        material: u32,
+        n: usize,
+        point: impl Fn(usize) -> (&'p SurfacePoint, f32),
+        out: &mut [BrdfParams],
+    ) {
+        debug_assert!((1..=8).contains(&n) && out.len() >= n);
+        // Structure of arrays; lanes past the points repeat the first (every lane finite).
+        let mut soa = [[[0.0f32; 8]; 3]; 6];
+        let mut uv = [[0.0f32; 8]; 2];
+        let mut footprint = [0.0f32; 8];
+        let mut object = [0i32; 8];
+        for lane in 0..8 {
+            let (p, f) = point(if lane < n { lane } else { 0 });
+            let vectors =
+                [p.position, p.object_position, p.geometric_normal, p.shading_normal, p.dpdu, p.dpdv];
+            for (field, v) in soa.iter_mut().zip(vectors) {
+                field[0][lane] = v.x;
+                field[1][lane] = v.y;
+                field[2][lane] = v.z;
+            }
+            uv[0][lane] = p.uv.x;
+            uv[1][lane] = p.uv.y;
+            footprint[lane] = f;
+            object[lane] = p.instance as i32;
+        }
+        let vec3 = |a: &[[f32; 8]; 3]| {
+            Vec3x8::new(F32x8::from_array(a[0]), F32x8::from_array(a[1]), F32x8::from_array(a[2]))
+        };
+        let hits = ShadingHit8 {
+            position: vec3(&soa[0]),
+            object_position: vec3(&soa[1]),
+            geometric_normal: vec3(&soa[2]),
+            shading_normal: vec3(&soa[3]),
+            u: F32x8::from_array(uv[0]),
+            v: F32x8::from_array(uv[1]),
+            dpdu: vec3(&soa[4]),
+            dpdv: vec3(&soa[5]),
+            footprint: F32x8::from_array(footprint),
+            object: I32x8::from_array(object),
+            active: M32x8::from_bitmask((1u32 << n) - 1),
+            material,
+            time: self.time,
+        };
+        let mut params = BrdfParams8::black(hits.shading_normal);
+        self.shader(material).shade(&hits, &mut params);
+        let mut params = params.conserving();
+        params.shading_normal = facing(params.shading_normal, hits.geometric_normal, hits.shading_normal);
+        let lanes = params.to_lanes();
+        out[..n].copy_from_slice(&lanes[..n]);
+    }
+
+    /// [`PreparedScene::shade8`] of one point.
+    pub fn shade(&self, point: &SurfacePoint, footprint: f32) -> BrdfParams {
+        let mut out = [BrdfParams::black(point.shading_normal)];
+        self.shade8(point.material, 1, |_| (point, footprint), &mut out);
+        out[0]
+    }
+}
+
+/// Shading normals `n` from a shader made usable: unit, finite and at least slightly in the
+/// hemisphere of the geometric normals `ng` (a bump that tilts one below would make the
+/// surface face away from every light); `fallback` (the interpolated normals) where `n` is
+/// unusable (zero length or not finite).
+fn facing(n: Vec3x8, ng: Vec3x8, fallback: Vec3x8) -> Vec3x8 {
+    const MIN_COS: f32 = 1e-3;
+    let len = n.length();
+    let usable = len.gt(F32x8::ZERO) & len.lt(F32x8::splat(f32::INFINITY));
+    let n = Vec3x8::select(usable, n * (F32x8::splat(1.0) / len), fallback);
+    let cos = n.dot(ng);
+    let lifted = (n + ng * (F32x8::splat(MIN_COS) - cos)).normalize();
+    Vec3x8::select(cos.ge(F32x8::splat(MIN_COS)), n, lifted)
+}
+
+/// ∂p/∂u and ∂p/∂v of a triangle with edges `e1`, `e2` (object space) and corner texture
+/// coordinates `uvs`: the solution of e_k = Δu_k ∂p/∂u + Δv_k ∂p/∂v. Without texture
+/// coordinates, or where they are degenerate, the edges themselves (the mapping u, v =
+/// barycentrics), which span the triangle's plane at no cost.
+fn tangents(e1: Vec3, e2: Vec3, uvs: Option<[Vec2; 3]>) -> (Vec3, Vec3) {
+    if let Some([t0, t1, t2]) = uvs {
+        let (d1, d2) = (t1 - t0, t2 - t0);
+        let det = d1.x * d2.y - d1.y * d2.x;
+        if det.abs() > 1e-12 {
+            let r = 1.0 / det;
+            let dpdu = (d2.y * e1 - d1.y * e2) * r;
+            let dpdv = (d1.x * e2 - d2.x * e1) * r;
+            if dpdu.is_finite() && dpdv.is_finite() {
+                return (dpdu, dpdv);
+            }
         }
     }
+    (e1, e2)
 }

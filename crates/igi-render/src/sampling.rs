@@ -1,12 +1,14 @@
 //! Deterministic sample generation: integer hashes that turn (pixel, seed) into a sequence
 //! seed, Owen-scrambled Sobol points (`sobol_burley`) for stratified light samples, uniform
-//! triangle sampling and a discrete distribution (CDF) for choosing among lights.
+//! triangle sampling, a discrete distribution (CDF) for choosing among lights, and the
+//! warps from the unit square to spheres, cones and discs that start light paths.
 //!
 //! Nothing here keeps state between calls, so a pixel's samples depend only on the pixel, the
 //! sample index and the seed (DESIGN.md section 4): the image is the same whichever thread or
 //! node renders the pixel.
 
-use glam::Vec2;
+use glam::{Vec2, Vec3};
+use std::f32::consts::PI;
 
 /// A 32-bit integer hash with good avalanche ("lowbias32" from Chris Wellons' hash
 /// prospector). Used to decorrelate seeds; not a cryptographic hash.
@@ -128,5 +130,55 @@ impl Cdf {
         // value and are skipped by the strict comparison.
         let i = self.cdf.partition_point(|&c| c <= u).min(self.cdf.len() - 1);
         (i, self.pmf[i])
+    }
+}
+
+/// A unit vector uniformly distributed on the sphere (density 1 / 4π).
+pub fn uniform_sphere(u: Vec2) -> Vec3 {
+    let z = 1.0 - 2.0 * u.x;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * PI * u.y;
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+/// A unit vector uniformly distributed in the cone of directions within angle acos(`cos_max`)
+/// of the unit axis `axis` (density 1 / (2π (1 − cos_max))).
+pub fn uniform_cone(axis: Vec3, cos_max: f32, u: Vec2) -> Vec3 {
+    let z = 1.0 - u.x * (1.0 - cos_max);
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * PI * u.y;
+    let (t, b) = axis.any_orthonormal_pair();
+    (t * (r * phi.cos()) + b * (r * phi.sin()) + axis * z).normalize()
+}
+
+/// A point uniformly distributed on the unit disc (concentric mapping, Shirley & Chiu 1997).
+pub fn concentric_disc(u: Vec2) -> Vec2 {
+    let o = 2.0 * u - Vec2::ONE;
+    if o == Vec2::ZERO {
+        return Vec2::ZERO;
+    }
+    let (r, theta) = if o.x.abs() > o.y.abs() {
+        (o.x, PI / 4.0 * (o.y / o.x))
+    } else {
+        (o.y, PI / 2.0 - PI / 4.0 * (o.x / o.y))
+    };
+    r * Vec2::new(theta.cos(), theta.sin())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sphere_cone_and_disc_samples_stay_in_their_domains() {
+        let axis = Vec3::new(0.0, -1.0, 1.0).normalize();
+        for i in 0..32 {
+            for j in 0..32 {
+                let u = Vec2::new(i as f32 / 32.0, j as f32 / 32.0);
+                assert!((uniform_sphere(u).length() - 1.0).abs() < 1e-5);
+                assert!(uniform_cone(axis, 0.9, u).dot(axis) >= 0.9 - 1e-5);
+                assert!(concentric_disc(u).length() <= 1.0 + 1e-6);
+            }
+        }
     }
 }

@@ -25,9 +25,8 @@ use crate::camera::PinholeCamera;
 use crate::discontinuity::{DiscontinuityBuffer, FilterSample};
 use crate::frame::{FilterSettings, FrameState, SequenceSpan};
 use crate::interleave::{Interleave, Region};
-use crate::prepared::PreparedScene;
+use crate::prepared::{PreparedScene, SurfacePoint};
 use crate::sampling::{pixel_seed, sobol4};
-use crate::scattering::{Interface, Scattering, cosine_hemisphere, glass_exit_side, reflect, refract};
 use crate::stats::{Phase, PhaseTimes, RayCounts};
 use crate::tile::Tile;
 use crate::tonemap::{LuminanceStats, ToneMapper};
@@ -35,6 +34,10 @@ use crate::vpl::VplSets;
 use crate::vpl_lighting::Receivers;
 use glam::Vec3;
 use igi_bvh::{Hit, HitPacket8, Ray, RayPacket8, offset_ray_origin};
+use igi_shade::BrdfParams;
+use igi_shade::brdf::cosine_hemisphere;
+use igi_shade::brdf::dielectric::{Interface, glass_exit_side, reflect, refract};
+use igi_shade::brdf::phong::mirror_direction;
 use igi_simd::M32x8;
 use std::time::Instant;
 
@@ -92,7 +95,7 @@ struct PathState {
     bounces: u32,
 }
 
-/// A diffuse point seen by a camera path.
+/// A point with a diffuse or glossy lobe seen by a camera path.
 #[derive(Clone, Copy, Debug)]
 struct ShadingPoint {
     state: PathState,
@@ -101,12 +104,30 @@ struct ShadingPoint {
     ng: Vec3,
     depth: f32,
     material: u32,
+    /// Diffuse reflectance ρ_d.
     albedo: Vec3,
+    /// Glossy reflectance ρ_s, its exponent and lobe axis (the mirror direction of the
+    /// direction to the camera).
+    specular: Vec3,
+    exponent: f32,
+    axis: Vec3,
     /// D = E/π from the VPLs (filtered).
     irradiance: Vec3,
-    /// D = E/π from point, spot and directional lights: exact, so never filtered (their
-    /// shadow edges stay sharp).
+    /// G = Σ E · lobe from the VPLs (filtered): the glossy radiance per unit ρ_s.
+    glossy: Vec3,
+    /// Radiance reflected from point, spot and directional lights: exact, so never filtered
+    /// (their shadow edges stay sharp).
     exact: Vec3,
+}
+
+/// A hit waiting for its surface shader: the hits of one step are shaded together, grouped
+/// by material (paper 3.2: surface shaders run over all hits before the VPL loop).
+#[derive(Clone, Copy, Debug)]
+struct PendingHit {
+    state: PathState,
+    dir: Vec3,
+    t: f32,
+    surface: SurfacePoint,
 }
 
 /// A traced primary packet: directions, hits and pixels per lane, occupied lanes.
@@ -145,11 +166,12 @@ pub struct TileScratch {
     emitted: Vec<Vec3>,
     points: Vec<ShadingPoint>,
     packets: Vec<PrimaryPacket>,
+    pending: Vec<PendingHit>,
     stream: Vec<SpecularRay>,
     next_stream: Vec<SpecularRay>,
     receivers: Receivers,
     filter_samples: Vec<FilterSample>,
-    filtered: Vec<Vec3>,
+    filtered: Vec<[Vec3; 2]>,
     filter: DiscontinuityBuffer,
 }
 
@@ -169,6 +191,9 @@ pub struct TilePipeline<'a> {
     specular_depth: u32,
     size: (u32, u32),
     tone_map: ToneMapper,
+    /// Angle subtended by a pixel at the image centre: a ray cone's spread per unit distance,
+    /// which sizes the texture footprint of a hit.
+    pixel_angle: f32,
 }
 
 impl<'a> TilePipeline<'a> {
@@ -188,6 +213,7 @@ impl<'a> TilePipeline<'a> {
             specular_depth: s.specular_depth,
             size: (s.width, s.height),
             tone_map: frame.tone_map,
+            pixel_angle: 2.0 * (0.5 * frame.camera.fov_y_deg.to_radians()).tan() / s.height.max(1) as f32,
         }
     }
 
@@ -275,7 +301,7 @@ impl<'a> TilePipeline<'a> {
         rays.primary += primary;
     }
 
-    /// Step 2: shading inputs of every primary hit.
+    /// Step 2: the surface shaders of every primary hit.
     fn shade_primary(&self, sample: u32, s: &mut TileScratch) {
         let packets = std::mem::take(&mut s.packets);
         for p in &packets {
@@ -285,10 +311,11 @@ impl<'a> TilePipeline<'a> {
                 }
                 let state =
                     PathState { pixel, sample, path: 1, throughput: Vec3::ONE, depth: 0.0, bounces: 0 };
-                self.shade_hit(p.dirs[lane], &p.hits[lane], state, s);
+                self.queue_hit(p.dirs[lane], &p.hits[lane], state, s);
             }
         }
         s.packets = packets;
+        self.shade_queued(s);
     }
 
     /// Step 3: the specular stream, bounce by bounce: the rays queued by the previous step
@@ -312,85 +339,109 @@ impl<'a> TilePipeline<'a> {
                 let hits = unpack_hits(&accel.intersect8(&packet, M32x8::from_bitmask(bits)));
                 for (r, hit) in chunk.iter().zip(&hits) {
                     if hit.is_hit() {
-                        self.shade_hit(r.ray.dir, hit, r.state, s);
+                        self.queue_hit(r.ray.dir, hit, r.state, s);
                     }
                 }
             }
             s.stream = stream;
             s.stream.clear();
+            self.shade_queued(s);
         }
     }
 
-    /// Shading inputs at `hit` of `ray` (unit direction): emission seen, a shading point for a
-    /// diffuse surface, or the reflection and refraction rays of a specular one (into the
+    /// Queues `hit` of a ray in unit direction `dir` for [`TilePipeline::shade_queued`].
+    fn queue_hit(&self, dir: Vec3, hit: &Hit, state: PathState, s: &mut TileScratch) {
+        s.pending.push(PendingHit { state, dir, t: hit.t, surface: self.scene.surface(hit) });
+    }
+
+    /// Runs the surface shaders over the queued hits, up to eight consecutive hits of one
+    /// material at a time, and turns each hit into what its BRDF asks for
+    /// ([`TilePipeline::scatter`]). Hits stay in the order they were queued: neighbouring
+    /// pixels, whose runs of one material are long, and which the shadow packets want
+    /// together.
+    fn shade_queued(&self, s: &mut TileScratch) {
+        let pending = std::mem::take(&mut s.pending);
+        let mut out = [BrdfParams::black(Vec3::Z); 8];
+        let mut start = 0;
+        while start < pending.len() {
+            let material = pending[start].surface.material;
+            let run = pending[start..].iter().take(8).take_while(|p| p.surface.material == material).count();
+            let batch = &pending[start..start + run];
+            let point = |lane: usize| {
+                let p = &batch[lane];
+                (&p.surface, (p.state.depth + p.t) * self.pixel_angle)
+            };
+            self.scene.shade8(material, run, point, &mut out);
+            for (p, b) in batch.iter().zip(&out) {
+                self.scatter(p, b, s);
+            }
+            start += run;
+        }
+        s.pending = pending;
+        s.pending.clear();
+    }
+
+    /// What a shaded hit becomes: emission seen, a shading point for its diffuse and glossy
+    /// lobes, and the reflection and refraction rays of its mirror and glass lobes (into the
     /// next stream).
-    fn shade_hit(&self, dir: Vec3, hit: &Hit, state: PathState, s: &mut TileScratch) {
-        let scene = self.scene;
-        let sp = scene.surface(hit);
+    fn scatter(&self, hit: &PendingHit, b: &BrdfParams, s: &mut TileScratch) {
+        let (sp, dir, state) = (&hit.surface, hit.dir, hit.state);
         let front = sp.geometric_normal.dot(dir) < 0.0;
         let (ng, ns) = if front {
-            (sp.geometric_normal, sp.shading_normal)
+            (sp.geometric_normal, b.shading_normal)
         } else {
-            (-sp.geometric_normal, -sp.shading_normal)
+            (-sp.geometric_normal, -b.shading_normal)
         };
-        let material = &scene.materials()[sp.material as usize];
-        if front && material.is_emissive() {
+        if front && b.emission.max_element() > 0.0 {
             s.emitted[(state.pixel * self.interleave.aa + state.sample) as usize] +=
-                state.throughput * material.emission;
+                state.throughput * b.emission;
         }
         let depth = state.depth + hit.t;
-        let albedo = scene.albedo(sp.material, sp.uv);
-        match Scattering::of(material, albedo) {
-            Scattering::Diffuse { albedo } => {
-                if albedo.max_element() > 0.0 {
-                    s.points.push(ShadingPoint {
-                        state,
-                        origin: offset_ray_origin(sp.position, ng),
-                        ns,
-                        ng,
-                        depth,
-                        material: sp.material,
-                        albedo,
-                        irradiance: Vec3::ZERO,
-                        exact: Vec3::ZERO,
-                    });
-                }
+        if b.has_non_delta() {
+            s.points.push(ShadingPoint {
+                state,
+                origin: offset_ray_origin(sp.position, ng),
+                ns,
+                ng,
+                depth,
+                material: sp.material,
+                albedo: b.diffuse,
+                specular: b.specular,
+                exponent: b.exponent,
+                axis: mirror_direction(-dir, ns),
+                irradiance: Vec3::ZERO,
+                glossy: Vec3::ZERO,
+                exact: Vec3::ZERO,
+            });
+        }
+        if state.bounces >= self.specular_depth {
+            return;
+        }
+        if b.mirror.max_element() > 0.0 {
+            // About the shading normal; a reflection that an interpolated normal sends
+            // below the surface ends the path (as in the VPL walk and the path tracer).
+            let dir = reflect(dir, ns);
+            if dir.dot(ng) > 0.0 {
+                self.continue_path(state, 0, b.mirror, depth, offset_ray_origin(sp.position, ng), dir, s);
             }
-            _ if state.bounces >= self.specular_depth => {}
-            Scattering::Mirror { reflectance } => {
-                // About the shading normal; a reflection that an interpolated normal sends
-                // below the surface ends the path (as in the VPL walk and the path tracer).
-                let dir = reflect(dir, ns);
-                if dir.dot(ng) > 0.0 {
-                    self.continue_path(
-                        state,
-                        0,
-                        reflectance,
-                        depth,
-                        offset_ray_origin(sp.position, ng),
-                        dir,
-                        s,
-                    );
-                }
+        }
+        if b.glass > 0.0 {
+            // About the shading normal; a continuation that a bent normal sends to the
+            // wrong side of the geometric surface ends (as in the walk and path tracer).
+            let interface = Interface::new(dir, b.shading_normal, b.ior);
+            let n = interface.normal;
+            let f = interface.reflectance;
+            let ng = sp.geometric_normal;
+            let reflected = reflect(dir, n);
+            if let Some(side) = glass_exit_side(dir, reflected, ng, true) {
+                let origin = offset_ray_origin(sp.position, side);
+                self.continue_path(state, 0, Vec3::splat(b.glass * f), depth, origin, reflected, s);
             }
-            Scattering::Glass { ior } => {
-                // About the shading normal; a continuation that a bent normal sends to the
-                // wrong side of the geometric surface ends (as in the walk and path tracer).
-                let interface = Interface::new(dir, sp.shading_normal, ior);
-                let n = interface.normal;
-                let f = interface.reflectance;
-                let ng = sp.geometric_normal;
-                let reflected = reflect(dir, n);
-                if let Some(side) = glass_exit_side(dir, reflected, ng, true) {
-                    let origin = offset_ray_origin(sp.position, side);
-                    self.continue_path(state, 0, Vec3::splat(f), depth, origin, reflected, s);
-                }
-                let refracted = refract(dir, n, interface.eta)
-                    .and_then(|t| Some((t, glass_exit_side(dir, t, ng, false)?)));
-                if let Some((t, side)) = refracted {
-                    let origin = offset_ray_origin(sp.position, side);
-                    self.continue_path(state, 1, Vec3::splat(1.0 - f), depth, origin, t, s);
-                }
+            let refracted =
+                refract(dir, n, interface.eta).and_then(|t| Some((t, glass_exit_side(dir, t, ng, false)?)));
+            if let Some((t, side)) = refracted {
+                let origin = offset_ray_origin(sp.position, side);
+                self.continue_path(state, 1, Vec3::splat(b.glass * (1.0 - f)), depth, origin, t, s);
             }
         }
     }
@@ -504,9 +555,10 @@ impl<'a> TilePipeline<'a> {
                         bounces: self.specular_depth,
                         ..p.state
                     };
-                    self.shade_hit(batch[lane].dir, hit, state, s);
+                    self.queue_hit(batch[lane].dir, hit, state, s);
                 }
             }
+            self.shade_queued(s);
             (lo, hi) = (hi, s.points.len());
             if lo == hi {
                 break;
@@ -524,13 +576,15 @@ impl<'a> TilePipeline<'a> {
         let receivers = &mut s.receivers;
         receivers.clear();
         for p in points.iter() {
-            receivers.push(p.origin, p.ns, p.ng);
+            let glossy = (p.specular.max_element() > 0.0).then_some((p.axis, p.exponent));
+            receivers.push(p.origin, p.ns, p.ng, glossy);
         }
         let accel = self.scene.accel();
         if !self.vpls.lights().is_empty() {
             receivers.add_lights(accel, self.vpls.lights(), rays);
             for (i, p) in points.iter_mut().enumerate() {
-                p.exact = receivers.irradiance(i);
+                let (d, g) = receivers.irradiance(i);
+                p.exact = p.albedo * d + p.specular * g;
             }
             receivers.reset_irradiance();
         }
@@ -538,7 +592,7 @@ impl<'a> TilePipeline<'a> {
         let vpls = self.vpls.set(set).iter().skip(sample as usize).step_by(aa);
         receivers.add_vpls(accel, vpls, aa as f32, self.d_min2, rays);
         for (i, p) in points.iter_mut().enumerate() {
-            p.irradiance = receivers.irradiance(i);
+            (p.irradiance, p.glossy) = receivers.irradiance(i);
         }
     }
 
@@ -556,19 +610,20 @@ impl<'a> TilePipeline<'a> {
                     depth: p.depth,
                     material: p.material,
                     irradiance: p.irradiance,
+                    glossy: p.glossy,
                 }));
                 filter.filter(region, tile, &self.interleave, settings, filter_samples, filtered);
                 // The compensation's points lie wherever its rays landed, not on a pixel grid:
                 // averaging their D over neighbours would weight it by the wrong distances.
                 for (d, p) in filtered.iter_mut().zip(points.iter()) {
                     if p.state.path & COMPENSATION != 0 {
-                        *d = p.irradiance;
+                        *d = [p.irradiance, p.glossy];
                     }
                 }
             }
             None => {
                 filtered.clear();
-                filtered.extend(points.iter().map(|p| p.irradiance));
+                filtered.extend(points.iter().map(|p| [p.irradiance, p.glossy]));
             }
         }
 
@@ -581,9 +636,9 @@ impl<'a> TilePipeline<'a> {
             (x >= tile.x0 && x < tile.x1 && y >= tile.y0 && y < tile.y1)
                 .then(|| (y - tile.y0) as usize * tw + (x - tile.x0) as usize)
         };
-        for (p, d) in points.iter().zip(filtered.iter()) {
+        for (p, [d, g]) in points.iter().zip(filtered.iter()) {
             if let Some(i) = tile_index(p.state.pixel) {
-                pixels[i] += p.state.throughput * p.albedo * (*d + p.exact);
+                pixels[i] += p.state.throughput * (p.albedo * *d + p.specular * *g + p.exact);
             }
         }
         let scale = 1.0 / aa as f32;

@@ -34,25 +34,35 @@
 //!
 //! # Random walk
 //!
-//! At each surface the particle hits (two-sided reflection, [`Scattering`]):
+//! At each surface the particle hits, the surface shader gives the BRDF parameters and
+//! [`Bsdf`] reads them (two-sided reflection):
 //!
-//! - Lambertian, reflectance ρ: a VPL with power Φ·ρ (componentwise) and the shading normal
-//!   turned to the side the particle came from (decided by the geometric normal). The walk goes
-//!   on with probability q = min(1, max ρ) (Russian roulette on the albedo) in a cosine-weighted
-//!   direction around that normal, carrying Φ ← Φ·ρ/q.
-//! - Mirror: Φ ← Φ · reflectance, reflected about the shading normal; no VPL.
-//! - Glass: reflected with probability F (the Fresnel reflectance of the geometric-normal
-//!   interface), else refracted; Φ unchanged (flux is not scaled by η²); no VPL.
+//! - If the surface has a diffuse or glossy lobe, a VPL stays there: the incident power Φ, the
+//!   shading normal turned to the side the particle came from (decided by the geometric
+//!   normal), and the surface's non-delta BRDF for light from that direction. The VPL thus
+//!   emits radiant intensity
+//!
+//!   ```text
+//!   I(ω) = Φ · f_r(ω_in, ω) · cosθ_ω = cosθ_ω · (Φ ρ_d / π  +  Φ ρ_s · (n+2)/(2π) · max(0, r·ω)ⁿ)
+//!   ```
+//!
+//!   with r the mirror direction of ω_in (toward the light): a glossy VPL lights mostly the
+//!   mirror direction of the light that reached it. The original system kept only the diffuse
+//!   part (paper section 5 names this a weakness); here a VPL carries its glossy lobe.
+//! - The walk goes on in a direction sampled from the whole BSDF ([`Bsdf::sample`]: diffuse,
+//!   glossy, mirror or glass lobe, the lobe chosen by reflectance), carrying Φ ← Φ·w/q with w
+//!   the sample's weight and q = min(1, max w) the Russian-roulette survival probability.
+//!   Glass refracts or reflects by the Fresnel reflectance (Φ unchanged: flux is not scaled
+//!   by η²).
 //!
 //! A walk ends on a miss, by roulette, after [`MAX_BOUNCES`] surface interactions, on
-//! non-finite values, or where a shading normal would send a diffuse or mirror bounce below
-//! the geometric surface (as in pbrt: light would leak through the surface otherwise).
+//! non-finite values, or where a shading normal would send a reflection below the geometric
+//! surface (as in pbrt: light would leak through the surface otherwise).
 //!
-//! A VPL is a Lambertian emitter of radiant intensity Φ_i cosθ_i / π, so for a diffuse point x
-//! with reflectance ρ_x
+//! For a point x with BRDF f_x and a VPL i at y_i,
 //!
 //! ```text
-//! L(x) ≈ Σ_i Φ_i cosθ_i cosθ_x / (π d_i²) · ρ_x / π · V(x, y_i)  +  Σ_lights (exact terms)
+//! L(x → ω_o) ≈ Σ_i f_x(ω_i, ω_o) · I_i(y_i → x) cosθ_x / d_i² · V(x, y_i)  +  Σ_lights (exact terms)
 //! ```
 //!
 //! is an unbiased estimate of the light x reflects (before the renderer clamps the 1/d² term),
@@ -68,8 +78,8 @@
 //! progressive frames continue the same sequence. Its 4D dimension
 //! sets are
 //! 0: light choice, triangle choice, point on the triangle or directional disc;
-//! 1: emission direction; 2 + b: roulette or Fresnel choice and direction at surface
-//! interaction b. Sets run in parallel and are returned in set order, so the VPLs depend only
+//! 1: emission direction; 2 + b: lobe choice, direction and roulette at surface interaction b.
+//! Sets run in parallel and are returned in set order, so the VPLs depend only
 //! on the scene and the [`FrameState`], never on the thread count.
 //!
 //! # Paths per set
@@ -94,13 +104,11 @@ use crate::frame::FrameState;
 use crate::lights::{eye_light, luminance};
 use crate::prepared::PreparedScene;
 use crate::sampling::{Cdf, MAX_SAMPLES, hash_combine, sobol4};
-use crate::scattering::{
-    Interface, Scattering, concentric_disc, cosine_hemisphere, glass_exit_side, reflect, refract,
-    uniform_cone, uniform_sphere,
-};
+use crate::sampling::{concentric_disc, uniform_cone, uniform_sphere};
 use glam::{Vec2, Vec3};
 use igi_bvh::{Ray, offset_ray_origin};
 use igi_scene::Light;
+use igi_shade::brdf::{Bsdf, cosine_hemisphere, phong::mirror_direction};
 use rayon::prelude::*;
 use std::f32::consts::PI;
 
@@ -134,16 +142,40 @@ const MAX_PATHS_PER_TARGET: u32 = 64;
 /// start point lies on a surface touching the sphere.
 const DISC_MARGIN: f32 = 1e-3;
 
-/// A virtual point light on a surface: a Lambertian emitter whose radiant intensity toward a
-/// unit direction ω is `power · max(0, normal · ω) / π`.
+/// A virtual point light on a surface: radiant intensity toward a unit direction ω of
+///
+/// ```text
+/// I(ω) = max(0, normal · ω) · (power / π + glossy · (exponent + 2)/(2π) · max(0, axis · ω)^exponent)
+/// ```
+///
+/// (the surface's diffuse and glossy reflection of the light that reached it; see the module
+/// documentation).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Vpl {
     /// Position on the surface.
     pub position: Vec3,
     /// Unit normal of the emitting side (the side the light arrived from).
     pub normal: Vec3,
-    /// Emitted power Φ per channel (already multiplied by the surface's albedo).
+    /// Power Φ·ρ_d of the diffuse part per channel.
     pub power: Vec3,
+    /// Power Φ·ρ_s of the glossy part per channel (zero for a Lambertian VPL).
+    pub glossy: Vec3,
+    /// Phong exponent of the glossy part.
+    pub exponent: f32,
+    /// Unit axis of the glossy part: the mirror direction of the direction toward the light.
+    pub axis: Vec3,
+}
+
+impl Vpl {
+    /// A Lambertian VPL (a point on an area light, or on a matte surface).
+    pub fn diffuse(position: Vec3, normal: Vec3, power: Vec3) -> Self {
+        Self { position, normal, power, glossy: Vec3::ZERO, exponent: 1.0, axis: normal }
+    }
+
+    /// True if the VPL has a glossy part.
+    pub fn is_glossy(&self) -> bool {
+        self.glossy.max_element() > 0.0
+    }
 }
 
 /// The VPLs of one frame: n·m interleaved sets of surface VPLs, plus the punctual lights that
@@ -329,7 +361,7 @@ impl<'a> Emitters<'a> {
                 let Some(y) = self.scene.area_lights().sample(u_select, Vec2::new(u0, u1)) else { return };
                 // Φ = L_e cosθ / (p_l p_A (cosθ / π) P): cosine-weighted emission cancels cosθ.
                 let power = y.emission * (PI / y.pdf_area) * scale;
-                vpls.push(Vpl { position: y.point, normal: y.normal, power });
+                vpls.push(Vpl::diffuse(y.point, y.normal, power));
                 let dir = cosine_hemisphere(y.normal, Vec2::new(d0, d1));
                 (offset_ray_origin(y.point, y.normal), dir, power)
             }
@@ -362,58 +394,37 @@ impl<'a> Emitters<'a> {
             }
             let s = scene.surface(&hit);
             // Normals of the side the particle arrives on; the geometric normal decides.
-            let (ng, ns) = if s.geometric_normal.dot(dir) < 0.0 {
-                (s.geometric_normal, s.shading_normal)
-            } else {
-                (-s.geometric_normal, -s.shading_normal)
-            };
-            let [u_choice, u_dir0, u_dir1, _] = sobol4(k, BOUNCE_DIMENSIONS + bounce, seed);
-            let material = &scene.materials()[s.material as usize];
-            match Scattering::of(material, scene.albedo(s.material, s.uv)) {
-                Scattering::Diffuse { albedo } => {
-                    let reflected = power * albedo;
-                    // A black surface ends the walk without a VPL (it would light nothing).
-                    if reflected.max_element() <= 0.0 {
-                        return;
-                    }
-                    vpls.push(Vpl { position: s.position, normal: ns, power: reflected });
-                    let survive = albedo.max_element().min(1.0);
-                    if u_choice >= survive {
-                        return;
-                    }
-                    power = reflected / survive;
-                    dir = cosine_hemisphere(ns, Vec2::new(u_dir0, u_dir1));
-                }
-                Scattering::Mirror { reflectance } => {
-                    power *= reflectance;
-                    dir = reflect(dir, ns);
-                }
-                Scattering::Glass { ior } => {
-                    let interface = Interface::new(dir, s.shading_normal, ior);
-                    let mirrored = reflect(dir, interface.normal);
-                    // Under total internal reflection F = 1, so `refract` is only asked when
-                    // it has an answer; the fallback guards rounding at the critical angle.
-                    let refracted = if u_choice < interface.reflectance {
-                        None
-                    } else {
-                        refract(dir, interface.normal, interface.eta)
-                    };
-                    let out = refracted.unwrap_or(mirrored);
-                    let Some(side) = glass_exit_side(dir, out, s.geometric_normal, refracted.is_none())
-                    else {
-                        return;
-                    };
-                    dir = out;
-                    origin = offset_ray_origin(s.position, side);
-                    continue;
-                }
+            let ng = if s.geometric_normal.dot(dir) < 0.0 { s.geometric_normal } else { -s.geometric_normal };
+            let [u_choice, u_dir0, u_dir1, u_roulette] = sobol4(k, BOUNCE_DIMENSIONS + bounce, seed);
+            let params = scene.shade(&s, 0.0);
+            let bsdf = Bsdf::new(params, s.geometric_normal);
+            let wo = -dir;
+            if params.has_non_delta() {
+                let n = if params.shading_normal.dot(ng) >= 0.0 {
+                    params.shading_normal
+                } else {
+                    -params.shading_normal
+                };
+                vpls.push(Vpl {
+                    position: s.position,
+                    normal: n,
+                    power: power * params.diffuse,
+                    glossy: power * params.specular,
+                    exponent: params.exponent,
+                    axis: mirror_direction(wo, n),
+                });
             }
-            // Diffuse and mirror bounces stay on the arrival side; a shading normal that tilts
-            // the new direction below the geometric surface ends the walk.
-            if dir.dot(ng) <= 0.0 {
+            let Some(sample) = bsdf.sample(wo, u_choice, Vec2::new(u_dir0, u_dir1)) else { return };
+            // Russian roulette on the sample's weight.
+            let survive = sample.weight.max_element().min(1.0);
+            if !(survive > 0.0) || u_roulette >= survive {
                 return;
             }
-            origin = offset_ray_origin(s.position, ng);
+            power *= sample.weight / survive;
+            dir = sample.wi;
+            // A reflection leaves on the arrival side, a refraction on the other.
+            let side = if dir.dot(ng) > 0.0 { ng } else { -ng };
+            origin = offset_ray_origin(s.position, side);
         }
     }
 }

@@ -2,17 +2,21 @@
 //! points of the set as 8-ray packets (any hit), and the accumulation of the contributions
 //! (paper 3.1.2; DESIGN.md section 1), eight points at a time.
 //!
-//! What is accumulated is the diffuse irradiance divided by π, D = E/π, so that a Lambertian
-//! surface of reflectance ρ reflects L = ρ·D. The discontinuity filter smooths D before the
-//! albedo multiplies it back in (paper 2.1), which keeps texture detail sharp. Per light:
+//! What is accumulated per point is the irradiance divided by π, D = E/π, so that a
+//! Lambertian lobe of reflectance ρ_d reflects L = ρ_d·D, and for points with a glossy lobe
+//! also G = Σ E · (n+2)/(2π) cosⁿα (the modified Phong lobe of [`igi_shade::brdf::phong`] at
+//! the direction of each light), so that the glossy lobe reflects L = ρ_s·G. The BRDF shaders
+//! are thus evaluated eight points at a time for every VPL. The discontinuity filter smooths
+//! D and G before the reflectances multiply them back in (paper 2.1), which keeps texture
+//! detail sharp. Per light:
 //!
 //! ```text
-//! surface VPL (Lambertian emitter of power Φ at y, normal n_y):
-//!     D += w · Φ/π² · cosθ_x · cosθ_y / max(|x − y|², d_min²) · V(x, y)
+//! surface VPL at y, normal n_y, diffuse power Φ, glossy power Φ_s (see `Vpl`):
+//!     E = w · (Φ/π + Φ_s · lobe_y(x − y)) · cosθ_x · cosθ_y / max(|x − y|², d_min²) · V(x, y)
 //! point light (intensity I; a spot light only inside its cone):
-//!     D += I/π · cosθ_x / |x − p|² · V(x, p)
-//! directional light (irradiance E toward −direction):
-//!     D += E/π · cosθ_x · V(x, ∞)
+//!     E = I · cosθ_x / |x − p|² · V(x, p)
+//! directional light (irradiance E_l toward −direction):
+//!     E = E_l · cosθ_x · V(x, ∞)
 //! ```
 //!
 //! with w the weight of the VPL in this sample (N for a VPL shared among N anti-aliasing
@@ -25,6 +29,7 @@ use crate::vpl::Vpl;
 use glam::Vec3;
 use igi_bvh::{Accel, RayPacket8, offset_ray_origin};
 use igi_scene::Light;
+use igi_shade::brdf::phong::phong_lobe8;
 use igi_simd::{F32x8, M32x8, Vec3x8};
 use std::f32::consts::{FRAC_1_PI, PI};
 
@@ -41,20 +46,48 @@ struct Chunk {
     ns: [[f32; 8]; 3],
     /// Unit geometric normals on the lit side.
     ng: [[f32; 8]; 3],
+    /// Axes of the glossy lobes (unit; the mirror direction of the direction to the viewer).
+    lobe_axis: [[f32; 8]; 3],
+    /// Phong exponents of the glossy lobes.
+    exponent: [f32; 8],
     /// Occupied lanes.
     bits: u32,
+    /// Occupied lanes with a glossy lobe.
+    glossy_bits: u32,
 }
 
 impl Chunk {
-    const EMPTY: Chunk = Chunk { origin: [[0.0; 8]; 3], ns: [[0.0; 8]; 3], ng: [[0.0; 8]; 3], bits: 0 };
+    const EMPTY: Chunk = Chunk {
+        origin: [[0.0; 8]; 3],
+        ns: [[0.0; 8]; 3],
+        ng: [[0.0; 8]; 3],
+        lobe_axis: [[0.0; 8]; 3],
+        exponent: [1.0; 8],
+        bits: 0,
+        glossy_bits: 0,
+    };
 
-    fn set(&mut self, lane: usize, origin: Vec3, ns: Vec3, ng: Vec3) {
+    fn set(&mut self, lane: usize, origin: Vec3, ns: Vec3, ng: Vec3, glossy: Option<(Vec3, f32)>) {
+        let (lobe_axis, exponent) = glossy.unwrap_or((ns, 1.0));
         for axis in 0..3 {
             self.origin[axis][lane] = origin[axis];
             self.ns[axis][lane] = ns[axis];
             self.ng[axis][lane] = ng[axis];
+            self.lobe_axis[axis][lane] = lobe_axis[axis];
         }
+        self.exponent[lane] = exponent;
         self.bits |= 1 << lane;
+        if glossy.is_some() {
+            self.glossy_bits |= 1 << lane;
+        }
+    }
+
+    /// π times the glossy lobes of the lanes toward the unit directions `wi` (zero in lanes
+    /// without a glossy lobe): the factor that turns D = E/π into G.
+    #[inline(always)]
+    fn glossy_factor(&self, wi: Vec3x8) -> F32x8 {
+        let lobe = phong_lobe8(F32x8::from_array(self.exponent), load(&self.lobe_axis).dot(wi));
+        F32x8::select(M32x8::from_bitmask(self.glossy_bits), lobe * F32x8::splat(PI), F32x8::ZERO)
     }
 }
 
@@ -62,12 +95,13 @@ fn load(a: &[[f32; 8]; 3]) -> Vec3x8 {
     Vec3x8::new(F32x8::from_array(a[0]), F32x8::from_array(a[1]), F32x8::from_array(a[2]))
 }
 
-/// The shading points of one interleave group and their accumulated D = E/π, in chunks of
-/// eight. Keep one per thread and reuse it: [`Receivers::clear`] keeps the memory.
+/// The shading points of one interleave group and their accumulated D = E/π and G, in chunks
+/// of eight. Keep one per thread and reuse it: [`Receivers::clear`] keeps the memory.
 #[derive(Clone, Debug, Default)]
 pub struct Receivers {
     chunks: Vec<Chunk>,
     irradiance: Vec<Vec3x8>,
+    glossy: Vec<Vec3x8>,
     len: usize,
 }
 
@@ -76,6 +110,7 @@ impl Receivers {
     pub fn clear(&mut self) {
         self.chunks.clear();
         self.irradiance.clear();
+        self.glossy.clear();
         self.len = 0;
     }
 
@@ -90,35 +125,37 @@ impl Receivers {
     }
 
     /// Adds a point with its shadow-ray origin and unit shading and geometric normals, both
-    /// turned to the side being lit. Points are lit in the order they were added; neighbours
-    /// in that order share packets, so add them in a coherent order.
-    pub fn push(&mut self, origin: Vec3, ns: Vec3, ng: Vec3) {
+    /// turned to the side being lit, and for a point with a glossy lobe the lobe's unit axis
+    /// and Phong exponent. Points are lit in the order they were added; neighbours in that
+    /// order share packets, so add them in a coherent order.
+    pub fn push(&mut self, origin: Vec3, ns: Vec3, ng: Vec3, glossy: Option<(Vec3, f32)>) {
         let lane = self.len % 8;
         if lane == 0 {
             // Unoccupied lanes repeat the first point, so every lane of a packet holds a valid
             // ray (the packet kernels decide the traversal order from all lanes' signs).
             let mut chunk = Chunk::EMPTY;
             for l in 0..8 {
-                chunk.set(l, origin, ns, ng);
+                chunk.set(l, origin, ns, ng, None);
             }
             chunk.bits = 0;
             self.chunks.push(chunk);
             self.irradiance.push(Vec3x8::splat([0.0; 3]));
+            self.glossy.push(Vec3x8::splat([0.0; 3]));
         }
         if let Some(chunk) = self.chunks.last_mut() {
-            chunk.set(lane, origin, ns, ng);
+            chunk.set(lane, origin, ns, ng, glossy);
         }
         self.len += 1;
     }
 
-    /// Sets the accumulated D of every point back to zero (the points stay).
+    /// Sets the accumulated D and G of every point back to zero (the points stay).
     pub fn reset_irradiance(&mut self) {
-        self.irradiance.iter_mut().for_each(|d| *d = Vec3x8::splat([0.0; 3]));
+        self.irradiance.iter_mut().chain(&mut self.glossy).for_each(|d| *d = Vec3x8::splat([0.0; 3]));
     }
 
-    /// D = E/π accumulated at point `i` (in the order of [`Receivers::push`]).
-    pub fn irradiance(&self, i: usize) -> Vec3 {
-        Vec3::from(self.irradiance[i / 8].lane(i % 8))
+    /// D = E/π and G accumulated at point `i` (in the order of [`Receivers::push`]).
+    pub fn irradiance(&self, i: usize) -> (Vec3, Vec3) {
+        (Vec3::from(self.irradiance[i / 8].lane(i % 8)), Vec3::from(self.glossy[i / 8].lane(i % 8)))
     }
 
     /// Adds the light of the surface VPLs `vpls`, each weighted by `weight`, with the clamp
@@ -137,9 +174,14 @@ impl Receivers {
             // count as a blocker.
             let target = offset_ray_origin(vpl.position, vpl.normal);
             let colour = vpl.power * (weight * FRAC_1_PI * FRAC_1_PI);
+            let glossy_colour = vpl.glossy * (weight * FRAC_1_PI);
+            let vpl_glossy = vpl.is_glossy();
             let y = Vec3x8::splat(target.to_array());
             let ny = Vec3x8::splat(vpl.normal.to_array());
-            for (chunk, acc) in self.chunks.iter().zip(self.irradiance.iter_mut()) {
+            let vpl_axis = Vec3x8::splat(vpl.axis.to_array());
+            let vpl_exponent = F32x8::splat(vpl.exponent);
+            let chunks = self.chunks.iter().zip(self.irradiance.iter_mut().zip(self.glossy.iter_mut()));
+            for (chunk, (acc, acc_glossy)) in chunks {
                 let origin = load(&chunk.origin);
                 let d = y - origin;
                 let dist2 = d.dot(d);
@@ -159,7 +201,21 @@ impl Receivers {
                 let packet =
                     RayPacket8 { origin, dir: wi, tnear: zero, tfar: dist * F32x8::splat(SHADOW_SHORTEN) };
                 let lit = unoccluded(accel, &packet, valid, counts);
-                accumulate(acc, F32x8::select(lit, g, zero), colour);
+                let g = F32x8::select(lit, g, zero);
+                if !vpl_glossy && chunk.glossy_bits == 0 {
+                    accumulate(acc, g, colour);
+                    continue;
+                }
+                // D = E/π from the VPL's diffuse part and, for a glossy VPL, its lobe toward x.
+                let mut e = Vec3x8::splat(colour.to_array()) * g;
+                if vpl_glossy {
+                    let lobe_y = phong_lobe8(vpl_exponent, -vpl_axis.dot(wi));
+                    e = e + Vec3x8::splat(glossy_colour.to_array()) * (g * lobe_y);
+                }
+                *acc = *acc + e;
+                if chunk.glossy_bits != 0 {
+                    *acc_glossy = *acc_glossy + e * chunk.glossy_factor(wi);
+                }
             }
         }
     }
@@ -168,7 +224,8 @@ impl Receivers {
     pub fn add_lights(&mut self, accel: &Accel, lights: &[Light], counts: &mut RayCounts) {
         let zero = F32x8::ZERO;
         for light in lights {
-            for (chunk, acc) in self.chunks.iter().zip(self.irradiance.iter_mut()) {
+            let chunks = self.chunks.iter().zip(self.irradiance.iter_mut().zip(self.glossy.iter_mut()));
+            for (chunk, (acc, acc_glossy)) in chunks {
                 let origin = load(&chunk.origin);
                 let active = M32x8::from_bitmask(chunk.bits);
                 let (wi, tfar, g, colour, mut valid) = match *light {
@@ -206,7 +263,12 @@ impl Receivers {
                 let packet =
                     RayPacket8 { origin, dir: wi, tnear: zero, tfar: tfar * F32x8::splat(SHADOW_SHORTEN) };
                 let lit = unoccluded(accel, &packet, valid, counts);
-                accumulate(acc, F32x8::select(lit, cos_x * g, zero), colour);
+                let g = F32x8::select(lit, cos_x * g, zero);
+                accumulate(acc, g, colour);
+                if chunk.glossy_bits != 0 {
+                    let e = Vec3x8::splat(colour.to_array()) * g;
+                    *acc_glossy = *acc_glossy + e * chunk.glossy_factor(wi);
+                }
             }
         }
     }

@@ -1,10 +1,8 @@
 //! The small pieces: light-selection CDF, triangle sampling, tile grid, texture filtering.
 
-use glam::{Vec2, Vec4};
+use glam::Vec2;
 use igi_render::sampling::{Cdf, hash_combine, pixel_seed, sobol4, uniform_triangle};
-use igi_render::texture::{Filter, sample};
 use igi_render::{Tile, TileGrid};
-use igi_scene::Texture;
 
 #[test]
 fn cdf_picks_in_proportion_and_skips_zero_weights() {
@@ -58,37 +56,4 @@ fn tile_grid_covers_every_pixel_once() {
     }
     assert!(covered.iter().all(|&c| c == 1));
     assert_eq!(grid.tile(5), Tile { index: 5, x0: 32, y0: 16, x1: 37, y1: 21 });
-}
-
-fn checker() -> Texture {
-    // 2 × 2: top row red, green; bottom row blue, white.
-    Texture {
-        name: "checker".into(),
-        width: 2,
-        height: 2,
-        texels: vec![[1.0, 0.0, 0.0, 1.0], [0.0, 1.0, 0.0, 1.0], [0.0, 0.0, 1.0, 1.0], [1.0, 1.0, 1.0, 1.0]],
-    }
-}
-
-#[test]
-fn nearest_lookup_has_v_down_and_wraps() {
-    let t = checker();
-    let at = |u: f32, v: f32| sample(&t, Vec2::new(u, v), Filter::Nearest);
-    assert_eq!(at(0.25, 0.25), Vec4::new(1.0, 0.0, 0.0, 1.0), "top left");
-    assert_eq!(at(0.75, 0.25), Vec4::new(0.0, 1.0, 0.0, 1.0), "top right");
-    assert_eq!(at(0.25, 0.75), Vec4::new(0.0, 0.0, 1.0, 1.0), "bottom left");
-    assert_eq!(at(3.75, -1.25), at(0.75, 0.75), "repeat");
-}
-
-#[test]
-fn bilinear_lookup_blends_neighbours() {
-    let t = checker();
-    // The centre of the texture is the average of all four texels.
-    let c = sample(&t, Vec2::new(0.5, 0.5), Filter::Bilinear);
-    assert!((c - Vec4::new(0.5, 0.5, 0.5, 1.0)).abs().max_element() < 1e-6, "{c}");
-    // A texel centre is that texel.
-    assert_eq!(sample(&t, Vec2::new(0.25, 0.25), Filter::Bilinear), Vec4::new(1.0, 0.0, 0.0, 1.0));
-    // The corner (0, 0) blends across the wrap: all four texels again.
-    let w = sample(&t, Vec2::new(0.0, 0.0), Filter::Bilinear);
-    assert!((w - Vec4::new(0.5, 0.5, 0.5, 1.0)).abs().max_element() < 1e-6, "{w}");
 }

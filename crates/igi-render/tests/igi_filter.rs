@@ -10,10 +10,12 @@ mod common;
 use common::*;
 use glam::{Vec2, Vec3};
 use igi_render::frame::{FilterSettings, FrameState};
-use igi_render::texture::{Filter, sample};
 use igi_render::{Film, FrameRenderer, IgiSettings, PinholeCamera, PreparedScene};
-use igi_scene::{Light, Material, Texture};
+use igi_scene::{Light, Material};
+use igi_shade::{BrdfParams8, ShadingHit8, SurfaceShader};
+use igi_simd::{F32x8, Vec3x8};
 use std::f32::consts::PI;
+use std::sync::Arc;
 
 fn render(scene: &PreparedScene, frame: &FrameState) -> Film {
     FrameRenderer::new(2).render(scene, frame, &|_, _| {}).expect("valid settings").film
@@ -138,33 +140,29 @@ fn exact_light_is_not_filtered() {
 
 #[test]
 fn constant_irradiance_stays_constant_and_texture_detail_stays_sharp() {
-    // A checkerboard texture (albedo 0.2 / 0.8, 4 × 4 checks over the plane) under a light
-    // from straight above: D = E/π is the same everywhere, so the filter must leave it as it is
-    // and every pixel is exactly albedo(uv) × E/π, checks and their edges included. Filtering
-    // the radiance instead of D would blur every check edge.
+    // A checkerboard (albedo 0.2 / 0.8, 4 × 4 checks over the plane) from a user's own
+    // surface shader, under a light from straight above: D = E/π is the same everywhere, so
+    // the filter must leave it as it is and every pixel is exactly albedo(uv) × E/π, checks
+    // and their edges included. Filtering the radiance instead of D would blur every check
+    // edge.
     let irradiance = Vec3::splat(2.0);
     let mut sc = scene(
         vec![horizontal_square("plane", Vec3::ZERO, Vec2::new(2.0, 2.0), true, 0)],
-        vec![Material { diffuse: Vec3::ONE, diffuse_texture: Some(0), ..Material::default() }],
+        vec![Material { name: "checks".into(), diffuse: Vec3::ONE, ..Material::default() }],
         vec![Light::Directional { direction: -Vec3::Y, irradiance }],
     );
     // uv (0, 0) at corner a = (-2, 0, 2), u along +x, v along -z (the quad's corners a b c d).
     sc.meshes[0].uvs =
         Some(vec![Vec2::new(0.0, 0.0), Vec2::new(1.0, 0.0), Vec2::new(1.0, 1.0), Vec2::new(0.0, 1.0)]);
-    let texels =
-        (0..16).map(|i| if (i % 4 + i / 4) % 2 == 0 { [0.2, 0.2, 0.2, 1.0] } else { [0.8, 0.8, 0.8, 1.0] });
-    let texture = Texture { name: "checks".into(), width: 4, height: 4, texels: texels.collect() };
-    sc.textures.push(texture.clone());
     let mut prepared = PreparedScene::new(sc);
-    prepared.set_texture_filter(Filter::Nearest);
+    assert_eq!(prepared.set_shader("checks", Arc::new(UvChecks)), 1);
     let cam = camera(Vec3::new(0.0, 3.0, 2.0), Vec3::ZERO, 50.0);
     let (w, h) = (48, 40);
     let pin = PinholeCamera::new(&cam, w, h);
     let mut frame = igi_frame(cam, w, h);
     frame.settings.aa = 1;
     let film = render(&prepared, &frame);
-    let albedo =
-        |p: Vec3| sample(&texture, Vec2::new((p.x + 2.0) / 4.0, (2.0 - p.z) / 4.0), Filter::Nearest).x;
+    let albedo = |p: Vec3| UvChecks::albedo((p.x + 2.0) / 4.0, (2.0 - p.z) / 4.0);
     let (mut checked, mut at_edges) = (0, 0);
     for y in 0..h {
         for x in 0..w {
@@ -358,4 +356,23 @@ fn one_filtered_frame_is_closer_to_the_converged_image_than_one_unfiltered_frame
     assert!(ratios.iter().all(|&r| r < 0.7), "filtered / unfiltered RMSE per seed: {ratios:?}");
     let mean = ratios.iter().sum::<f32>() / ratios.len() as f32;
     assert!(mean < 0.55, "mean filtered / unfiltered RMSE {mean}");
+}
+
+/// A user's surface shader: 4 × 4 checks of albedo 0.2 and 0.8 over the unit square of
+/// texture coordinates.
+#[derive(Debug)]
+struct UvChecks;
+
+impl UvChecks {
+    fn albedo(u: f32, v: f32) -> f32 {
+        let (i, j) = ((4.0 * u).floor() as i32, (4.0 * v).floor() as i32);
+        if (i + j).rem_euclid(2) == 0 { 0.2 } else { 0.8 }
+    }
+}
+
+impl SurfaceShader for UvChecks {
+    fn shade(&self, hits: &ShadingHit8, out: &mut BrdfParams8) {
+        let rho = F32x8::from_array(std::array::from_fn(|i| Self::albedo(hits.u.lane(i), hits.v.lane(i))));
+        out.diffuse = Vec3x8::new(rho, rho, rho);
+    }
 }

@@ -10,9 +10,9 @@ mod common;
 use common::*;
 use glam::{Vec2, Vec3};
 use igi_render::frame::FrameState;
-use igi_render::scattering::fresnel_dielectric;
 use igi_render::{Film, FrameRenderer, PinholeCamera, PreparedScene};
 use igi_scene::{Light, Material, MaterialKind, Mesh};
+use igi_shade::brdf::dielectric::fresnel_dielectric;
 use std::f32::consts::PI;
 
 const RHO: f32 = 0.5;

@@ -21,8 +21,9 @@ pub struct ShadingHit8 {
     pub u: F32x8,
     /// Texture coordinate v (0 at the top row of an image, as in glTF).
     pub v: F32x8,
-    /// World-space ∂p/∂u: the surface tangent along which u grows (an arbitrary tangent,
-    /// scaled to the triangle, where the mesh has no texture coordinates).
+    /// World-space ∂p/∂u: the surface tangent along which u grows (where the mesh has no
+    /// texture coordinates, the triangle's edges: ∂p/∂u and ∂p/∂v then span its plane but
+    /// need not be orthogonal).
     pub dpdu: Vec3x8,
     /// World-space ∂p/∂v.
     pub dpdv: Vec3x8,

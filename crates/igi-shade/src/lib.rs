@@ -13,9 +13,13 @@
 
 pub mod brdf;
 mod hit;
+mod material_shader;
 mod params;
+mod shader_table;
 mod surface_shader;
 
 pub use hit::ShadingHit8;
+pub use material_shader::MaterialShader;
 pub use params::{BrdfParams, BrdfParams8};
+pub use shader_table::ShaderTable;
 pub use surface_shader::SurfaceShader;

@@ -63,18 +63,22 @@ impl BrdfParams {
         self.mirror.max_element() > 0.0 || self.glass > 0.0
     }
 
-    /// The parameters with every reflectance clamped to [0, 1], non-finite values replaced,
-    /// and the lobes scaled down together where their sum exceeds 1 in some channel, so the
-    /// surface never creates energy.
+    /// The parameters with every reflectance clamped to [0, 1], non-finite values replaced
+    /// (reflectances by 0, the exponent by 1, the index by 1.5), and the lobes scaled down
+    /// together where their sum exceeds 1 in some channel, so the surface never creates energy.
+    /// [`BrdfParams8::conserving`] computes the same, eight points at a time.
     pub fn conserving(self) -> Self {
-        let clean = |v: Vec3| if v.is_finite() { v.clamp(Vec3::ZERO, Vec3::ONE) } else { Vec3::ZERO };
+        let clean = |v: Vec3| {
+            Vec3::from_array(v.to_array().map(|x| if x.is_finite() { x.clamp(0.0, 1.0) } else { 0.0 }))
+        };
         let (diffuse, specular, mirror) = (clean(self.diffuse), clean(self.specular), clean(self.mirror));
         let glass = if self.glass.is_finite() { self.glass.clamp(0.0, 1.0) } else { 0.0 };
         let total = (diffuse + specular + mirror + Vec3::splat(glass)).max_element();
         let k = if total > 1.0 { 1.0 / total } else { 1.0 };
         let exponent = if self.exponent.is_finite() { self.exponent.clamp(0.0, 1.0e6) } else { 1.0 };
         let ior = if self.ior.is_finite() && self.ior > 0.0 { self.ior } else { 1.5 };
-        let emission = if self.emission.is_finite() { self.emission.max(Vec3::ZERO) } else { Vec3::ZERO };
+        let emission =
+            Vec3::from_array(self.emission.to_array().map(|x| if x.is_finite() { x.max(0.0) } else { 0.0 }));
         Self {
             diffuse: diffuse * k,
             specular: specular * k,
@@ -125,6 +129,58 @@ impl BrdfParams8 {
             shading_normal: n,
             emission: zero,
         }
+    }
+
+    /// [`BrdfParams::conserving`] of every lane.
+    pub fn conserving(&self) -> Self {
+        let (zero, one) = (F32x8::ZERO, F32x8::splat(1.0));
+        let finite = |x: F32x8| x.eq(x) & x.abs().lt(F32x8::splat(f32::INFINITY));
+        let unit = |x: F32x8| F32x8::select(finite(x), x.max(zero).min(one), zero);
+        let unit3 = |v: Vec3x8| Vec3x8::new(unit(v.x), unit(v.y), unit(v.z));
+        let (diffuse, specular, mirror, glass) =
+            (unit3(self.diffuse), unit3(self.specular), unit3(self.mirror), unit(self.glass));
+        let sum = diffuse + specular + mirror;
+        let total = (sum.x.max(sum.y).max(sum.z)) + glass;
+        let k = F32x8::select(total.gt(one), one / total, one);
+        let exponent =
+            F32x8::select(finite(self.exponent), self.exponent.max(zero).min(F32x8::splat(1.0e6)), one);
+        let ior_ok = finite(self.ior) & self.ior.gt(zero);
+        let positive = |x: F32x8| F32x8::select(finite(x), x.max(zero), zero);
+        Self {
+            diffuse: diffuse * k,
+            specular: specular * k,
+            exponent,
+            mirror: mirror * k,
+            glass: glass * k,
+            ior: F32x8::select(ior_ok, self.ior, F32x8::splat(1.5)),
+            shading_normal: self.shading_normal,
+            emission: Vec3x8::new(
+                positive(self.emission.x),
+                positive(self.emission.y),
+                positive(self.emission.z),
+            ),
+        }
+    }
+
+    /// The eight lanes as scalar parameters.
+    pub fn to_lanes(&self) -> [BrdfParams; 8] {
+        let v = |x: Vec3x8| {
+            let (a, b, c) = (x.x.to_array(), x.y.to_array(), x.z.to_array());
+            std::array::from_fn::<Vec3, 8, _>(|i| Vec3::new(a[i], b[i], c[i]))
+        };
+        let (diffuse, specular, mirror) = (v(self.diffuse), v(self.specular), v(self.mirror));
+        let (normal, emission) = (v(self.shading_normal), v(self.emission));
+        let (exponent, glass, ior) = (self.exponent.to_array(), self.glass.to_array(), self.ior.to_array());
+        std::array::from_fn(|i| BrdfParams {
+            diffuse: diffuse[i],
+            specular: specular[i],
+            exponent: exponent[i],
+            mirror: mirror[i],
+            glass: glass[i],
+            ior: ior[i],
+            shading_normal: normal[i],
+            emission: emission[i],
+        })
     }
 
     /// Lane `i` as scalar parameters.

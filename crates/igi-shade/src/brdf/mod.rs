@@ -1,7 +1,17 @@
 //! The BRDF shaders (paper 3.2): a small fixed set of lobes, evaluated eight shading points at
 //! a time inside the VPL loop and sampled one direction at a time by the VPL random walk and
-//! the path tracer. Directions are unit vectors pointing away from the surface.
+//! the path tracer. Directions are unit vectors pointing away from the surface unless a
+//! function says otherwise.
+//!
+//! - [`lambert`]: ρ/π.
+//! - [`phong`]: the energy-conserving modified Phong lobe.
+//! - [`dielectric`]: the perfect mirror and the smooth dielectric with Fresnel.
+//! - [`bsdf`]: their weighted sum at one point, evaluated and sampled.
 
-mod lambert;
+pub mod bsdf;
+pub mod dielectric;
+pub mod lambert;
+pub mod phong;
 
-pub use lambert::lambert;
+pub use bsdf::{Bsdf, BsdfSample, Lobe};
+pub use lambert::{cosine_hemisphere, lambert};
