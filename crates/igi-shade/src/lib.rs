@@ -13,6 +13,7 @@
 
 pub mod brdf;
 mod hit;
+pub mod noise;
 mod params;
 mod surface_shader;
 
