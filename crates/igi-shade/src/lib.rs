@@ -15,8 +15,10 @@ pub mod brdf;
 mod hit;
 pub mod noise;
 mod params;
+pub mod procedural;
 mod surface_shader;
 
 pub use hit::ShadingHit8;
 pub use params::{BrdfParams, BrdfParams8};
+pub use procedural::ProceduralShader;
 pub use surface_shader::SurfaceShader;
