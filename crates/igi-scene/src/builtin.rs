@@ -5,24 +5,32 @@
 //! [`MeshBuilder`](crate::validate::MeshBuilder), so they keep the same invariants.
 
 mod cornell_box;
+mod procedural_room;
 mod shapes;
 mod shirley_room;
 
 use crate::model::Scene;
 
 /// Names accepted by [`builtin`], in the order `igi` lists them.
-const NAMES: &[&str] = &["cornell-box", "shirley-room"];
+const NAMES: &[&str] = &["cornell-box", "shirley-room", "procedural-room", "procedural-room-lambert"];
 
 /// The built-in scene called `name`, if there is one:
 /// - `cornell-box`: the geometry, materials, light and camera of the McGuire archive's
 ///   `CornellBox-Original` (36 triangles), the project's reference scene;
 /// - `shirley-room`: a closed 5 × 3 × 5 m room lit by a ceiling quad, with boxes, a table and
 ///   a sphere, in the spirit of the "Shirley" test scenes of the interactive GI papers
-///   (about 700 triangles).
+///   (about 700 triangles);
+/// - `procedural-room`: a closed 6 × 3 × 6 m room showing the procedural shaders of paper 3.2
+///   (marble floor, bump-mapped brick walls, a wooden table, a glossy turbulence sphere, a
+///   checkered box), lit by a ceiling quad and a point light (710 triangles);
+/// - `procedural-room-lambert`: the same room with constant Lambert materials of about the
+///   patterns' mean colours, the baseline for the cost of procedural shading.
 pub fn builtin(name: &str) -> Option<Scene> {
     match name {
         "cornell-box" => Some(cornell_box::scene()),
         "shirley-room" => Some(shirley_room::scene()),
+        "procedural-room" => Some(procedural_room::scene()),
+        "procedural-room-lambert" => Some(procedural_room::lambert_scene()),
         _ => None,
     }
 }

@@ -14,12 +14,15 @@
 pub mod brdf;
 mod hit;
 mod material_shader;
+pub mod noise;
 mod params;
+pub mod procedural;
 mod shader_table;
 mod surface_shader;
 
 pub use hit::ShadingHit8;
 pub use material_shader::MaterialShader;
 pub use params::{BrdfParams, BrdfParams8};
+pub use procedural::ProceduralShader;
 pub use shader_table::ShaderTable;
 pub use surface_shader::SurfaceShader;
