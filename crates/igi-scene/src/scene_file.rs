@@ -37,6 +37,12 @@
 //! # wood: rings (default 4), turbulence (default 0.5)
 //! # brick: size = [x, y, z] (default [3, 1, 1.5]), mortar (default 0.1)
 //! # turbulence: octaves (default 4)
+//!
+//! [environment]                  # optional: what rays leaving the scene see
+//! color = [0.4, 0.6, 1.0]        # a constant sky radiance (W/(sr m²), may exceed 1), or
+//! # file = "sky.hdr"             # an equirectangular image relative to this file (.hdr,
+//! # intensity = 1.0              # .exr, or LDR .png/.jpg read as sRGB), with optional
+//! # rotate = 0.0                 # factor (default 1) and turn about +Y in degrees
 //! ```
 //!
 //! Transforms: `translate`, `rotate` and `scale` make T·R·S, with R = Rz·Ry·Rx, i.e. the
@@ -63,6 +69,11 @@
 //! [0, 1]; `octaves` is 1 to 16; `scale`, `rings` and the brick `size` must be positive;
 //! `mortar` must be narrower than every brick dimension.
 //!
+//! `[environment]` takes `color` or `file`, not both; `intensity` and `rotate` only go with
+//! `file`. The image's mapping and rotation are those of [`Environment`]. Unlike a material's
+//! texture, an environment image that is missing or cannot be decoded is an error: without
+//! it the scene has different lighting, not just a different-looking surface.
+//!
 //! Unknown fields are errors (a typo like `rotation` must not be silently ignored), and every
 //! error names the scene file, the line and the field.
 
@@ -73,11 +84,13 @@ use glam::{Affine3A, Quat, Vec3};
 use serde::Deserialize;
 use toml::Spanned;
 
+use crate::environment::Environment;
 use crate::error::{Location, SceneError};
 use crate::model::{Camera, Instance, Light, Material, Mesh, Scene};
 use crate::report::LoadReport;
 use crate::resources;
 use crate::shader::{Pattern, ShaderDesc};
+use crate::texture::{self, ColorSpace};
 
 /// Loads a scene file and every mesh file it names.
 pub fn load(path: &Path, report: &mut LoadReport) -> Result<Scene, SceneError> {
@@ -108,6 +121,7 @@ struct SceneSpec {
     light: Vec<Spanned<LightSpec>>,
     #[serde(default)]
     shader: Vec<Spanned<ShaderSpec>>,
+    environment: Option<Spanned<EnvironmentSpec>>,
 }
 
 #[derive(Deserialize)]
@@ -204,6 +218,15 @@ impl LightKind {
             Self::Directional => &["direction", "irradiance"],
         }
     }
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct EnvironmentSpec {
+    color: Option<[f32; 3]>,
+    file: Option<Spanned<String>>,
+    intensity: Option<f32>,
+    rotate: Option<f32>,
 }
 
 /// A `[[shader]]` table: flat for the same reason as [`LightSpec`].
@@ -421,10 +444,78 @@ fn parse_file(
         }
     }
 
+    if let Some(environment) = &spec.environment {
+        scene.environment = environment_from(&check, &mut scene, environment, base_dir, report)?;
+    }
+
     if let Some(camera) = &spec.camera {
         scene.camera = Some(camera_from(&check, camera)?);
     }
     Ok(scene)
+}
+
+/// The `[environment]` table; an image goes into `scene.textures`. `None` (with a warning)
+/// for an image when parsing from memory.
+fn environment_from(
+    check: &Checker,
+    scene: &mut Scene,
+    entry: &Spanned<EnvironmentSpec>,
+    base_dir: Option<&Path>,
+    report: &mut LoadReport,
+) -> Result<Option<Environment>, SceneError> {
+    let span = entry.span();
+    let spec = entry.get_ref();
+    let path = |field: &str| format!("environment.{field}");
+    let file = match (&spec.file, spec.color) {
+        (Some(file), Some(_)) => {
+            return Err(check.error(&file.span(), path("file"), "give either `color` or `file`, not both"));
+        }
+        (None, None) => {
+            return Err(check.error(&span, "environment".into(), "needs `color` or `file`"));
+        }
+        (None, Some(color)) => {
+            for (field, is_present) in
+                [("intensity", spec.intensity.is_some()), ("rotate", spec.rotate.is_some())]
+            {
+                if is_present {
+                    return Err(check.error(
+                        &span,
+                        path(field),
+                        format!("a constant environment (`color`) has no `{field}`"),
+                    ));
+                }
+            }
+            let radiance = check.colour(&span, path("color"), color)?;
+            return Ok(Some(Environment::Constant { radiance }));
+        }
+        (Some(file), None) => file,
+    };
+    let intensity = check.amount(&span, path("intensity"), spec.intensity.unwrap_or(1.0), true)?;
+    let rotation_deg = spec.rotate.unwrap_or(0.0);
+    if !rotation_deg.is_finite() {
+        return Err(check.error(&span, path("rotate"), "must be finite"));
+    }
+    let name = file.get_ref();
+    let Some(dir) = base_dir else {
+        report.warn(check.file, format!("environment.file `{name}` not loaded: parsing from memory"));
+        return Ok(None);
+    };
+    let at = || Location::Field { line: Some(line_of(check.text, file.span().start)), path: path("file") };
+    let image_path = resources::resolve(dir, name).ok_or_else(|| SceneError::MissingFile {
+        file: check.file.to_path_buf(),
+        at: at(),
+        missing: dir.join(name),
+    })?;
+    let bytes =
+        resources::read(&image_path).map_err(|e| SceneError::invalid(check.file, at(), e.to_string()))?;
+    // Float images (.hdr, .exr) are linear whatever the colour space; 8- and 16-bit images
+    // are sRGB-encoded pictures.
+    let image = texture::decode(&bytes, &image_path.display().to_string(), ColorSpace::Srgb)
+        .map_err(|e| SceneError::invalid(check.file, at(), format!("`{name}` could not be decoded: {e}")))?;
+    let texture = u32::try_from(scene.textures.len())
+        .map_err(|_| SceneError::invalid(check.file, at(), "too many textures"))?;
+    scene.textures.push(image);
+    Ok(Some(Environment::Map { texture, intensity, rotation_deg }))
 }
 
 fn load_mesh_file(
@@ -1057,5 +1148,40 @@ mod tests {
         assert!(scene.materials.is_empty());
         assert_eq!(report.warnings.len(), 2, "{report:?}");
         assert!(report.warnings[1].contains("shader[0].target: `floor`"), "{report:?}");
+    }
+
+    #[test]
+    fn constant_environment_and_its_errors() {
+        let scene = parse_str("[environment]\ncolor = [0.4, 0.6, 2.5]\n").unwrap();
+        assert_eq!(scene.environment, Some(Environment::Constant { radiance: Vec3::new(0.4, 0.6, 2.5) }));
+        assert!(scene.textures.is_empty());
+        assert_eq!(parse_str("").unwrap().environment, None);
+        let cases = [
+            ("color = [1, -1, 1]\n", "field `environment.color`: values must not be negative"),
+            ("color = [1, nan, 1]\n", "field `environment.color`: values must be finite"),
+            ("color = [1, 1]\n", "field `environment.color`: invalid length 2"),
+            (
+                "color = [1, 1, 1]\nfile = \"sky.hdr\"\n",
+                "field `environment.file`: give either `color` or `file`",
+            ),
+            ("intensity = 2\n", "field `environment`: needs `color` or `file`"),
+            ("color = [1, 1, 1]\nintensity = 2\n", "field `environment.intensity`: a constant environment"),
+            ("color = [1, 1, 1]\nrotate = 90\n", "field `environment.rotate`: a constant environment"),
+            (
+                "file = \"sky.hdr\"\nintensity = -1\n",
+                "field `environment.intensity`: must be finite and not negative",
+            ),
+            ("file = \"sky.hdr\"\nrotate = inf\n", "field `environment.rotate`: must be finite"),
+            ("colour = [1, 1, 1]\n", "field `environment.colour`: unknown field `colour`"),
+        ];
+        for (text, expected) in cases {
+            let err = parse_str(&format!("[environment]\n{text}")).expect_err(text).to_string();
+            assert!(err.starts_with("s.toml: line "), "{text}: {err}");
+            assert!(err.contains(expected), "{text}: {err}");
+        }
+        let mut report = LoadReport::default();
+        let scene = parse("[environment]\nfile = \"sky.hdr\"\n", "s.toml", None, &mut report).unwrap();
+        assert_eq!(scene.environment, None);
+        assert!(report.warnings[0].contains("environment.file `sky.hdr` not loaded"), "{report:?}");
     }
 }

@@ -286,3 +286,56 @@ type = "brick"
     assert!(err.starts_with(&format!("{}: line ", dir.join("bad.toml").display())), "{err}");
     assert!(err.contains("field `shader[0].scale`: must be finite and positive"), "{err}");
 }
+
+#[test]
+fn image_environment_is_read_relative_to_the_scene_file() {
+    // A 4 × 2 Radiance HDR with one bright texel, and a PNG (sRGB-decoded).
+    let dir = directory("environment", &[]);
+    fs::create_dir_all(dir.join("skies")).unwrap();
+    let mut texels = vec![image::Rgb([0.25f32, 0.5, 1.0]); 8];
+    texels[5] = image::Rgb([40.0, 30.0, 20.0]);
+    let mut hdr = Vec::new();
+    image::codecs::hdr::HdrEncoder::new(&mut hdr).encode(&texels, 4, 2).unwrap();
+    fs::write(dir.join("skies/sky.hdr"), hdr).unwrap();
+    image::RgbImage::from_pixel(2, 1, image::Rgb([255, 128, 0])).save(dir.join("sky.png")).unwrap();
+    let scene_toml = "[[mesh]]\nfile = \"cube.obj\"\n\n[environment]\nfile = \"skies/sky.hdr\"\nintensity = 2\nrotate = 90\n";
+    fs::write(dir.join("cube.obj"), CUBE).unwrap();
+    fs::write(dir.join("scene.toml"), scene_toml).unwrap();
+    let scene = load(dir.join("scene.toml")).unwrap();
+    assert_eq!(
+        scene.environment,
+        Some(igi_scene::Environment::Map { texture: 0, intensity: 2.0, rotation_deg: 90.0 })
+    );
+    let sky = &scene.textures[0];
+    assert_eq!((sky.width, sky.height), (4, 2));
+    assert_eq!(sky.texels[5], [40.0, 30.0, 20.0, 1.0], "HDR texels are linear radiance");
+    assert_eq!(sky.texels[0], [0.25, 0.5, 1.0, 1.0]);
+
+    fs::write(dir.join("png.toml"), "[environment]\nfile = \"sky.png\"\n").unwrap();
+    let scene = load(dir.join("png.toml")).unwrap();
+    let texel = scene.textures[0].texels[0];
+    assert_eq!((texel[0], texel[2]), (1.0, 0.0));
+    assert!((texel[1] - 0.2158605).abs() < 1e-6, "8-bit images are sRGB-decoded: {texel:?}");
+
+    fs::write(dir.join("missing.toml"), "[environment]\nfile = \"clouds.exr\"\n").unwrap();
+    let err = load(dir.join("missing.toml")).unwrap_err();
+    assert!(matches!(err, SceneError::MissingFile { .. }), "{err}");
+    assert_eq!(
+        err.to_string(),
+        format!(
+            "{}: line 2, field `environment.file`: {} not found",
+            dir.join("missing.toml").display(),
+            dir.join("clouds.exr").display()
+        )
+    );
+    fs::write(dir.join("broken.hdr"), "#?RADIANCE\nnot really\n").unwrap();
+    fs::write(dir.join("broken.toml"), "[environment]\nfile = \"broken.hdr\"\n").unwrap();
+    let err = load(dir.join("broken.toml")).unwrap_err().to_string();
+    assert!(
+        err.starts_with(&format!(
+            "{}: line 2, field `environment.file`: `broken.hdr` could not be decoded: ",
+            dir.join("broken.toml").display()
+        )),
+        "{err}"
+    );
+}
