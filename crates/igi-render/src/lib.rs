@@ -7,8 +7,9 @@
 //! - [`prepared`]: [`PreparedScene`], the scene plus its acceleration structure and shading
 //!   tables (materials per triangle, normals, texture coordinates, emissive triangles).
 //! - [`camera`]: the pinhole camera ([`PinholeCamera`]), identical to the Embree benchmark's.
-//! - [`lights`], [`sampling`] and [`scattering`]: light sources, deterministic sample
-//!   sequences, and how materials scatter light (shared by every estimator).
+//! - [`lights`], [`environment`], [`sampling`] and [`scattering`]: light sources, the
+//!   environment (sky) light, deterministic sample sequences, and how materials scatter light
+//!   (shared by every estimator).
 //! - [`texture`]: texture filtering.
 //! - [`vpl`]: virtual point lights from random walks (instant radiosity).
 //! - [`interleave`]: interleaved sampling of VPL sets and anti-aliasing samples.
@@ -39,6 +40,7 @@
 
 pub mod camera;
 pub mod discontinuity;
+pub mod environment;
 pub mod film;
 pub mod frame;
 pub mod frame_renderer;
