@@ -7,9 +7,9 @@
 //! - [`prepared`]: [`PreparedScene`], the scene plus its acceleration structure and shading
 //!   tables (materials per triangle, normals, texture coordinates, emissive triangles).
 //! - [`camera`]: the pinhole camera ([`PinholeCamera`]), identical to the Embree benchmark's.
-//! - [`lights`] and [`sampling`]: light sources and deterministic sample sequences. How
-//!   surfaces scatter light (surface shaders feeding BRDF shaders) is the `igi-shade` crate's,
-//!   shared by every estimator here.
+//! - [`lights`], [`environment`] and [`sampling`]: light sources, the environment (sky)
+//!   light and deterministic sample sequences. How surfaces scatter light (surface shaders
+//!   feeding BRDF shaders) is the `igi-shade` crate's, shared by every estimator here.
 //! - [`vpl`]: virtual point lights from random walks (instant radiosity).
 //! - [`interleave`]: interleaved sampling of VPL sets and anti-aliasing samples.
 //! - [`tile_pipeline`] and [`vpl_lighting`]: the streaming per-tile pipeline and its inner
@@ -39,6 +39,7 @@
 
 pub mod camera;
 pub mod discontinuity;
+pub mod environment;
 pub mod film;
 pub mod frame;
 pub mod frame_renderer;

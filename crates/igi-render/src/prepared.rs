@@ -85,7 +85,7 @@ impl PreparedScene {
     /// Logs a warning if the scene has no light at all (the renderer then lights it with a
     /// headlight at the camera).
     pub fn new(scene: Scene) -> Self {
-        let Scene { meshes, instances, mut materials, textures, lights, camera } = scene;
+        let Scene { meshes, instances, mut materials, textures, lights, camera, environment: _ } = scene;
 
         let valid = materials.len();
         let mut fallback = None;

@@ -55,6 +55,9 @@ pub fn sobol4(index: u32, set: u32, seed: u32) -> [f32; 4] {
     owen_scramble_int4_rev(sobol, hash_int4(scramble)).reverse_bits().to_f32_norm()
 }
 
+/// The largest f32 below 1: where numbers meant to lie in [0, 1) are clamped.
+pub const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
+
 /// The largest number of samples per sequence [`sobol4`] supports.
 pub const MAX_SAMPLES: u32 = 1 << 16;
 
@@ -130,6 +133,18 @@ impl Cdf {
         // value and are skipped by the strict comparison.
         let i = self.cdf.partition_point(|&c| c <= u).min(self.cdf.len() - 1);
         (i, self.pmf[i])
+    }
+
+    /// Like [`Cdf::sample`], and also where `u` lies within the chosen item's interval of the
+    /// cumulative distribution, rescaled to [0, 1): a fresh uniform number for choosing a
+    /// point inside the item, so that one number can pick both.
+    pub fn sample_remapped(&self, u: f32) -> (usize, f32, f32) {
+        let (i, pmf) = self.sample(u);
+        let low = if i == 0 { 0.0 } else { self.cdf[i - 1] };
+        let high = self.cdf[i];
+        // The interval is empty only for u ≥ 1, where `sample` clamped the item.
+        let within = if high > low { ((u - low) / (high - low)).clamp(0.0, ONE_MINUS_EPSILON) } else { 0.0 };
+        (i, pmf, within)
     }
 }
 

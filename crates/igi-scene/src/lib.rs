@@ -2,8 +2,8 @@
 //! the loaders, and the built-in scenes.
 //!
 //! - Model: [`Scene`] holds [`Mesh`]es placed by [`Instance`]s, [`Material`]s, [`Texture`]s,
-//!   punctual [`Light`]s and an optional [`Camera`]. Area lights are triangles with an
-//!   emissive material.
+//!   punctual [`Light`]s, an optional [`Environment`] (sky) and an optional [`Camera`]. Area
+//!   lights are triangles with an emissive material.
 //! - Loading: [`load`] picks the format from the file extension: Wavefront OBJ/MTL
 //!   ([`obj`], [`mtl`]), glTF 2.0 ([`gltf_loader`]), Stanford PLY ([`ply`]) and igi's own TOML
 //!   scene files ([`scene_file`]) that place such files and add lights and a camera.
@@ -22,6 +22,7 @@
 //! gets a default.
 
 mod builtin;
+mod environment;
 mod error;
 pub mod gltf_loader;
 mod model;
@@ -38,6 +39,7 @@ mod validate;
 use std::path::Path;
 
 pub use builtin::{builtin, builtin_names};
+pub use environment::Environment;
 pub use error::{Location, SceneError};
 pub use model::{Bounds, Camera, Instance, Light, Material, MaterialKind, Mesh, Scene, Texture};
 pub use report::LoadReport;

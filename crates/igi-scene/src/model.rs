@@ -5,6 +5,7 @@
 //! Area lights are not a separate type: any triangle whose material has a non-zero `emission`
 //! is an area light, and a `quad` light of a scene file becomes two such triangles.
 
+use crate::environment::Environment;
 use crate::shader::ShaderDesc;
 use glam::{Affine3A, Vec2, Vec3};
 
@@ -220,10 +221,13 @@ pub struct Scene {
     pub instances: Vec<Instance>,
     /// Materials referenced by [`Mesh::material_ids`].
     pub materials: Vec<Material>,
-    /// Textures referenced by materials.
+    /// Textures referenced by materials and by an image [`Scene::environment`].
     pub textures: Vec<Texture>,
     /// Point, spot and directional lights (area lights are emissive triangles).
     pub lights: Vec<Light>,
+    /// Light from infinitely far away seen by rays that leave the scene (a sky), if any.
+    /// An image environment's texture is one of [`Scene::textures`].
+    pub environment: Option<Environment>,
     /// The scene's own camera, if its file has one.
     pub camera: Option<Camera>,
 }

@@ -24,6 +24,25 @@
 //! # point: position, intensity = [r, g, b] (W/sr)
 //! # spot: position, direction, angle (full cone, degrees), intensity
 //! # directional: direction (the way the light travels), irradiance = [r, g, b] (W/m²)
+//!
+//! [[shader]]
+//! target = "floor"               # a material name, or else a mesh name
+//! type = "marble"                # checker | marble | wood | brick | turbulence
+//! scale = 2.0                    # optional, default 1: pattern features per unit length
+//! colors = [[0.9, 0.9, 0.85], [0.3, 0.3, 0.35]]   # optional, default [[0.8]*3, [0.2]*3]
+//! specular = [0.05, 0.05, 0.05]  # optional, default [0, 0, 0]
+//! exponent = 40.0                # optional, default 20
+//! bump = 0.002                   # optional, default 0 (no bump)
+//! # marble: octaves (default 4), turbulence (default 5)
+//! # wood: rings (default 4), turbulence (default 0.5)
+//! # brick: size = [x, y, z] (default [3, 1, 1.5]), mortar (default 0.1)
+//! # turbulence: octaves (default 4)
+//!
+//! [environment]                  # optional: what rays leaving the scene see
+//! color = [0.4, 0.6, 1.0]        # a constant sky radiance (W/(sr m²), may exceed 1), or
+//! # file = "sky.hdr"             # an equirectangular image relative to this file (.hdr,
+//! # intensity = 1.0              # .exr, or LDR .png/.jpg read as sRGB), with optional
+//! # rotate = 0.0                 # factor (default 1) and turn about +Y in degrees
 //! ```
 //!
 //! Transforms: `translate`, `rotate` and `scale` make T·R·S, with R = Rz·Ry·Rx, i.e. the
@@ -39,6 +58,22 @@
 //! used. A quad light becomes a mesh of two one-sided emissive triangles whose geometric
 //! normal is normalize(u × v), with a black diffuse emissive material and an identity instance.
 //!
+//! A `[[shader]]` gives a procedural [`ShaderDesc`] to the materials its `target` names,
+//! after every mesh and light is in place; entries apply in order, so a later one wins. The
+//! target is looked up among material names first (OBJ `newmtl`, glTF material names, the
+//! `light[i]` material of a quad light), and every material of that name gets the shader. If
+//! no material has that name, it is looked up among mesh names (a glTF mesh name, an OBJ or
+//! PLY file's stem, `light[i]`): the triangles of those meshes get their own copies of their
+//! materials carrying the shader, so other meshes sharing a material keep it unchanged. A
+//! target that matches neither is an error. Colours and `specular` are reflectances in
+//! [0, 1]; `octaves` is 1 to 16; `scale`, `rings` and the brick `size` must be positive;
+//! `mortar` must be narrower than every brick dimension.
+//!
+//! `[environment]` takes `color` or `file`, not both; `intensity` and `rotate` only go with
+//! `file`. The image's mapping and rotation are those of [`Environment`]. Unlike a material's
+//! texture, an environment image that is missing or cannot be decoded is an error: without
+//! it the scene has different lighting, not just a different-looking surface.
+//!
 //! Unknown fields are errors (a typo like `rotation` must not be silently ignored), and every
 //! error names the scene file, the line and the field.
 
@@ -49,10 +84,13 @@ use glam::{Affine3A, Quat, Vec3};
 use serde::Deserialize;
 use toml::Spanned;
 
+use crate::environment::Environment;
 use crate::error::{Location, SceneError};
 use crate::model::{Camera, Instance, Light, Material, Mesh, Scene};
 use crate::report::LoadReport;
 use crate::resources;
+use crate::shader::{Pattern, ShaderDesc};
+use crate::texture::{self, ColorSpace};
 
 /// Loads a scene file and every mesh file it names.
 pub fn load(path: &Path, report: &mut LoadReport) -> Result<Scene, SceneError> {
@@ -81,6 +119,9 @@ struct SceneSpec {
     mesh: Vec<Spanned<MeshSpec>>,
     #[serde(default)]
     light: Vec<Spanned<LightSpec>>,
+    #[serde(default)]
+    shader: Vec<Spanned<ShaderSpec>>,
+    environment: Option<Spanned<EnvironmentSpec>>,
 }
 
 #[derive(Deserialize)]
@@ -179,6 +220,79 @@ impl LightKind {
     }
 }
 
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct EnvironmentSpec {
+    color: Option<[f32; 3]>,
+    file: Option<Spanned<String>>,
+    intensity: Option<f32>,
+    rotate: Option<f32>,
+}
+
+/// A `[[shader]]` table: flat for the same reason as [`LightSpec`].
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ShaderSpec {
+    target: Spanned<String>,
+    #[serde(rename = "type")]
+    kind: ShaderKind,
+    scale: Option<f32>,
+    colors: Option<[[f32; 3]; 2]>,
+    specular: Option<[f32; 3]>,
+    exponent: Option<f32>,
+    bump: Option<f32>,
+    octaves: Option<u32>,
+    turbulence: Option<f32>,
+    rings: Option<f32>,
+    size: Option<[f32; 3]>,
+    mortar: Option<f32>,
+}
+
+#[derive(Clone, Copy, Deserialize)]
+#[serde(rename_all = "lowercase")]
+enum ShaderKind {
+    Checker,
+    Marble,
+    Wood,
+    Brick,
+    Turbulence,
+}
+
+impl ShaderKind {
+    fn name(self) -> &'static str {
+        match self {
+            Self::Checker => "checker",
+            Self::Marble => "marble",
+            Self::Wood => "wood",
+            Self::Brick => "brick",
+            Self::Turbulence => "turbulence",
+        }
+    }
+
+    /// The pattern parameters a shader of this kind takes (besides the common ones).
+    fn fields(self) -> &'static [&'static str] {
+        match self {
+            Self::Checker => &[],
+            Self::Marble => &["octaves", "turbulence"],
+            Self::Wood => &["rings", "turbulence"],
+            Self::Brick => &["size", "mortar"],
+            Self::Turbulence => &["octaves"],
+        }
+    }
+}
+
+/// Defaults of the optional `[[shader]]` fields (listed in the module doc).
+const SHADER_COLORS: [[f32; 3]; 2] = [[0.8; 3], [0.2; 3]];
+const SHADER_EXPONENT: f32 = 20.0;
+const DEFAULT_OCTAVES: u32 = 4;
+const MARBLE_TURBULENCE: f32 = 5.0;
+const WOOD_RINGS: f32 = 4.0;
+const WOOD_TURBULENCE: f32 = 0.5;
+const BRICK_SIZE: [f32; 3] = [3.0, 1.0, 1.5];
+const BRICK_MORTAR: f32 = 0.1;
+/// Octaves beyond 16 add detail far below a texel at any sensible scale and only cost time.
+const MAX_OCTAVES: u32 = 16;
+
 /// Turns semantic problems into errors that point at a field of the file.
 struct Checker<'a> {
     file: &'a Path,
@@ -205,6 +319,33 @@ impl Checker<'_> {
             return Err(self.error(span, path, "values must not be negative"));
         }
         Ok(c)
+    }
+
+    /// A reflectance: finite and in [0, 1].
+    fn reflectance(&self, span: &Range<usize>, path: String, v: [f32; 3]) -> Result<Vec3, SceneError> {
+        let c = self.colour(span, path.clone(), v)?;
+        if c.max_element() > 1.0 {
+            return Err(self.error(span, path, "reflectance must be in [0, 1]"));
+        }
+        Ok(c)
+    }
+
+    /// A finite number that is positive (`zero_ok` false) or not negative (`zero_ok` true).
+    fn amount(
+        &self,
+        span: &Range<usize>,
+        path: String,
+        value: f32,
+        zero_ok: bool,
+    ) -> Result<f32, SceneError> {
+        let ok = value.is_finite() && if zero_ok { value >= 0.0 } else { value > 0.0 };
+        if ok {
+            Ok(value)
+        } else if zero_ok {
+            Err(self.error(span, path, "must be finite and not negative"))
+        } else {
+            Err(self.error(span, path, "must be finite and positive"))
+        }
     }
 
     fn direction(&self, span: &Range<usize>, path: String, v: [f32; 3]) -> Result<Vec3, SceneError> {
@@ -286,10 +427,95 @@ fn parse_file(
         add_light(&check, &mut scene, index, entry)?;
     }
 
+    // Without a base directory no mesh file was read, so a target may name a material of a
+    // file that was skipped: warn rather than fail.
+    let files_skipped = base_dir.is_none() && !spec.mesh.is_empty();
+    for (index, entry) in spec.shader.iter().enumerate() {
+        let shader = shader_from(&check, index, entry)?;
+        if !assign_shader(&mut scene, entry.get_ref().target.get_ref(), &shader) {
+            let target = &entry.get_ref().target;
+            let path = format!("shader[{index}].target");
+            let message = format!("`{}` is neither a material nor a mesh name", target.get_ref());
+            if files_skipped {
+                report.warn(file, format!("{path}: {message} (not checked: mesh files were not loaded)"));
+            } else {
+                return Err(check.error(&target.span(), path, message));
+            }
+        }
+    }
+
+    if let Some(environment) = &spec.environment {
+        scene.environment = environment_from(&check, &mut scene, environment, base_dir, report)?;
+    }
+
     if let Some(camera) = &spec.camera {
         scene.camera = Some(camera_from(&check, camera)?);
     }
     Ok(scene)
+}
+
+/// The `[environment]` table; an image goes into `scene.textures`. `None` (with a warning)
+/// for an image when parsing from memory.
+fn environment_from(
+    check: &Checker,
+    scene: &mut Scene,
+    entry: &Spanned<EnvironmentSpec>,
+    base_dir: Option<&Path>,
+    report: &mut LoadReport,
+) -> Result<Option<Environment>, SceneError> {
+    let span = entry.span();
+    let spec = entry.get_ref();
+    let path = |field: &str| format!("environment.{field}");
+    let file = match (&spec.file, spec.color) {
+        (Some(file), Some(_)) => {
+            return Err(check.error(&file.span(), path("file"), "give either `color` or `file`, not both"));
+        }
+        (None, None) => {
+            return Err(check.error(&span, "environment".into(), "needs `color` or `file`"));
+        }
+        (None, Some(color)) => {
+            for (field, is_present) in
+                [("intensity", spec.intensity.is_some()), ("rotate", spec.rotate.is_some())]
+            {
+                if is_present {
+                    return Err(check.error(
+                        &span,
+                        path(field),
+                        format!("a constant environment (`color`) has no `{field}`"),
+                    ));
+                }
+            }
+            let radiance = check.colour(&span, path("color"), color)?;
+            return Ok(Some(Environment::Constant { radiance }));
+        }
+        (Some(file), None) => file,
+    };
+    let intensity = check.amount(&span, path("intensity"), spec.intensity.unwrap_or(1.0), true)?;
+    let rotation_deg = spec.rotate.unwrap_or(0.0);
+    if !rotation_deg.is_finite() {
+        return Err(check.error(&span, path("rotate"), "must be finite"));
+    }
+    let name = file.get_ref();
+    let Some(dir) = base_dir else {
+        report.warn(check.file, format!("environment.file `{name}` not loaded: parsing from memory"));
+        return Ok(None);
+    };
+    let at = || Location::Field { line: Some(line_of(check.text, file.span().start)), path: path("file") };
+    let image_path = resources::resolve(dir, name).ok_or_else(|| SceneError::MissingFile {
+        file: check.file.to_path_buf(),
+        at: at(),
+        missing: dir.join(name),
+    })?;
+    let bytes =
+        resources::read(&image_path).map_err(|e| SceneError::invalid(check.file, at(), e.to_string()))?;
+    // Float images (.hdr, .exr) are linear whatever the colour space; 8- and 16-bit images
+    // are sRGB-encoded pictures.
+    let image = texture::decode(&bytes, &image_path.display().to_string(), ColorSpace::Srgb)
+        .map_err(|e| SceneError::invalid(check.file, at(), format!("`{name}` could not be decoded: {e}")))?;
+    let texture = u32::try_from(scene.textures.len())
+        .map_err(|_| SceneError::invalid(check.file, at(), "too many textures"))?;
+    scene.textures.push(image);
+    Ok(Some(Environment::Map { texture, intensity, rotation_deg }))
 }
 
 fn load_mesh_file(
@@ -507,6 +733,104 @@ fn add_light(
     Ok(())
 }
 
+/// The [`ShaderDesc`] of `[[shader]]` entry `index`, every parameter checked.
+fn shader_from(check: &Checker, index: usize, entry: &Spanned<ShaderSpec>) -> Result<ShaderDesc, SceneError> {
+    let span = entry.span();
+    let spec = entry.get_ref();
+    let path = |field: &str| format!("shader[{index}].{field}");
+    let present = [
+        ("octaves", spec.octaves.is_some()),
+        ("turbulence", spec.turbulence.is_some()),
+        ("rings", spec.rings.is_some()),
+        ("size", spec.size.is_some()),
+        ("mortar", spec.mortar.is_some()),
+    ];
+    for (field, is_present) in present {
+        if is_present && !spec.kind.fields().contains(&field) {
+            return Err(check.error(
+                &span,
+                path(field),
+                format!("a {} shader has no `{field}`", spec.kind.name()),
+            ));
+        }
+    }
+    let octaves = || {
+        let octaves = spec.octaves.unwrap_or(DEFAULT_OCTAVES);
+        if (1..=MAX_OCTAVES).contains(&octaves) {
+            Ok(octaves)
+        } else {
+            Err(check.error(&span, path("octaves"), format!("must be 1 to {MAX_OCTAVES}")))
+        }
+    };
+    let turbulence =
+        |default: f32| check.amount(&span, path("turbulence"), spec.turbulence.unwrap_or(default), true);
+    let pattern = match spec.kind {
+        ShaderKind::Checker => Pattern::Checker,
+        ShaderKind::Marble => {
+            Pattern::Marble { octaves: octaves()?, turbulence: turbulence(MARBLE_TURBULENCE)? }
+        }
+        ShaderKind::Wood => Pattern::Wood {
+            rings: check.amount(&span, path("rings"), spec.rings.unwrap_or(WOOD_RINGS), false)?,
+            turbulence: turbulence(WOOD_TURBULENCE)?,
+        },
+        ShaderKind::Brick => {
+            let size = check.vector(&span, path("size"), spec.size.unwrap_or(BRICK_SIZE))?;
+            if size.min_element() <= 0.0 {
+                return Err(check.error(&span, path("size"), "brick dimensions must be positive"));
+            }
+            let mortar = check.amount(&span, path("mortar"), spec.mortar.unwrap_or(BRICK_MORTAR), true)?;
+            if mortar >= size.min_element() {
+                return Err(check.error(
+                    &span,
+                    path("mortar"),
+                    "the mortar must be narrower than every brick dimension",
+                ));
+            }
+            Pattern::Brick { size, mortar }
+        }
+        ShaderKind::Turbulence => Pattern::Turbulence { octaves: octaves()? },
+    };
+    let [first, second] = spec.colors.unwrap_or(SHADER_COLORS);
+    Ok(ShaderDesc {
+        pattern,
+        scale: check.amount(&span, path("scale"), spec.scale.unwrap_or(1.0), false)?,
+        colors: [
+            check.reflectance(&span, path("colors"), first)?,
+            check.reflectance(&span, path("colors"), second)?,
+        ],
+        specular: check.reflectance(&span, path("specular"), spec.specular.unwrap_or_default())?,
+        exponent: check.amount(&span, path("exponent"), spec.exponent.unwrap_or(SHADER_EXPONENT), true)?,
+        bump: check.amount(&span, path("bump"), spec.bump.unwrap_or(0.0), true)?,
+    })
+}
+
+/// Gives `shader` to the materials named `target` or, if there are none, to the triangles of
+/// the meshes named `target` (through copies of their materials). False if nothing matched.
+fn assign_shader(scene: &mut Scene, target: &str, shader: &ShaderDesc) -> bool {
+    let mut matched = false;
+    for material in scene.materials.iter_mut().filter(|m| m.name == target) {
+        material.shader = Some(shader.clone());
+        matched = true;
+    }
+    if matched {
+        return true;
+    }
+    // One copy per original material, shared by every mesh of that name.
+    let mut copies: std::collections::HashMap<u32, u32> = std::collections::HashMap::new();
+    for mesh in scene.meshes.iter_mut().filter(|m| m.name == target) {
+        matched = true;
+        for id in &mut mesh.material_ids {
+            *id = *copies.entry(*id).or_insert_with(|| {
+                let mut copy = scene.materials.get(*id as usize).cloned().unwrap_or_default();
+                copy.shader = Some(shader.clone());
+                scene.materials.push(copy);
+                scene.materials.len() as u32 - 1
+            });
+        }
+    }
+    matched
+}
+
 /// Two triangles c−u−v, c+u−v, c+u+v and c−u−v, c+u+v, c−u+v: counter-clockwise seen from
 /// the side u × v points to, so that is the side they face and emit to.
 fn quad_mesh(name: String, centre: Vec3, u: Vec3, v: Vec3, material: u32) -> Mesh {
@@ -669,5 +993,195 @@ mod tests {
             .unwrap();
         // Scale, then rotate, then translate: +X → (2,0,0) → (0,2,0) → (1,4,3).
         assert!((t.transform_point3(Vec3::X) - Vec3::new(1.0, 4.0, 3.0)).length() < 1e-5);
+    }
+
+    /// A quad light (material and mesh `light[0]`) followed by `shader`.
+    fn with_shader(shader: &str) -> Result<Scene, SceneError> {
+        parse_str(&format!(
+            "[[light]]\ntype = \"quad\"\nposition = [0, 2, 0]\nu = [1, 0, 0]\nv = [0, 0, 1]\nradiance = [1, 1, 1]\n\n[[shader]]\ntarget = \"light[0]\"\n{shader}"
+        ))
+    }
+
+    fn shader_of(shader: &str) -> ShaderDesc {
+        let scene = with_shader(shader).unwrap_or_else(|e| panic!("{e}"));
+        scene.materials[0].shader.clone().expect("the shader is assigned")
+    }
+
+    #[test]
+    fn every_shader_type_parses_with_its_parameters_and_defaults() {
+        let common = ShaderDesc {
+            pattern: Pattern::Checker,
+            scale: 1.0,
+            colors: [Vec3::splat(0.8), Vec3::splat(0.2)],
+            specular: Vec3::ZERO,
+            exponent: 20.0,
+            bump: 0.0,
+        };
+        assert_eq!(shader_of("type = \"checker\"\n"), common);
+        let full = shader_of(
+            "type = \"checker\"\nscale = 2.5\ncolors = [[0.9, 0.9, 0.85], [0.3, 0.3, 0.35]]\nspecular = [0.05, 0.05, 0.05]\nexponent = 40\nbump = 0.002\n",
+        );
+        assert_eq!(
+            full,
+            ShaderDesc {
+                scale: 2.5,
+                colors: [Vec3::new(0.9, 0.9, 0.85), Vec3::new(0.3, 0.3, 0.35)],
+                specular: Vec3::splat(0.05),
+                exponent: 40.0,
+                bump: 0.002,
+                ..common.clone()
+            }
+        );
+        let cases = [
+            ("type = \"marble\"\n", Pattern::Marble { octaves: 4, turbulence: 5.0 }),
+            (
+                "type = \"marble\"\noctaves = 7\nturbulence = 2.5\n",
+                Pattern::Marble { octaves: 7, turbulence: 2.5 },
+            ),
+            ("type = \"wood\"\n", Pattern::Wood { rings: 4.0, turbulence: 0.5 }),
+            ("type = \"wood\"\nrings = 12\nturbulence = 0\n", Pattern::Wood { rings: 12.0, turbulence: 0.0 }),
+            ("type = \"brick\"\n", Pattern::Brick { size: Vec3::new(3.0, 1.0, 1.5), mortar: 0.1 }),
+            (
+                "type = \"brick\"\nsize = [2, 0.5, 1]\nmortar = 0.05\n",
+                Pattern::Brick { size: Vec3::new(2.0, 0.5, 1.0), mortar: 0.05 },
+            ),
+            ("type = \"turbulence\"\n", Pattern::Turbulence { octaves: 4 }),
+            ("type = \"turbulence\"\noctaves = 16\n", Pattern::Turbulence { octaves: 16 }),
+        ];
+        for (text, pattern) in cases {
+            assert_eq!(shader_of(text), ShaderDesc { pattern, ..common.clone() }, "{text}");
+        }
+    }
+
+    #[test]
+    fn bad_shader_parameters_name_the_file_and_field() {
+        // (fields after `target`, field named, part of the message)
+        let cases = [
+            ("type = \"plaid\"\n", "shader[0].type", "unknown variant `plaid`"),
+            ("type = \"checker\"\nscale = 0\n", "shader[0].scale", "positive"),
+            ("type = \"checker\"\nscale = -2\n", "shader[0].scale", "positive"),
+            ("type = \"checker\"\nscale = inf\n", "shader[0].scale", "finite"),
+            ("type = \"checker\"\nscale = nan\n", "shader[0].scale", "finite"),
+            ("type = \"checker\"\ncolors = [[1.5, 0, 0], [0, 0, 0]]\n", "shader[0].colors", "[0, 1]"),
+            ("type = \"checker\"\ncolors = [[1, 1, 1], [0, -0.1, 0]]\n", "shader[0].colors", "negative"),
+            ("type = \"checker\"\ncolors = [[1, 1], [0, 0, 0]]\n", "shader[0].colors", "length"),
+            ("type = \"checker\"\ncolors = [[1, 1, 1]]\n", "shader[0].colors", "length"),
+            ("type = \"checker\"\nspecular = [2, 2, 2]\n", "shader[0].specular", "[0, 1]"),
+            ("type = \"checker\"\nexponent = -1\n", "shader[0].exponent", "not negative"),
+            ("type = \"checker\"\nbump = nan\n", "shader[0].bump", "finite"),
+            ("type = \"marble\"\noctaves = 0\n", "shader[0].octaves", "1 to 16"),
+            ("type = \"turbulence\"\noctaves = 17\n", "shader[0].octaves", "1 to 16"),
+            ("type = \"turbulence\"\noctaves = -1\n", "shader[0].octaves", "u32"),
+            ("type = \"wood\"\nrings = 0\n", "shader[0].rings", "positive"),
+            ("type = \"marble\"\nturbulence = -1\n", "shader[0].turbulence", "not negative"),
+            ("type = \"brick\"\nsize = [1, 0, 1]\n", "shader[0].size", "positive"),
+            ("type = \"brick\"\nsize = [1, 1, 1]\nmortar = 1\n", "shader[0].mortar", "narrower"),
+            ("type = \"checker\"\noctaves = 3\n", "shader[0].octaves", "a checker shader has no `octaves`"),
+            ("type = \"wood\"\nsize = [1, 1, 1]\n", "shader[0].size", "a wood shader has no `size`"),
+            ("type = \"checker\"\ncolour = [1, 1, 1]\n", "shader[0].colour", "unknown field `colour`"),
+        ];
+        for (text, field, message) in cases {
+            let err = with_shader(text).expect_err(text).to_string();
+            assert!(err.starts_with("s.toml: line "), "{text}: {err}");
+            assert!(err.contains(&format!("field `{field}`: ")), "{text}: {err}");
+            assert!(err.contains(message), "{text}: {err}");
+        }
+        let err = with_shader("type = \"checker\"\n\n[[shader]]\ntarget = \"nothing\"\ntype = \"wood\"\n")
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            err,
+            "s.toml: line 13, field `shader[1].target`: `nothing` is neither a material nor a mesh name"
+        );
+    }
+
+    #[test]
+    fn a_mesh_target_copies_only_that_meshs_materials() {
+        let triangle = |name: &str, material: u32| Mesh {
+            name: name.into(),
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
+            indices: vec![[0, 1, 2], [0, 2, 1]],
+            material_ids: vec![material, 1],
+            ..Mesh::default()
+        };
+        let mut scene = Scene {
+            meshes: vec![triangle("floor", 0), triangle("wall", 0), triangle("floor", 0)],
+            materials: vec![
+                Material { name: "stone".into(), ..Material::default() },
+                Material { name: "plaster".into(), ..Material::default() },
+            ],
+            ..Scene::default()
+        };
+        let shader = shader_of("type = \"checker\"\n");
+        assert!(assign_shader(&mut scene, "floor", &shader));
+        assert_eq!(scene.materials.len(), 4, "one copy of each material the meshes use");
+        assert_eq!(scene.meshes[0].material_ids, vec![2, 3]);
+        assert_eq!(scene.meshes[2].material_ids, vec![2, 3], "meshes of one name share the copies");
+        assert_eq!(scene.meshes[1].material_ids, vec![0, 1], "the wall is untouched");
+        assert!(scene.materials[..2].iter().all(|m| m.shader.is_none()));
+        assert_eq!(
+            (scene.materials[2].name.as_str(), scene.materials[3].name.as_str()),
+            ("stone", "plaster")
+        );
+        assert!(scene.materials[2..].iter().all(|m| m.shader.as_ref() == Some(&shader)));
+
+        // A material name wins over a mesh name and reaches every material of that name,
+        // the copies included.
+        let marble = shader_of("type = \"marble\"\n");
+        assert!(assign_shader(&mut scene, "stone", &marble));
+        assert_eq!(scene.materials[0].shader.as_ref(), Some(&marble));
+        assert_eq!(scene.materials[2].shader.as_ref(), Some(&marble));
+        assert_eq!(scene.materials[3].shader.as_ref(), Some(&shader));
+        assert!(!assign_shader(&mut scene, "ceiling", &marble));
+    }
+
+    #[test]
+    fn unchecked_targets_warn_when_parsing_from_memory() {
+        let mut report = LoadReport::default();
+        let scene = parse(
+            "[[mesh]]\nfile = \"room.obj\"\n\n[[shader]]\ntarget = \"floor\"\ntype = \"checker\"\n",
+            "s.toml",
+            None,
+            &mut report,
+        )
+        .unwrap();
+        assert!(scene.materials.is_empty());
+        assert_eq!(report.warnings.len(), 2, "{report:?}");
+        assert!(report.warnings[1].contains("shader[0].target: `floor`"), "{report:?}");
+    }
+
+    #[test]
+    fn constant_environment_and_its_errors() {
+        let scene = parse_str("[environment]\ncolor = [0.4, 0.6, 2.5]\n").unwrap();
+        assert_eq!(scene.environment, Some(Environment::Constant { radiance: Vec3::new(0.4, 0.6, 2.5) }));
+        assert!(scene.textures.is_empty());
+        assert_eq!(parse_str("").unwrap().environment, None);
+        let cases = [
+            ("color = [1, -1, 1]\n", "field `environment.color`: values must not be negative"),
+            ("color = [1, nan, 1]\n", "field `environment.color`: values must be finite"),
+            ("color = [1, 1]\n", "field `environment.color`: invalid length 2"),
+            (
+                "color = [1, 1, 1]\nfile = \"sky.hdr\"\n",
+                "field `environment.file`: give either `color` or `file`",
+            ),
+            ("intensity = 2\n", "field `environment`: needs `color` or `file`"),
+            ("color = [1, 1, 1]\nintensity = 2\n", "field `environment.intensity`: a constant environment"),
+            ("color = [1, 1, 1]\nrotate = 90\n", "field `environment.rotate`: a constant environment"),
+            (
+                "file = \"sky.hdr\"\nintensity = -1\n",
+                "field `environment.intensity`: must be finite and not negative",
+            ),
+            ("file = \"sky.hdr\"\nrotate = inf\n", "field `environment.rotate`: must be finite"),
+            ("colour = [1, 1, 1]\n", "field `environment.colour`: unknown field `colour`"),
+        ];
+        for (text, expected) in cases {
+            let err = parse_str(&format!("[environment]\n{text}")).expect_err(text).to_string();
+            assert!(err.starts_with("s.toml: line "), "{text}: {err}");
+            assert!(err.contains(expected), "{text}: {err}");
+        }
+        let mut report = LoadReport::default();
+        let scene = parse("[environment]\nfile = \"sky.hdr\"\n", "s.toml", None, &mut report).unwrap();
+        assert_eq!(scene.environment, None);
+        assert!(report.warnings[0].contains("environment.file `sky.hdr` not loaded"), "{report:?}");
     }
 }

@@ -221,3 +221,121 @@ material = {{ diffuse = [0.7, 0.7, 0.7] }}
         .fold(igi_scene::Bounds::EMPTY, |b, &p| b.including(bunny.transform.transform_point3(p)));
     assert_bounds(bunny_bounds, [-0.3724, 0.0044, -0.2264], [0.2328, 0.5976, 0.2312], 1e-3);
 }
+
+/// Two quads with materials `floor` and `stone` (from `room.mtl`).
+const ROOM: &str = "mtllib room.mtl\nv 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\nv 0 1 0\nv 1 1 0\n\
+                    usemtl floor\nf 1 2 3 4\nusemtl stone\nf 1 2 6 5\n";
+const ROOM_MTL: &str = "newmtl floor\nKd 0.5 0.5 0.5\nnewmtl stone\nKd 0.7 0.7 0.7\n";
+
+#[test]
+fn shaders_target_materials_by_name_and_meshes_by_name() {
+    let scene_toml = r#"
+[[mesh]]
+file = "room.obj"
+
+[[mesh]]
+file = "annex.obj"
+
+[[shader]]
+target = "floor"
+type = "marble"
+scale = 2.0
+colors = [[0.9, 0.9, 0.85], [0.3, 0.3, 0.35]]
+
+[[shader]]
+target = "annex"
+type = "brick"
+"#;
+    let dir = directory(
+        "shader_targets",
+        &[("room.obj", ROOM), ("annex.obj", ROOM), ("room.mtl", ROOM_MTL), ("scene.toml", scene_toml)],
+    );
+    let scene = load(dir.join("scene.toml")).unwrap();
+    let pattern = |mesh: usize, triangle: usize| {
+        let id = scene.meshes[mesh].material_ids[triangle] as usize;
+        (scene.materials[id].name.as_str(), scene.materials[id].shader.as_ref().map(|s| s.pattern))
+    };
+    let marble = Some(igi_scene::Pattern::Marble { octaves: 4, turbulence: 5.0 });
+    let brick = Some(igi_scene::Pattern::Brick { size: Vec3::new(3.0, 1.0, 1.5), mortar: 0.1 });
+    // The OBJ mesh is named by its file's stem; each file brings its own materials.
+    assert_eq!(scene.meshes[0].name, "room");
+    assert_eq!(pattern(0, 0), ("floor", marble), "every `floor` material");
+    assert_eq!(pattern(0, 2), ("stone", None));
+    // The mesh target replaces the annex's materials with shaded copies; the `floor` copy is
+    // made after the material entry ran, from the marble floor, and now carries the brick.
+    assert_eq!(pattern(1, 0), ("floor", brick));
+    assert_eq!(pattern(1, 2), ("stone", brick));
+    assert_eq!(scene.materials.len(), 4 + 2);
+    let shader = scene.materials[scene.meshes[0].material_ids[0] as usize].shader.as_ref().unwrap();
+    assert_eq!((shader.scale, shader.colors[1]), (2.0, Vec3::new(0.3, 0.3, 0.35)));
+
+    let missing = "[[mesh]]\nfile = \"room.obj\"\n\n[[shader]]\ntarget = \"roof\"\ntype = \"wood\"\n";
+    fs::write(dir.join("missing.toml"), missing).unwrap();
+    let err = load(dir.join("missing.toml")).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        format!(
+            "{}: line 5, field `shader[0].target`: `roof` is neither a material nor a mesh name",
+            dir.join("missing.toml").display()
+        )
+    );
+    let bad =
+        "[[mesh]]\nfile = \"room.obj\"\n\n[[shader]]\ntarget = \"floor\"\ntype = \"wood\"\nscale = -1\n";
+    fs::write(dir.join("bad.toml"), bad).unwrap();
+    let err = load(dir.join("bad.toml")).unwrap_err().to_string();
+    assert!(err.starts_with(&format!("{}: line ", dir.join("bad.toml").display())), "{err}");
+    assert!(err.contains("field `shader[0].scale`: must be finite and positive"), "{err}");
+}
+
+#[test]
+fn image_environment_is_read_relative_to_the_scene_file() {
+    // A 4 × 2 Radiance HDR with one bright texel, and a PNG (sRGB-decoded).
+    let dir = directory("environment", &[]);
+    fs::create_dir_all(dir.join("skies")).unwrap();
+    let mut texels = vec![image::Rgb([0.25f32, 0.5, 1.0]); 8];
+    texels[5] = image::Rgb([40.0, 30.0, 20.0]);
+    let mut hdr = Vec::new();
+    image::codecs::hdr::HdrEncoder::new(&mut hdr).encode(&texels, 4, 2).unwrap();
+    fs::write(dir.join("skies/sky.hdr"), hdr).unwrap();
+    image::RgbImage::from_pixel(2, 1, image::Rgb([255, 128, 0])).save(dir.join("sky.png")).unwrap();
+    let scene_toml = "[[mesh]]\nfile = \"cube.obj\"\n\n[environment]\nfile = \"skies/sky.hdr\"\nintensity = 2\nrotate = 90\n";
+    fs::write(dir.join("cube.obj"), CUBE).unwrap();
+    fs::write(dir.join("scene.toml"), scene_toml).unwrap();
+    let scene = load(dir.join("scene.toml")).unwrap();
+    assert_eq!(
+        scene.environment,
+        Some(igi_scene::Environment::Map { texture: 0, intensity: 2.0, rotation_deg: 90.0 })
+    );
+    let sky = &scene.textures[0];
+    assert_eq!((sky.width, sky.height), (4, 2));
+    assert_eq!(sky.texels[5], [40.0, 30.0, 20.0, 1.0], "HDR texels are linear radiance");
+    assert_eq!(sky.texels[0], [0.25, 0.5, 1.0, 1.0]);
+
+    fs::write(dir.join("png.toml"), "[environment]\nfile = \"sky.png\"\n").unwrap();
+    let scene = load(dir.join("png.toml")).unwrap();
+    let texel = scene.textures[0].texels[0];
+    assert_eq!((texel[0], texel[2]), (1.0, 0.0));
+    assert!((texel[1] - 0.2158605).abs() < 1e-6, "8-bit images are sRGB-decoded: {texel:?}");
+
+    fs::write(dir.join("missing.toml"), "[environment]\nfile = \"clouds.exr\"\n").unwrap();
+    let err = load(dir.join("missing.toml")).unwrap_err();
+    assert!(matches!(err, SceneError::MissingFile { .. }), "{err}");
+    assert_eq!(
+        err.to_string(),
+        format!(
+            "{}: line 2, field `environment.file`: {} not found",
+            dir.join("missing.toml").display(),
+            dir.join("clouds.exr").display()
+        )
+    );
+    fs::write(dir.join("broken.hdr"), "#?RADIANCE\nnot really\n").unwrap();
+    fs::write(dir.join("broken.toml"), "[environment]\nfile = \"broken.hdr\"\n").unwrap();
+    let err = load(dir.join("broken.toml")).unwrap_err().to_string();
+    assert!(
+        err.starts_with(&format!(
+            "{}: line 2, field `environment.file`: `broken.hdr` could not be decoded: ",
+            dir.join("broken.toml").display()
+        )),
+        "{err}"
+    );
+}

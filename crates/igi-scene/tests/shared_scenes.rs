@@ -295,3 +295,29 @@ fn repository_conference_scene_file_lights_the_room_from_below_the_ceiling() {
         }
     }
 }
+
+#[test]
+fn repository_sponza_scene_file_has_a_sun_through_the_roof_and_a_blue_sky() {
+    // `scenes/sponza.toml` (in the repository) references the shared OBJ.
+    if scenes_dir("repository_sponza_scene_file").is_none() {
+        return;
+    }
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/sponza.toml");
+    let (scene, report) = load_with_report(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.triangle_count() + report.degenerate_dropped, 66_450);
+    assert_eq!(scene.lights.len(), 1);
+    let igi_scene::Light::Directional { direction, irradiance } = scene.lights[0] else {
+        panic!("{:?}", scene.lights[0])
+    };
+    assert!(direction.y < -0.85, "a steep sun, within about 30° of straight down: {direction}");
+    assert!(irradiance.min_element() > 0.0);
+    let Some(igi_scene::Environment::Constant { radiance }) = scene.environment else {
+        panic!("{:?}", scene.environment)
+    };
+    assert!(radiance.z > radiance.y && radiance.y > radiance.x, "a blue sky: {radiance}");
+    let camera = scene.camera.expect("the scene file's camera");
+    let bounds = scene.bounds();
+    assert!(camera.position.cmpgt(bounds.min).all() && camera.position.cmplt(bounds.max).all());
+    let view = (camera.target - camera.position).normalize();
+    assert!(view.x > 0.9, "looking along the nave (+X): {view}");
+}

@@ -94,6 +94,7 @@ pub(super) fn assemble(name: &str, parts: Vec<Part>, materials: Vec<Material>, c
         materials,
         textures: Vec::new(),
         lights: Vec::new(),
+        environment: None,
         camera: Some(camera),
     }
 }
