@@ -10,8 +10,9 @@
 //! the VPL walk and the IGI pipeline; every surface reflects on both sides; a surface emits
 //! the shader's emission only toward its winding normal (area-light sampling uses the
 //! material's `emission`, which the built-in shaders pass on unchanged); point, spot and
-//! directional lights arrive as [`lights::incident`] says; a scene without lights is lit by
-//! the headlight [`lights::eye_light`]; rays leaving the scene see black.
+//! directional lights arrive as [`lights::incident`] says; rays leaving the scene see the sky
+//! (black without one); a scene without any light is lit by the headlight
+//! [`lights::eye_light`].
 //!
 //! # Estimator
 //!
@@ -24,14 +25,21 @@
 //! ```text
 //! L ≈ Σ_j β_j · (  w_e L_e(x_j → x_{j−1})                                         (1)
 //!                + f_j(ω_y) w_l L_e(y) cosθ_x cosθ_y V(x_j, y) / (|x_j − y|² p_A(y))   (2)
-//!                + Σ_l f_j(ω_l) E_l(x_j) cosθ_x V(x_j, l) )                        (3)
+//!                + Σ_l f_j(ω_l) E_l(x_j) cosθ_x V(x_j, l)                          (3)
+//!                + f_j(ω) w_s L_sky(ω) cosθ_x V(x_j, ∞) / p_sky(ω) )               (4)
 //! ```
+//!
+//! plus β_k w_e L_sky(ω_k) where the path leaves the scene after vertex k.
 //!
 //! 1. Emission where the path hits the front of an emitter.
 //! 2. Next-event estimation of the area lights: one point y per vertex with a non-delta lobe,
 //!    chosen by power and uniformly by area
 //!    ([`AreaLights::sample`](crate::lights::AreaLights::sample), density p_A), one shadow ray.
 //! 3. Every point, spot and directional light, one shadow ray each (E_l = I/d² or E).
+//! 4. Next-event estimation of the sky: one direction ω drawn by its importance
+//!    ([`EnvironmentLight::sample`](crate::environment::EnvironmentLight::sample)), one shadow
+//!    ray; the sky seen by a path leaving the scene and this estimate are weighted against
+//!    each other by the power heuristic as (1) and (2) are.
 //!
 //! An emitter seen from a vertex x is found twice, by (2) with the solid-angle density
 //! p_l = p_A(y) |x − y|² / cosθ_y and by the BSDF sample of (1) with its density p_b
@@ -76,8 +84,9 @@
 //! | dimension set | use |
 //! |---|---|
 //! | 0 | sub-pixel position (u₀, u₁), –, – |
-//! | 2j + 1 | vertex j: light choice, light point (u, v), Russian roulette |
-//! | 2j + 2 | vertex j: scattered direction (u, v), lobe choice, – |
+//! | 3j + 1 | vertex j: light choice, light point (u, v), Russian roulette |
+//! | 3j + 2 | vertex j: scattered direction (u, v), lobe choice, – |
+//! | 3j + 3 | vertex j: sky direction (u, v), –, – |
 //!
 //! Sobol sets run out after `sobol_burley::NUM_DIMENSION_SETS_4D` (vertex 31 on); deeper
 //! vertices, which carry little light, use hashed uniform numbers instead. Nothing depends on
@@ -207,6 +216,11 @@ impl<'a> PathTracer<'a> {
             *rays += 1;
             let hit = scene.accel().intersect(&ray);
             if !hit.is_hit() {
+                // The sky, weighted against its own next-event estimate (4).
+                if let Some(sky) = scene.environment() {
+                    let weight = bounce_pdf.map_or(1.0, |p_b| power_heuristic(p_b, sky.pdf(ray.dir)));
+                    radiance += beta * sky.radiance(ray.dir) * weight;
+                }
                 break;
             }
             let s = scene.surface(&hit);
@@ -221,8 +235,9 @@ impl<'a> PathTracer<'a> {
                 });
                 radiance += beta * params.emission * weight;
             }
-            let [select, light_u, light_v, roulette] = samples.get(2 * vertex + 1);
-            let [dir_u, dir_v, lobe, _] = samples.get(2 * vertex + 2);
+            let [select, light_u, light_v, roulette] = samples.get(3 * vertex + 1);
+            let [dir_u, dir_v, lobe, _] = samples.get(3 * vertex + 2);
+            let [sky_u, sky_v, _, _] = samples.get(3 * vertex + 3);
 
             let bsdf = Bsdf::new(params, s.geometric_normal);
             let wo = -d;
@@ -230,7 +245,8 @@ impl<'a> PathTracer<'a> {
             if params.has_non_delta() {
                 radiance += beta
                     * (self.area_light(&side, &bsdf, wo, select, Vec2::new(light_u, light_v), rays)
-                        + self.punctual_light(&side, &bsdf, wo, rays));
+                        + self.punctual_light(&side, &bsdf, wo, rays)
+                        + self.sky_light(&side, &bsdf, wo, Vec2::new(sky_u, sky_v), rays));
             }
             let Some(sample) = bsdf.sample(wo, lobe, Vec2::new(dir_u, dir_v)) else { break };
             bounce_pdf = (!sample.lobe.is_delta()).then_some(sample.pdf);
@@ -276,6 +292,25 @@ impl<'a> PathTracer<'a> {
             return Vec3::ZERO;
         }
         if self.visible(side.origin, ls.point, rays) { e } else { Vec3::ZERO }
+    }
+
+    /// Term (4) of the estimator: one sky sample's MIS-weighted estimate
+    /// w_s f(ω_o, ω) L_sky(ω) cosθ_x / p_sky(ω) of the light the sky sends toward `wo`, 0 if
+    /// the scene blocks it.
+    fn sky_light(&self, side: &Side, bsdf: &Bsdf, wo: Vec3, u: Vec2, rays: &mut u64) -> Vec3 {
+        let Some(sky) = self.scene.environment().and_then(|e| e.sample(u)) else { return Vec3::ZERO };
+        let cos_x = side.ns.dot(sky.dir);
+        if cos_x <= 0.0 || side.ng.dot(sky.dir) <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let f = bsdf.f(wo, sky.dir);
+        let weight = power_heuristic(sky.pdf, bsdf.pdf(wo, sky.dir));
+        let e = f * sky.radiance * (weight * cos_x / sky.pdf);
+        if !(e.is_finite() && e.max_element() > 0.0) {
+            return Vec3::ZERO;
+        }
+        *rays += 1;
+        if self.scene.accel().occluded(&Ray::new(side.origin, sky.dir)) { Vec3::ZERO } else { e }
     }
 
     /// Term (3) of the estimator: Σ f(ω_o, ω_l) E_l cosθ_x from the visible point, spot and

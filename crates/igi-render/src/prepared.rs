@@ -12,6 +12,7 @@
 //! `[[shader]]`, or the textured material shader), and a user may replace it by their own
 //! [`SurfaceShader`] ([`PreparedScene::set_shader`]).
 
+use crate::environment::EnvironmentLight;
 use crate::lights::{AreaLights, EmissiveTriangle};
 use glam::{Affine3A, Mat3A, Vec2, Vec3};
 use igi_bvh::{Aabb, Accel, Hit, TriangleMesh};
@@ -70,6 +71,8 @@ pub struct PreparedScene {
     lights: Vec<Light>,
     camera: Option<Camera>,
     area_lights: AreaLights,
+    /// The sky, if the scene has one that emits anything.
+    environment: Option<EnvironmentLight>,
     /// Per instance: the matrix taking object-space normals to world space (inverse
     /// transpose), or `None` for the identity.
     normal_matrices: Vec<Option<Mat3A>>,
@@ -85,7 +88,7 @@ impl PreparedScene {
     /// Logs a warning if the scene has no light at all (the renderer then lights it with a
     /// headlight at the camera).
     pub fn new(scene: Scene) -> Self {
-        let Scene { meshes, instances, mut materials, textures, lights, camera, environment: _ } = scene;
+        let Scene { meshes, instances, mut materials, textures, lights, camera, environment } = scene;
 
         let valid = materials.len();
         let mut fallback = None;
@@ -129,12 +132,16 @@ impl PreparedScene {
             lights,
             camera,
             area_lights: AreaLights::default(),
+            environment: None,
             normal_matrices,
             shaders: Vec::new(),
             time: 0.0,
         };
         prepared.shaders = ShaderTable::new(&prepared.materials, &prepared.textures).into_shaders();
         prepared.area_lights = AreaLights::new(prepared.collect_emissive());
+        prepared.environment = environment
+            .map(|e| EnvironmentLight::new(&e, &prepared.textures))
+            .filter(|e| e.integral().max_element() > 0.0);
         if !prepared.has_lights() {
             tracing::warn!("the scene has no light source; lighting it with a headlight at the camera");
         }
@@ -206,9 +213,21 @@ impl PreparedScene {
         &self.area_lights
     }
 
-    /// True if the scene has any light source (emissive triangle or punctual light).
+    /// The environment (sky) light, if the scene has one that emits anything.
+    pub fn environment(&self) -> Option<&EnvironmentLight> {
+        self.environment.as_ref()
+    }
+
+    /// The radiance arriving along a ray of unit direction `dir` that leaves the scene: the
+    /// sky's, or black.
+    #[inline]
+    pub fn background(&self, dir: Vec3) -> Vec3 {
+        self.environment.as_ref().map_or(Vec3::ZERO, |e| e.radiance(dir))
+    }
+
+    /// True if the scene has any light source (emissive triangle, punctual light or sky).
     pub fn has_lights(&self) -> bool {
-        !self.lights.is_empty() || !self.area_lights.is_empty()
+        !self.lights.is_empty() || !self.area_lights.is_empty() || self.environment.is_some()
     }
 
     /// World bounds of all instances.

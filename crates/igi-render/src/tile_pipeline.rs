@@ -290,7 +290,14 @@ impl<'a> TilePipeline<'a> {
             let bits = (1u32 << lanes.len()) - 1;
             let packet = RayPacket8::from_rays(&batch);
             let hits = accel.intersect8(&packet, M32x8::from_bitmask(bits));
+            let missed = bits & !hits.hit_mask().bitmask();
             let bits = bits & hits.hit_mask().bitmask();
+            if missed != 0 && self.scene.environment().is_some() {
+                for lane in (0..8).filter(|lane| missed & (1 << lane) != 0) {
+                    s.emitted[(pixels[lane] * self.interleave.aa + sample) as usize] +=
+                        self.scene.background(batch[lane].dir);
+                }
+            }
             s.packets.push(PrimaryPacket {
                 dirs: batch.map(|r| r.dir),
                 hits: unpack_hits(&hits),
@@ -340,6 +347,9 @@ impl<'a> TilePipeline<'a> {
                 for (r, hit) in chunk.iter().zip(&hits) {
                     if hit.is_hit() {
                         self.queue_hit(r.ray.dir, hit, r.state, s);
+                    } else {
+                        let sky = r.state.throughput * self.scene.background(r.ray.dir);
+                        s.emitted[(r.state.pixel * self.interleave.aa + r.state.sample) as usize] += sky;
                     }
                 }
             }
@@ -581,7 +591,7 @@ impl<'a> TilePipeline<'a> {
         }
         let accel = self.scene.accel();
         if !self.vpls.lights().is_empty() {
-            receivers.add_lights(accel, self.vpls.lights(), rays);
+            receivers.add_lights(accel, self.vpls.lights().iter(), 1.0, rays);
             for (i, p) in points.iter_mut().enumerate() {
                 let (d, g) = receivers.irradiance(i);
                 p.exact = p.albedo * d + p.specular * g;
@@ -589,6 +599,8 @@ impl<'a> TilePipeline<'a> {
             receivers.reset_irradiance();
         }
         let aa = self.interleave.aa as usize;
+        let sky = self.vpls.sky(set).iter().skip(sample as usize).step_by(aa);
+        receivers.add_lights(accel, sky, aa as f32, rays);
         let vpls = self.vpls.set(set).iter().skip(sample as usize).step_by(aa);
         receivers.add_vpls(accel, vpls, aa as f32, self.d_min2, rays);
         for (i, p) in points.iter_mut().enumerate() {

@@ -18,6 +18,7 @@
 //! | point | 4π I | the light, uniform on the sphere |
 //! | spot, full angle 2α | 2π (1 − cos α) I | the light, uniform in the (hard) cone |
 //! | directional | π R² E | uniform on a disc of radius R across the light, along the light |
+//! | environment (sky) | π R² ∫ L dω | ω by the sky's importance, then a disc across ω, along −ω |
 //!
 //! where R is the radius of the bounding sphere of the scene bounds: the disc is perpendicular
 //! to the light direction, centred on the sphere's axis, and set back beyond the sphere, so
@@ -29,6 +30,7 @@
 //!
 //! ```text
 //! Φ = Φ_l / (p_l · P)                               (punctual and directional lights)
+//! Φ = L(ω) · π R² / (p_ω(ω) · p_l · P)              (sky, direction density p_ω)
 //! Φ = L_e(y) · cosθ / (p_l · p_A(y) · (cosθ / π) · P) = π L_e(y) / (p_l · p_A(y) · P)   (area)
 //! ```
 //!
@@ -178,12 +180,13 @@ impl Vpl {
     }
 }
 
-/// The VPLs of one frame: n·m interleaved sets of surface VPLs, plus the punctual lights that
-/// light every set exactly.
+/// The VPLs of one frame: n·m interleaved sets of surface VPLs and sky VPLs, plus the
+/// punctual lights that light every set exactly.
 #[derive(Clone, Debug, Default)]
 pub struct VplSets {
     lights: Vec<Light>,
     sets: Vec<Vec<Vpl>>,
+    sky: Vec<Vec<Light>>,
     paths_per_set: u32,
     expected_vpls_per_path: f32,
 }
@@ -198,7 +201,8 @@ impl VplSets {
             if scene.has_lights() { scene.lights().to_vec() } else { vec![eye_light(scene, &frame.camera)] };
         let Some(emitters) = Emitters::new(scene, &lights) else {
             let sets = vec![Vec::new(); frame.settings.set_count() as usize];
-            return Self { lights, sets, paths_per_set: 0, expected_vpls_per_path: 0.0 };
+            let sky = sets.iter().map(|_| Vec::new()).collect();
+            return Self { lights, sets, sky, paths_per_set: 0, expected_vpls_per_path: 0.0 };
         };
 
         let expected_vpls_per_path = emitters.pilot();
@@ -227,18 +231,18 @@ impl VplSets {
         let span = frame.sequence(paths_per_set.saturating_mul(set_count));
         let seed = hash_combine(span.seed, VPL_STREAM);
         let capacity = (paths_per_set as f32 * expected_vpls_per_path * 1.25) as usize + 8;
-        let sets = (0..set_count)
+        let (sets, sky) = (0..set_count)
             .into_par_iter()
             .map(|s| {
-                let mut vpls = Vec::with_capacity(capacity);
+                let mut set = PathVpls { surface: Vec::with_capacity(capacity), sky: Vec::new() };
                 let first = span.first + s * paths_per_set;
                 for k in first..first + paths_per_set {
-                    emitters.trace_path(k, seed, paths_per_set, &mut vpls);
+                    emitters.trace_path(k, seed, paths_per_set, &mut set);
                 }
-                vpls
+                (set.surface, set.sky)
             })
-            .collect();
-        Self { lights, sets, paths_per_set, expected_vpls_per_path }
+            .unzip();
+        Self { lights, sets, sky, paths_per_set, expected_vpls_per_path }
     }
 
     /// Point, spot and directional lights (or the headlight): exact direct light, in every set.
@@ -251,6 +255,12 @@ impl VplSets {
         &self.sets[s as usize]
     }
 
+    /// Sky VPLs of set `s`: directional lights, each a sample of the light the sky sends
+    /// (see the module documentation).
+    pub fn sky(&self, s: u32) -> &[Light] {
+        &self.sky[s as usize]
+    }
+
     /// Number of sets.
     pub fn set_count(&self) -> u32 {
         self.sets.len() as u32
@@ -261,9 +271,9 @@ impl VplSets {
         self.paths_per_set
     }
 
-    /// Surface VPLs of all sets together.
+    /// Surface and sky VPLs of all sets together.
     pub fn total_vpls(&self) -> usize {
-        self.sets.iter().map(Vec::len).sum()
+        self.sets.iter().map(Vec::len).sum::<usize>() + self.sky.iter().map(Vec::len).sum::<usize>()
     }
 
     /// The pilot's estimate of the VPLs one light path leaves, which chose
@@ -271,6 +281,13 @@ impl VplSets {
     pub fn expected_vpls_per_path(&self) -> f32 {
         self.expected_vpls_per_path
     }
+}
+
+/// The VPLs light paths leave: on surfaces, and in the sky.
+#[derive(Debug, Default)]
+struct PathVpls {
+    surface: Vec<Vpl>,
+    sky: Vec<Light>,
 }
 
 /// Where a light path starts.
@@ -284,6 +301,8 @@ enum Source {
     Spot { position: Vec3, axis: Vec3, cos_half: f32 },
     /// A directional light: unit direction of travel.
     Directional { direction: Vec3 },
+    /// The sky ([`PreparedScene::environment`]).
+    Environment,
 }
 
 /// The lights of a frame as sources of light paths, with the distribution that picks one.
@@ -307,6 +326,10 @@ impl<'a> Emitters<'a> {
         let mut sources = Vec::with_capacity(lights.len() + 1);
         if !scene.area_lights().is_empty() {
             sources.push((Source::Area, scene.area_lights().total_power()));
+        }
+        if let Some(sky) = scene.environment() {
+            // The flux through a disc of radius R across the scene from every direction.
+            sources.push((Source::Environment, PI * sphere.1 * sphere.1 * sky.integral()));
         }
         for light in lights {
             sources.push(match *light {
@@ -339,18 +362,20 @@ impl<'a> Emitters<'a> {
 
     /// The mean number of VPLs of [`PILOT_PATHS`] paths under the fixed pilot seed.
     fn pilot(&self) -> f32 {
-        let mut vpls = Vec::new();
+        let mut vpls = PathVpls::default();
         let mut count = 0;
         for k in 0..PILOT_PATHS {
-            vpls.clear();
+            vpls.surface.clear();
+            vpls.sky.clear();
             self.trace_path(k, PILOT_SEED, 1, &mut vpls);
-            count += vpls.len();
+            count += vpls.surface.len() + vpls.sky.len();
         }
         count as f32 / PILOT_PATHS as f32
     }
 
     /// Traces path `k` of `paths` of the set with scramble seed `seed`, appending its VPLs.
-    fn trace_path(&self, k: u32, seed: u32, paths: u32, vpls: &mut Vec<Vpl>) {
+    fn trace_path(&self, k: u32, seed: u32, paths: u32, out: &mut PathVpls) {
+        let vpls = &mut out.surface;
         let [u_light, u_select, u0, u1] = sobol4(k, LIGHT_DIMENSIONS, seed);
         let [d0, d1, ..] = sobol4(k, EMISSION_DIMENSIONS, seed);
         let (index, p_light) = self.choice.sample(u_light);
@@ -375,6 +400,22 @@ impl<'a> Emitters<'a> {
                 let disc = radius * concentric_disc(Vec2::new(u0, u1));
                 let origin = centre - (1.0 + DISC_MARGIN) * radius * direction + disc.x * t + disc.y * b;
                 (origin, direction, power * scale)
+            }
+            Source::Environment => {
+                // Light arriving from ω: a direction drawn by the sky's importance (density
+                // p_ω) and a point on the disc across ω (density 1/(πR²)), so
+                // Φ = L(ω) πR² / (p_ω p_l P).
+                let Some(sky) = self.scene.environment().and_then(|e| e.sample(Vec2::new(d0, d1))) else {
+                    return;
+                };
+                let (centre, radius) = self.sphere;
+                let (t, b) = sky.dir.any_orthonormal_pair();
+                let disc = radius * concentric_disc(Vec2::new(u0, u1));
+                let origin = centre + (1.0 + DISC_MARGIN) * radius * sky.dir + disc.x * t + disc.y * b;
+                // The sky's direct light: a directional VPL of irradiance Φ / (πR²).
+                let irradiance = sky.radiance * (scale / sky.pdf);
+                out.sky.push(Light::Directional { direction: -sky.dir, irradiance });
+                (origin, -sky.dir, irradiance * (PI * radius * radius))
             }
         };
         self.walk(origin, dir, power, k, seed, vpls);
@@ -417,7 +458,7 @@ impl<'a> Emitters<'a> {
             let Some(sample) = bsdf.sample(wo, u_choice, Vec2::new(u_dir0, u_dir1)) else { return };
             // Russian roulette on the sample's weight.
             let survive = sample.weight.max_element().min(1.0);
-            if !(survive > 0.0) || u_roulette >= survive {
+            if survive <= 0.0 || u_roulette >= survive {
                 return;
             }
             power *= sample.weight / survive;

@@ -220,8 +220,16 @@ impl Receivers {
         }
     }
 
-    /// Adds the exact direct light of point, spot and directional lights.
-    pub fn add_lights(&mut self, accel: &Accel, lights: &[Light], counts: &mut RayCounts) {
+    /// Adds the direct light of point, spot and directional lights, each weighted by `weight`
+    /// (1 for the exact lights of the scene; N for sky VPLs shared among N anti-aliasing
+    /// samples).
+    pub fn add_lights<'l>(
+        &mut self,
+        accel: &Accel,
+        lights: impl Iterator<Item = &'l Light>,
+        weight: f32,
+        counts: &mut RayCounts,
+    ) {
         let zero = F32x8::ZERO;
         for light in lights {
             let chunks = self.chunks.iter().zip(self.irradiance.iter_mut().zip(self.glossy.iter_mut()));
@@ -263,7 +271,7 @@ impl Receivers {
                 let packet =
                     RayPacket8 { origin, dir: wi, tnear: zero, tfar: tfar * F32x8::splat(SHADOW_SHORTEN) };
                 let lit = unoccluded(accel, &packet, valid, counts);
-                let g = F32x8::select(lit, cos_x * g, zero);
+                let g = F32x8::select(lit, cos_x * g * F32x8::splat(weight), zero);
                 accumulate(acc, g, colour);
                 if chunk.glossy_bits != 0 {
                     let e = Vec3x8::splat(colour.to_array()) * g;

@@ -3,7 +3,7 @@
 //! the path tracer. Directions are unit vectors pointing away from the surface unless a
 //! function says otherwise.
 //!
-//! - [`lambert`]: ρ/π.
+//! - [`lambert`](mod@lambert): ρ/π, sampled by the cosine.
 //! - [`phong`]: the energy-conserving modified Phong lobe.
 //! - [`dielectric`]: the perfect mirror and the smooth dielectric with Fresnel.
 //! - [`bsdf`]: their weighted sum at one point, evaluated and sampled.
