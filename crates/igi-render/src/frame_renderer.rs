@@ -36,7 +36,7 @@ pub struct FrameOutput {
     pub times: PhaseTimes,
     /// Wall-clock time of the whole frame.
     pub elapsed: Duration,
-    /// Surface VPLs over all sets.
+    /// VPLs (surface and sky) over all sets.
     pub vpls: usize,
     /// Frames averaged into the image.
     pub frames: u32,
@@ -102,7 +102,7 @@ impl FrameRenderer {
             rays += t.rays;
             times += t.times;
         }
-        let vpl_count = (0..vpls.set_count()).map(|set| vpls.set(set).len()).sum();
+        let vpl_count = vpls.total_vpls();
         Ok(FrameOutput {
             film,
             srgb8,

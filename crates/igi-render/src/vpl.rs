@@ -121,7 +121,7 @@ use std::f32::consts::PI;
 pub const MAX_BOUNCES: u32 = 32;
 
 /// Light paths of the pilot that measures the expected VPLs per path.
-pub const PILOT_PATHS: u32 = 64;
+pub const PILOT_PATHS: u32 = 256;
 
 /// Sobol dimension set of the light choice and the start point.
 const LIGHT_DIMENSIONS: u32 = 0;

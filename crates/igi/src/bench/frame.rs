@@ -172,7 +172,7 @@ fn clamp_energy_loss(renderer: &FrameRenderer, scene: &PreparedScene, frame: &Fr
 
 fn print_report(r: &Report) {
     outln!(
-        "{}: {}x{}, {} VPLs/pixel in {}x{} sets ({} surface VPLs/frame), aa {}, filter {}, clamp {:.3}, {} thread(s)",
+        "{}: {}x{}, {} VPLs/pixel in {}x{} sets ({} VPLs/frame), aa {}, filter {}, clamp {:.3}, {} thread(s)",
         r.scene,
         r.width,
         r.height,
