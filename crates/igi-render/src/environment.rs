@@ -347,6 +347,7 @@ impl Map {
 mod tests {
     use super::*;
     use crate::sampling::hash32;
+    use igi_scene::Wrap;
 
     /// 8 × 4 texels: a dim, slightly varying sky and one bright texel at column 2, row 1.
     const W: u32 = 8;
@@ -364,7 +365,7 @@ mod tests {
                 }
             })
             .collect();
-        Texture { name: "sky".into(), width: W, height: H, texels }
+        Texture { name: "sky".into(), width: W, height: H, texels, wrap: [Wrap::Repeat; 2] }
     }
 
     fn light(intensity: f32, rotation_deg: f32) -> EnvironmentLight {
@@ -538,8 +539,13 @@ mod tests {
         assert_eq!((s.radiance, s.pdf), (c, 1.0 / (4.0 * PI)));
         assert!((s.dir.length() - 1.0).abs() < 1e-6);
         // A uniform image integrates exactly like a constant sky.
-        let uniform =
-            Texture { name: "grey".into(), width: 5, height: 3, texels: vec![[0.3, 0.5, 1.2, 1.0]; 15] };
+        let uniform = Texture {
+            name: "grey".into(),
+            width: 5,
+            height: 3,
+            texels: vec![[0.3, 0.5, 1.2, 1.0]; 15],
+            wrap: [Wrap::Repeat; 2],
+        };
         let map = EnvironmentLight::new(
             &Environment::Map { texture: 0, intensity: 1.0, rotation_deg: 10.0 },
             &[uniform],

@@ -19,7 +19,7 @@ use glam::{Affine3A, Quat, Vec2, Vec3};
 use igi_render::frame::FrameState;
 use igi_render::path_tracer::render_path_traced;
 use igi_render::{Film, FrameRenderer, PinholeCamera, PreparedScene, lights::eye_light};
-use igi_scene::{Instance, Light, Material, Mesh, Scene, Texture};
+use igi_scene::{Instance, Light, Material, Mesh, Scene, Texture, Wrap};
 use std::f32::consts::PI;
 
 const RHO: f32 = 0.5;
@@ -289,6 +289,7 @@ fn diffuse_texture_multiplies_the_albedo() {
         width: 1,
         height: 1,
         texels: vec![[0.5, 0.25, 1.0, 1.0]],
+        wrap: [Wrap::Repeat; 2],
     });
     let prepared = PreparedScene::new(sc);
     let cam = camera(Vec3::new(0.0, 2.0, 2.0), Vec3::ZERO, 40.0);

@@ -41,7 +41,7 @@ use std::path::Path;
 pub use builtin::{builtin, builtin_names};
 pub use environment::Environment;
 pub use error::{Location, SceneError};
-pub use model::{Bounds, Camera, Instance, Light, Material, MaterialKind, Mesh, Scene, Texture};
+pub use model::{Bounds, Camera, Instance, Light, Material, MaterialKind, Mesh, Scene, Texture, Wrap};
 pub use report::LoadReport;
 pub use shader::{Pattern, ShaderDesc};
 

@@ -124,6 +124,20 @@ pub struct Texture {
     pub height: u32,
     /// `width * height` texels, row-major, linear RGB (sRGB decoded for colour maps) and alpha.
     pub texels: Vec<[f32; 4]>,
+    /// How texture coordinates outside [0, 1] map into the image, along u and along v.
+    pub wrap: [Wrap; 2],
+}
+
+/// How a texture coordinate outside [0, 1] maps into the image (glTF sampler wrap modes).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Wrap {
+    /// The image tiles the plane (the default of OBJ and glTF).
+    #[default]
+    Repeat,
+    /// Coordinates are clamped to the edge texels.
+    Clamp,
+    /// The image tiles the plane, every other copy mirrored.
+    MirroredRepeat,
 }
 
 /// A punctual or distant light source. Area lights are emissive triangles (see the module doc).

@@ -15,7 +15,7 @@ use std::path::Path;
 use glam::Vec3;
 use image::{DynamicImage, ImageFormat, ImageReader, Limits};
 
-use crate::model::Texture;
+use crate::model::{Texture, Wrap};
 use crate::report::LoadReport;
 use crate::resources;
 
@@ -55,6 +55,7 @@ pub(crate) fn decode(bytes: &[u8], name: &str, space: ColorSpace) -> Result<Text
         width: image.width(),
         height: image.height(),
         texels: linear_texels(image, space),
+        wrap: [Wrap::Repeat; 2],
     })
 }
 

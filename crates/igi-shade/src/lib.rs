@@ -12,6 +12,7 @@
 //!   tracer.
 
 pub mod brdf;
+pub mod bump;
 mod hit;
 mod material_shader;
 pub mod noise;
@@ -19,6 +20,7 @@ mod params;
 pub mod procedural;
 mod shader_table;
 mod surface_shader;
+pub mod texture;
 
 pub use hit::ShadingHit8;
 pub use material_shader::MaterialShader;

@@ -3,15 +3,26 @@
 //!
 //! | material | lobes |
 //! |---|---|
-//! | `Plastic` | diffuse = `diffuse` × diffuse texture (RGB); glossy = `specular`, `exponent` (MTL `Ks`, `Ns`) |
+//! | `Plastic` | diffuse = `diffuse` × diffuse texture (RGB); glossy = `specular`, `exponent` (MTL `Ks`, `Ns`; glTF: see below) |
 //! | `Mirror` | mirror = `specular` (white if zero) |
 //! | `Glass` | glass = 1 with index `ior` (1.5 if unset or 1) |
 //!
-//! and emission = `emission` for all. Texture lookups are bilinear with wrap-around.
+//! and emission = `emission` for all; a bump texture (MTL `bump`, `map_bump`) bends the
+//! shading normal ([`crate::bump`]). glTF metallic-roughness materials arrive already mapped
+//! by the loader (`igi_scene::gltf_loader`): diffuse = base·(1 − metallic), specular =
+//! mix(0.04, base, metallic), exponent = 2/α² − 2 with α = roughness², the Phong exponent
+//! whose lobe matches a microfacet lobe of that width.
+//!
+//! Textures are filtered trilinearly: the mipmap level is the one whose texels are as wide as
+//! the camera ray's footprint at the hit ([`ShadingHit8::footprint`]), measured against the
+//! world size of a texel (from |∂p/∂u × ∂p/∂v|). Hits without a footprint (VPL walk, path
+//! tracer) read the full-resolution level.
 
+use crate::bump::bump_normal;
+use crate::texture::MipMap;
 use crate::{BrdfParams8, ShadingHit8, SurfaceShader};
-use glam::{Vec2, Vec3, Vec4};
-use igi_scene::{Material, MaterialKind, Texture};
+use glam::{Vec2, Vec3};
+use igi_scene::{Material, MaterialKind};
 use igi_simd::{F32x8, Vec3x8};
 use std::sync::Arc;
 
@@ -19,7 +30,8 @@ use std::sync::Arc;
 #[derive(Debug)]
 pub struct MaterialShader {
     diffuse: Vec3,
-    diffuse_texture: Option<Arc<Texture>>,
+    diffuse_texture: Option<Arc<MipMap>>,
+    bump_texture: Option<Arc<MipMap>>,
     specular: Vec3,
     exponent: f32,
     mirror: Vec3,
@@ -29,13 +41,14 @@ pub struct MaterialShader {
 }
 
 impl MaterialShader {
-    /// The shader of `material`, whose texture indices refer to `textures`.
-    pub fn new(material: &Material, textures: &[Arc<Texture>]) -> Self {
+    /// The shader of `material`, whose texture indices refer to `maps`.
+    pub fn new(material: &Material, maps: &[Arc<MipMap>]) -> Self {
         let plastic = material.kind == MaterialKind::Plastic;
-        let texture = material.diffuse_texture.and_then(|t| textures.get(t as usize)).cloned();
+        let map = |t: Option<u32>| t.and_then(|t| maps.get(t as usize)).cloned();
         Self {
             diffuse: if plastic { material.diffuse } else { Vec3::ZERO },
-            diffuse_texture: texture.filter(|_| plastic),
+            diffuse_texture: map(material.diffuse_texture).filter(|_| plastic),
+            bump_texture: map(material.bump_texture),
             specular: if plastic { material.specular } else { Vec3::ZERO },
             exponent: material.exponent,
             mirror: match material.kind {
@@ -50,43 +63,52 @@ impl MaterialShader {
     }
 }
 
+/// The level of detail of `map` for a footprint of `footprint` world units where the texture
+/// tile [0, 1]² covers `tile_area` world units².
+#[inline]
+fn lod(map: &MipMap, footprint: f32, tile_area: f32) -> f32 {
+    let (w, h) = map.size();
+    let texel = (tile_area / (w as f32 * h as f32)).sqrt();
+    if texel > 0.0 { map.lod(footprint / texel) } else { 0.0 }
+}
+
 impl SurfaceShader for MaterialShader {
     fn shade(&self, hits: &ShadingHit8, out: &mut BrdfParams8) {
         let splat = |v: Vec3| Vec3x8::splat(v.to_array());
-        out.diffuse = match &self.diffuse_texture {
-            Some(texture) => {
-                let (u, v) = (hits.u.to_array(), hits.v.to_array());
-                let texels: [[f32; 3]; 8] = std::array::from_fn(|i| {
-                    (self.diffuse * bilinear(texture, Vec2::new(u[i], v[i])).truncate()).to_array()
-                });
-                Vec3x8::from_lanes(texels)
-            }
-            None => splat(self.diffuse),
-        };
         out.specular = splat(self.specular);
         out.exponent = F32x8::splat(self.exponent);
         out.mirror = splat(self.mirror);
         out.glass = F32x8::splat(self.glass);
         out.ior = F32x8::splat(self.ior);
         out.emission = splat(self.emission);
+        out.diffuse = splat(self.diffuse);
+        if self.diffuse_texture.is_none() && self.bump_texture.is_none() {
+            return;
+        }
+        let (u, v, footprint) = (hits.u.to_array(), hits.v.to_array(), hits.footprint.to_array());
+        let tile_area = hits.dpdu.cross(hits.dpdv).length().to_array();
+        let active = hits.active.bitmask();
+        if let Some(map) = &self.diffuse_texture {
+            let mut rgb = [[0.0f32; 3]; 8];
+            for (i, c) in rgb.iter_mut().enumerate().filter(|(i, _)| active & (1 << i) != 0) {
+                let texel = map.trilinear(Vec2::new(u[i], v[i]), lod(map, footprint[i], tile_area[i]));
+                *c = (self.diffuse * texel.truncate()).to_array();
+            }
+            out.diffuse = Vec3x8::from_lanes(rgb);
+        }
+        if let Some(map) = &self.bump_texture {
+            let mut normals = [[0.0f32; 3]; 8];
+            for (i, n) in normals.iter_mut().enumerate() {
+                let ns = Vec3::from(hits.shading_normal.lane(i));
+                *n = if active & (1 << i) != 0 {
+                    let (dpdu, dpdv) = (Vec3::from(hits.dpdu.lane(i)), Vec3::from(hits.dpdv.lane(i)));
+                    let lod = lod(map, footprint[i], tile_area[i]);
+                    bump_normal(map, Vec2::new(u[i], v[i]), lod, ns, dpdu, dpdv).to_array()
+                } else {
+                    ns.to_array()
+                };
+            }
+            out.shading_normal = Vec3x8::from_lanes(normals);
+        }
     }
-}
-
-/// Bilinear interpolation of the four texels around `uv` (texel centres at half integers, row
-/// 0 at v = 0, wrap-around); opaque white for an empty texture or non-finite coordinates.
-fn bilinear(tex: &Texture, uv: Vec2) -> Vec4 {
-    let (w, h) = (i64::from(tex.width), i64::from(tex.height));
-    if w == 0 || h == 0 || tex.texels.len() < (w * h) as usize || !uv.is_finite() {
-        return Vec4::ONE;
-    }
-    let texel =
-        |x: i64, y: i64| Vec4::from_array(tex.texels[(y.rem_euclid(h) * w + x.rem_euclid(w)) as usize]);
-    let x = (uv.x - uv.x.floor()) * w as f32 - 0.5;
-    let y = (uv.y - uv.y.floor()) * h as f32 - 0.5;
-    let (x0, y0) = (x.floor(), y.floor());
-    let (ax, ay) = (x - x0, y - y0);
-    let (x0, y0) = (x0 as i64, y0 as i64);
-    let top = texel(x0, y0).lerp(texel(x0 + 1, y0), ax);
-    let bottom = texel(x0, y0 + 1).lerp(texel(x0 + 1, y0 + 1), ax);
-    top.lerp(bottom, ay)
 }

@@ -1,10 +1,16 @@
 //! [`ShaderTable`]: the surface shader of every material of a scene, built once when the scene
 //! is prepared: a material's procedural `[[shader]]` ([`ProceduralShader`]) if it has one,
-//! else its [`MaterialShader`]. Textures are shared between the materials that use them.
+//! else its [`MaterialShader`]. Each texture a material reads is turned into a [`MipMap`] once
+//! and shared between the materials that use it.
 
+use crate::texture::MipMap;
 use crate::{MaterialShader, ProceduralShader, SurfaceShader};
-use igi_scene::{Material, Texture};
+use igi_scene::{Material, Texture, Wrap};
 use std::sync::Arc;
+
+/// A texture no material reads: stands in for its pyramid.
+const EMPTY: Texture =
+    Texture { name: String::new(), width: 0, height: 0, texels: Vec::new(), wrap: [Wrap::Repeat; 2] };
 
 /// One surface shader per material, in the order of the scene's materials.
 #[derive(Debug)]
@@ -15,13 +21,23 @@ pub struct ShaderTable {
 impl ShaderTable {
     /// The shaders of `materials`, whose texture indices refer to `textures`.
     pub fn new(materials: &[Material], textures: &[Texture]) -> Self {
-        let textures: Vec<Arc<Texture>> = textures.iter().cloned().map(Arc::new).collect();
+        // Only the textures some material reads get a pyramid (the sky's image, say, does not).
+        let used = |t: usize| {
+            materials
+                .iter()
+                .any(|m| m.shader.is_none() && [m.diffuse_texture, m.bump_texture].contains(&Some(t as u32)))
+        };
+        let maps: Vec<Arc<MipMap>> = textures
+            .iter()
+            .enumerate()
+            .map(|(i, t)| Arc::new(if used(i) { MipMap::new(t) } else { MipMap::new(&EMPTY) }))
+            .collect();
         let shaders = materials
             .iter()
             .map(|m| -> Arc<dyn SurfaceShader> {
                 match &m.shader {
                     Some(desc) => Arc::new(ProceduralShader::new(desc)),
-                    None => Arc::new(MaterialShader::new(m, &textures)),
+                    None => Arc::new(MaterialShader::new(m, &maps)),
                 }
             })
             .collect();
