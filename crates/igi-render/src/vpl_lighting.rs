@@ -50,6 +50,8 @@ struct Chunk {
     lobe_axis: [[f32; 8]; 3],
     /// Phong exponents of the glossy lobes.
     exponent: [f32; 8],
+    /// Cosines to the lobe axes below which the lobes are negligible ([`lobe_cutoff`]).
+    lobe_cos_min: [f32; 8],
     /// Occupied lanes.
     bits: u32,
     /// Occupied lanes with a glossy lobe.
@@ -63,6 +65,7 @@ impl Chunk {
         ng: [[0.0; 8]; 3],
         lobe_axis: [[0.0; 8]; 3],
         exponent: [1.0; 8],
+        lobe_cos_min: [1.0; 8],
         bits: 0,
         glossy_bits: 0,
     };
@@ -76,6 +79,7 @@ impl Chunk {
             self.lobe_axis[axis][lane] = lobe_axis[axis];
         }
         self.exponent[lane] = exponent;
+        self.lobe_cos_min[lane] = lobe_cutoff(exponent);
         self.bits |= 1 << lane;
         if glossy.is_some() {
             self.glossy_bits |= 1 << lane;
@@ -83,11 +87,19 @@ impl Chunk {
     }
 
     /// π times the glossy lobes of the lanes toward the unit directions `wi` (zero in lanes
-    /// without a glossy lobe): the factor that turns D = E/π into G.
+    /// without a glossy lobe, or where the lobe is negligible): the factor that turns D = E/π
+    /// into G. Sharp lobes are mostly negligible toward a given light, so the `powf` is
+    /// skipped where no lane is inside its lobe.
     #[inline(always)]
     fn glossy_factor(&self, wi: Vec3x8) -> F32x8 {
-        let lobe = phong_lobe8(F32x8::from_array(self.exponent), load(&self.lobe_axis).dot(wi));
-        F32x8::select(M32x8::from_bitmask(self.glossy_bits), lobe * F32x8::splat(PI), F32x8::ZERO)
+        let cos_alpha = load(&self.lobe_axis).dot(wi);
+        let inside =
+            M32x8::from_bitmask(self.glossy_bits) & cos_alpha.gt(F32x8::from_array(self.lobe_cos_min));
+        if inside.none() {
+            return F32x8::ZERO;
+        }
+        let lobe = phong_lobe8(F32x8::from_array(self.exponent), cos_alpha);
+        F32x8::select(inside, lobe * F32x8::splat(PI), F32x8::ZERO)
     }
 }
 
@@ -180,6 +192,7 @@ impl Receivers {
             let ny = Vec3x8::splat(vpl.normal.to_array());
             let vpl_axis = Vec3x8::splat(vpl.axis.to_array());
             let vpl_exponent = F32x8::splat(vpl.exponent);
+            let vpl_cos_min = F32x8::splat(lobe_cutoff(vpl.exponent));
             let chunks = self.chunks.iter().zip(self.irradiance.iter_mut().zip(self.glossy.iter_mut()));
             for (chunk, (acc, acc_glossy)) in chunks {
                 let origin = load(&chunk.origin);
@@ -209,8 +222,12 @@ impl Receivers {
                 // D = E/π from the VPL's diffuse part and, for a glossy VPL, its lobe toward x.
                 let mut e = Vec3x8::splat(colour.to_array()) * g;
                 if vpl_glossy {
-                    let lobe_y = phong_lobe8(vpl_exponent, -vpl_axis.dot(wi));
-                    e = e + Vec3x8::splat(glossy_colour.to_array()) * (g * lobe_y);
+                    let cos_alpha = -vpl_axis.dot(wi);
+                    let inside = cos_alpha.gt(vpl_cos_min);
+                    if inside.any() {
+                        let lobe_y = F32x8::select(inside, phong_lobe8(vpl_exponent, cos_alpha), zero);
+                        e = e + Vec3x8::splat(glossy_colour.to_array()) * (g * lobe_y);
+                    }
                 }
                 *acc = *acc + e;
                 if chunk.glossy_bits != 0 {
@@ -280,6 +297,16 @@ impl Receivers {
             }
         }
     }
+}
+
+/// Fraction of a glossy lobe's peak below which its value is dropped: cosⁿα < 10⁻⁶ changes the
+/// light a lobe reflects by far less than a VPL's own noise.
+const NEGLIGIBLE_LOBE: f32 = 1e-6;
+
+/// The cosine to the lobe axis below which a Phong lobe of `exponent` is under
+/// [`NEGLIGIBLE_LOBE`] of its peak (0 for exponents ≤ 1, whose whole hemisphere counts).
+fn lobe_cutoff(exponent: f32) -> f32 {
+    if exponent > 1.0 { NEGLIGIBLE_LOBE.powf(1.0 / exponent) } else { 0.0 }
 }
 
 /// Unit directions, distances and squared distances from `origin` to the point `p`.
