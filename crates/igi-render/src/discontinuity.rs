@@ -34,8 +34,6 @@ pub struct FilterSample {
     pub material: u32,
     /// D = E/π before filtering.
     pub irradiance: Vec3,
-    /// The glossy term G (radiance per unit glossy reflectance) before filtering.
-    pub glossy: Vec3,
 }
 
 /// What the filter reads of a shading point, stored in a pixel grid per layer so that the
@@ -44,8 +42,7 @@ pub struct FilterSample {
 struct Cell {
     normal: Vec3,
     depth: f32,
-    /// D and G.
-    values: [Vec3; 2],
+    irradiance: Vec3,
     /// Material index, or [`EMPTY`] if the layer has no point at this pixel.
     material: u32,
 }
@@ -53,20 +50,25 @@ struct Cell {
 /// No shading point at this pixel in this layer.
 const EMPTY: u32 = u32::MAX;
 
-const EMPTY_CELL: Cell = Cell { normal: Vec3::ZERO, depth: 0.0, values: [Vec3::ZERO; 2], material: EMPTY };
+const EMPTY_CELL: Cell = Cell { normal: Vec3::ZERO, depth: 0.0, irradiance: Vec3::ZERO, material: EMPTY };
 
 /// Scratch space of the filter: one pixel grid per (sample, path) layer, reused across tiles.
 #[derive(Clone, Debug, Default)]
 pub struct DiscontinuityBuffer {
     keys: Vec<(u32, u32)>,
     grids: Vec<Vec<Cell>>,
+    /// The glossy term G per layer, beside the grids (filled only for tiles with a glossy
+    /// point, which keeps the cells small for the rest).
+    glossy: Vec<Vec<Vec3>>,
     /// Layer of each point.
     layers: Vec<u32>,
 }
 
 impl DiscontinuityBuffer {
-    /// Filters the irradiance of the points of `tile`: `out[i]` becomes the filtered D and G
-    /// of `points[i]` for points inside the tile (points in the apron get their own values).
+    /// Filters the irradiance of the points of `tile`: `out[i]` becomes the filtered D of
+    /// `points[i]` for points inside the tile (points in the apron get their own value), and
+    /// likewise `glossy_out[i]` the filtered glossy term G of `glossy[i]` (the same weights;
+    /// `glossy` is empty where no point has a glossy lobe, and then so is `glossy_out`).
     /// `points` must cover `region`, the tile plus the apron of [`Interleave::region`].
     pub fn filter(
         &mut self,
@@ -75,44 +77,51 @@ impl DiscontinuityBuffer {
         interleave: &Interleave,
         settings: &FilterSettings,
         points: &[FilterSample],
-        out: &mut Vec<[Vec3; 2]>,
+        glossy_in: &[Vec3],
+        out: &mut Vec<Vec3>,
+        glossy_out: &mut Vec<Vec3>,
     ) {
-        self.index(region, points);
+        let glossy = !glossy_in.is_empty();
+        self.index(region, points, glossy_in);
         out.clear();
-        out.extend(points.iter().map(|p| [p.irradiance, p.glossy]));
+        out.extend(points.iter().map(|p| p.irradiance));
+        glossy_out.clear();
+        glossy_out.extend_from_slice(glossy_in);
         let ([left, right], [up, down]) = interleave.window();
         let w = region.width();
-        // Most tiles have no glossy point: skip the second channel there.
-        let glossy = points.iter().any(|p| p.glossy != Vec3::ZERO);
         for (i, p) in points.iter().enumerate() {
             let (x, y) = (region.x0 + p.pixel % w, region.y0 + p.pixel / w);
             if !(x >= tile.x0 && x < tile.x1 && y >= tile.y0 && y < tile.y1) {
                 continue;
             }
             let grid = &self.grids[self.layers[i] as usize];
+            let glossy_grid = &self.glossy[self.layers[i] as usize];
             let (x0, x1) = (x.saturating_sub(left), (x + right).min(region.x1 - 1));
             let mut sum = [Vec3::ZERO; 2];
             let mut count = 0u32;
             for qy in y.saturating_sub(up)..=(y + down).min(region.y1 - 1) {
                 let row = region.index(x0, qy)..=region.index(x1, qy);
-                for (qx, q) in (x0..).zip(&grid[row]) {
+                for (qx, (q, index)) in (x0..).zip(grid[row.clone()].iter().zip(row)) {
                     // The centre always counts (a normal's dot product with itself can round
                     // below a threshold of 1), so count ≥ 1.
                     if (qx == x && qy == y) || similar(p, q, settings) {
-                        sum[0] += q.values[0];
+                        sum[0] += q.irradiance;
                         if glossy {
-                            sum[1] += q.values[1];
+                            sum[1] += glossy_grid[index];
                         }
                         count += 1;
                     }
                 }
             }
-            out[i] = sum.map(|v| v / count as f32);
+            out[i] = sum[0] / count as f32;
+            if glossy {
+                glossy_out[i] = sum[1] / count as f32;
+            }
         }
     }
 
     /// Builds one pixel grid per (sample, path) layer holding the points.
-    fn index(&mut self, region: &Region, points: &[FilterSample]) {
+    fn index(&mut self, region: &Region, points: &[FilterSample], glossy: &[Vec3]) {
         self.keys.clear();
         self.layers.clear();
         let mut last: Option<((u32, u32), u32)> = None;
@@ -127,22 +136,27 @@ impl DiscontinuityBuffer {
                         self.keys.push(key);
                         if self.grids.len() < self.keys.len() {
                             self.grids.push(Vec::new());
+                            self.glossy.push(Vec::new());
                         }
                         let grid = &mut self.grids[self.keys.len() - 1];
                         grid.clear();
                         grid.resize(region.len(), EMPTY_CELL);
+                        let glossy_grid = &mut self.glossy[self.keys.len() - 1];
+                        glossy_grid.clear();
+                        if !glossy.is_empty() {
+                            glossy_grid.resize(region.len(), Vec3::ZERO);
+                        }
                         (self.keys.len() - 1) as u32
                     }
                 },
             };
             last = Some((key, layer));
             self.layers.push(layer);
-            self.grids[layer as usize][p.pixel as usize] = Cell {
-                normal: p.normal,
-                depth: p.depth,
-                values: [p.irradiance, p.glossy],
-                material: p.material,
-            };
+            self.grids[layer as usize][p.pixel as usize] =
+                Cell { normal: p.normal, depth: p.depth, irradiance: p.irradiance, material: p.material };
+            if let Some(g) = glossy.get(self.layers.len() - 1) {
+                self.glossy[layer as usize][p.pixel as usize] = *g;
+            }
         }
     }
 }
@@ -173,7 +187,6 @@ mod tests {
                     depth,
                     material: 0,
                     irradiance,
-                    glossy: Vec3::ZERO,
                 });
             }
         }
@@ -189,9 +202,11 @@ mod tests {
             &il,
             &FilterSettings::default(),
             points,
+            &[],
             &mut out,
+            &mut Vec::new(),
         );
-        out.into_iter().map(|[d, _]| d).collect()
+        out
     }
 
     #[test]

@@ -78,6 +78,9 @@ pub struct PreparedScene {
     normal_matrices: Vec<Option<Mat3A>>,
     /// The surface shader of each material.
     shaders: Vec<Arc<dyn SurfaceShader>>,
+    /// Per material, the energy-conserving parameters of a shader that gives every hit the
+    /// same ([`SurfaceShader::uniform`]).
+    uniform: Vec<Option<BrdfParams>>,
     /// Scene time handed to the surface shaders.
     time: f32,
 }
@@ -135,9 +138,11 @@ impl PreparedScene {
             environment: None,
             normal_matrices,
             shaders: Vec::new(),
+            uniform: Vec::new(),
             time: 0.0,
         };
         prepared.shaders = ShaderTable::new(&prepared.materials, &prepared.textures).into_shaders();
+        prepared.uniform = prepared.shaders.iter().map(|s| s.uniform().map(BrdfParams::conserving)).collect();
         prepared.area_lights = AreaLights::new(prepared.collect_emissive());
         prepared.environment = environment
             .map(|e| EnvironmentLight::new(&e, &prepared.textures))
@@ -330,9 +335,11 @@ impl PreparedScene {
     /// [`SurfaceShader`]); returns how many materials it now shades.
     pub fn set_shader(&mut self, name: &str, shader: Arc<dyn SurfaceShader>) -> usize {
         let mut count = 0;
-        for (material, slot) in self.materials.iter().zip(&mut self.shaders) {
+        let uniform = shader.uniform().map(BrdfParams::conserving);
+        for ((material, slot), u) in self.materials.iter().zip(&mut self.shaders).zip(&mut self.uniform) {
             if material.name == name {
                 *slot = Arc::clone(&shader);
+                *u = uniform;
                 count += 1;
             }
         }
@@ -351,6 +358,12 @@ impl PreparedScene {
         out: &mut [BrdfParams],
     ) {
         debug_assert!((1..=8).contains(&n) && out.len() >= n);
+        if self.uniform[material as usize].is_some() {
+            for (lane, out) in out[..n].iter_mut().enumerate() {
+                *out = self.uniform_shading(point(lane).0).unwrap_or(*out);
+            }
+            return;
+        }
         // Structure of arrays; lanes past the points repeat the first (every lane finite).
         let mut soa = [[[0.0f32; 8]; 3]; 6];
         let mut uv = [[0.0f32; 8]; 2];
@@ -394,6 +407,15 @@ impl PreparedScene {
         params.shading_normal = facing(params.shading_normal, hits.geometric_normal, hits.shading_normal);
         let lanes = params.to_lanes();
         out[..n].copy_from_slice(&lanes[..n]);
+    }
+
+    /// The parameters at `point` if its material's shader gives every hit the same
+    /// ([`SurfaceShader::uniform`]): what [`PreparedScene::shade8`] would compute, without the
+    /// 8-wide call.
+    #[inline]
+    pub fn uniform_shading(&self, point: &SurfacePoint) -> Option<BrdfParams> {
+        self.uniform[point.material as usize]
+            .map(|uniform| BrdfParams { shading_normal: point.shading_normal, ..uniform })
     }
 
     /// [`PreparedScene::shade8`] of one point.

@@ -171,7 +171,9 @@ pub struct TileScratch {
     next_stream: Vec<SpecularRay>,
     receivers: Receivers,
     filter_samples: Vec<FilterSample>,
-    filtered: Vec<[Vec3; 2]>,
+    glossy: Vec<Vec3>,
+    filtered: Vec<Vec3>,
+    filtered_glossy: Vec<Vec3>,
     filter: DiscontinuityBuffer,
 }
 
@@ -359,9 +361,15 @@ impl<'a> TilePipeline<'a> {
         }
     }
 
-    /// Queues `hit` of a ray in unit direction `dir` for [`TilePipeline::shade_queued`].
+    /// Queues `hit` of a ray in unit direction `dir` for [`TilePipeline::shade_queued`], or,
+    /// where its material's parameters are the same at every hit (a constant material),
+    /// scatters it at once.
     fn queue_hit(&self, dir: Vec3, hit: &Hit, state: PathState, s: &mut TileScratch) {
-        s.pending.push(PendingHit { state, dir, t: hit.t, surface: self.scene.surface(hit) });
+        let hit = PendingHit { state, dir, t: hit.t, surface: self.scene.surface(hit) };
+        match self.scene.uniform_shading(&hit.surface) {
+            Some(params) => self.scatter(&hit, &params, s),
+            None => s.pending.push(hit),
+        }
     }
 
     /// Runs the surface shaders over the queued hits, up to eight consecutive hits of one
@@ -610,7 +618,14 @@ impl<'a> TilePipeline<'a> {
 
     /// Filters the irradiance and composes the tile's pixels.
     fn compose(&self, tile: &Tile, region: &Region, s: &mut TileScratch) -> Vec<Vec3> {
-        let TileScratch { points, emitted, filter_samples, filtered, filter, .. } = s;
+        let TileScratch {
+            points, emitted, filter_samples, glossy, filtered, filtered_glossy, filter, ..
+        } = s;
+        // Most tiles have no glossy point; their glossy term stays out of the filter.
+        glossy.clear();
+        if points.iter().any(|p| p.glossy != Vec3::ZERO) {
+            glossy.extend(points.iter().map(|p| p.glossy));
+        }
         match &self.filter {
             Some(settings) => {
                 filter_samples.clear();
@@ -622,20 +637,33 @@ impl<'a> TilePipeline<'a> {
                     depth: p.depth,
                     material: p.material,
                     irradiance: p.irradiance,
-                    glossy: p.glossy,
                 }));
-                filter.filter(region, tile, &self.interleave, settings, filter_samples, filtered);
+                filter.filter(
+                    region,
+                    tile,
+                    &self.interleave,
+                    settings,
+                    filter_samples,
+                    glossy,
+                    filtered,
+                    filtered_glossy,
+                );
                 // The compensation's points lie wherever its rays landed, not on a pixel grid:
                 // averaging their D over neighbours would weight it by the wrong distances.
-                for (d, p) in filtered.iter_mut().zip(points.iter()) {
+                for (i, p) in points.iter().enumerate() {
                     if p.state.path & COMPENSATION != 0 {
-                        *d = [p.irradiance, p.glossy];
+                        filtered[i] = p.irradiance;
+                        if let Some(g) = filtered_glossy.get_mut(i) {
+                            *g = p.glossy;
+                        }
                     }
                 }
             }
             None => {
                 filtered.clear();
-                filtered.extend(points.iter().map(|p| [p.irradiance, p.glossy]));
+                filtered.extend(points.iter().map(|p| p.irradiance));
+                filtered_glossy.clear();
+                filtered_glossy.extend_from_slice(glossy);
             }
         }
 
@@ -648,9 +676,10 @@ impl<'a> TilePipeline<'a> {
             (x >= tile.x0 && x < tile.x1 && y >= tile.y0 && y < tile.y1)
                 .then(|| (y - tile.y0) as usize * tw + (x - tile.x0) as usize)
         };
-        for (p, [d, g]) in points.iter().zip(filtered.iter()) {
-            if let Some(i) = tile_index(p.state.pixel) {
-                pixels[i] += p.state.throughput * (p.albedo * *d + p.specular * *g + p.exact);
+        for (i, (p, d)) in points.iter().zip(filtered.iter()).enumerate() {
+            if let Some(pixel) = tile_index(p.state.pixel) {
+                let g = filtered_glossy.get(i).map_or(Vec3::ZERO, |g| p.specular * *g);
+                pixels[pixel] += p.state.throughput * (p.albedo * *d + g + p.exact);
             }
         }
         let scale = 1.0 / aa as f32;

@@ -20,7 +20,7 @@
 
 use crate::bump::bump_normal;
 use crate::texture::MipMap;
-use crate::{BrdfParams8, ShadingHit8, SurfaceShader};
+use crate::{BrdfParams, BrdfParams8, ShadingHit8, SurfaceShader};
 use glam::{Vec2, Vec3};
 use igi_scene::{Material, MaterialKind};
 use igi_simd::{F32x8, Vec3x8};
@@ -73,6 +73,19 @@ fn lod(map: &MipMap, footprint: f32, tile_area: f32) -> f32 {
 }
 
 impl SurfaceShader for MaterialShader {
+    fn uniform(&self) -> Option<BrdfParams> {
+        (self.diffuse_texture.is_none() && self.bump_texture.is_none()).then_some(BrdfParams {
+            diffuse: self.diffuse,
+            specular: self.specular,
+            exponent: self.exponent,
+            mirror: self.mirror,
+            glass: self.glass,
+            ior: self.ior,
+            shading_normal: Vec3::Z,
+            emission: self.emission,
+        })
+    }
+
     fn shade(&self, hits: &ShadingHit8, out: &mut BrdfParams8) {
         let splat = |v: Vec3| Vec3x8::splat(v.to_array());
         out.specular = splat(self.specular);

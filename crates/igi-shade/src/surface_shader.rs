@@ -1,6 +1,6 @@
 //! The [`SurfaceShader`] trait: the programmable half of shading (paper 3.2).
 
-use crate::{BrdfParams8, ShadingHit8};
+use crate::{BrdfParams, BrdfParams8, ShadingHit8};
 
 /// Computes the BRDF parameters of surface hits: textures, procedural patterns, bump and
 /// normal maps, anything a user writes in Rust. The renderer calls it over all hits of an
@@ -16,4 +16,12 @@ pub trait SurfaceShader: Send + Sync + std::fmt::Debug {
     /// black, non-emitting surfaces with the interpolated shading normals
     /// ([`BrdfParams8::black`]); what a shader leaves alone stays so.
     fn shade(&self, hits: &ShadingHit8, out: &mut BrdfParams8);
+
+    /// The parameters this shader gives every hit, if they do not depend on the hit (a
+    /// constant material), with the shading normal left to the interpolated normal (the value
+    /// of `shading_normal` here is ignored). The renderer then skips the 8-wide call for such
+    /// materials; it must agree with [`SurfaceShader::shade`].
+    fn uniform(&self) -> Option<BrdfParams> {
+        None
+    }
 }
