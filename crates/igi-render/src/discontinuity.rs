@@ -36,6 +36,15 @@ pub struct FilterSample {
     pub irradiance: Vec3,
 }
 
+/// The filter's output: D and G per point.
+#[derive(Clone, Debug, Default)]
+pub struct Filtered {
+    /// Filtered D = E/π per point.
+    pub irradiance: Vec<Vec3>,
+    /// Filtered glossy term G per point (empty if the tile has no glossy point).
+    pub glossy: Vec<Vec3>,
+}
+
 /// What the filter reads of a shading point, stored in a pixel grid per layer so that the
 /// neighbours of a pixel lie next to each other in memory.
 #[derive(Clone, Copy, Debug)]
@@ -65,10 +74,11 @@ pub struct DiscontinuityBuffer {
 }
 
 impl DiscontinuityBuffer {
-    /// Filters the irradiance of the points of `tile`: `out[i]` becomes the filtered D of
-    /// `points[i]` for points inside the tile (points in the apron get their own value), and
-    /// likewise `glossy_out[i]` the filtered glossy term G of `glossy[i]` (the same weights;
-    /// `glossy` is empty where no point has a glossy lobe, and then so is `glossy_out`).
+    /// Filters the irradiance of the points of `tile`: `out.irradiance[i]` becomes the filtered
+    /// D of `points[i]` for points inside the tile (points in the apron get their own value),
+    /// and likewise `out.glossy[i]` the filtered glossy term G of `glossy_in[i]` (the same
+    /// weights; `glossy_in` is empty where no point has a glossy lobe, and then so is
+    /// `out.glossy`).
     /// `points` must cover `region`, the tile plus the apron of [`Interleave::region`].
     pub fn filter(
         &mut self,
@@ -76,11 +86,10 @@ impl DiscontinuityBuffer {
         tile: &Tile,
         interleave: &Interleave,
         settings: &FilterSettings,
-        points: &[FilterSample],
-        glossy_in: &[Vec3],
-        out: &mut Vec<Vec3>,
-        glossy_out: &mut Vec<Vec3>,
+        (points, glossy_in): (&[FilterSample], &[Vec3]),
+        out: &mut Filtered,
     ) {
+        let Filtered { irradiance: out, glossy: glossy_out } = out;
         let glossy = !glossy_in.is_empty();
         self.index(region, points, glossy_in);
         out.clear();
@@ -194,19 +203,17 @@ mod tests {
     }
 
     fn run(points: &[FilterSample], region: &Region, tile: &Tile) -> Vec<Vec3> {
-        let mut out = Vec::new();
+        let mut out = Filtered::default();
         let il = Interleave { n: 3, m: 3, aa: 1 };
         DiscontinuityBuffer::default().filter(
             region,
             tile,
             &il,
             &FilterSettings::default(),
-            points,
-            &[],
+            (points, &[]),
             &mut out,
-            &mut Vec::new(),
         );
-        out
+        out.irradiance
     }
 
     #[test]

@@ -22,7 +22,7 @@
 //! pixels are computed exactly as in their own tile, so a tiled image equals an untiled one.
 
 use crate::camera::PinholeCamera;
-use crate::discontinuity::{DiscontinuityBuffer, FilterSample};
+use crate::discontinuity::{DiscontinuityBuffer, FilterSample, Filtered};
 use crate::frame::{FilterSettings, FrameState, SequenceSpan};
 use crate::interleave::{Interleave, Region};
 use crate::prepared::{PreparedScene, SurfacePoint};
@@ -172,8 +172,7 @@ pub struct TileScratch {
     receivers: Receivers,
     filter_samples: Vec<FilterSample>,
     glossy: Vec<Vec3>,
-    filtered: Vec<Vec3>,
-    filtered_glossy: Vec<Vec3>,
+    filtered: Filtered,
     filter: DiscontinuityBuffer,
 }
 
@@ -618,9 +617,7 @@ impl<'a> TilePipeline<'a> {
 
     /// Filters the irradiance and composes the tile's pixels.
     fn compose(&self, tile: &Tile, region: &Region, s: &mut TileScratch) -> Vec<Vec3> {
-        let TileScratch {
-            points, emitted, filter_samples, glossy, filtered, filtered_glossy, filter, ..
-        } = s;
+        let TileScratch { points, emitted, filter_samples, glossy, filtered, filter, .. } = s;
         // Most tiles have no glossy point; their glossy term stays out of the filter.
         glossy.clear();
         if points.iter().any(|p| p.glossy != Vec3::ZERO) {
@@ -638,32 +635,23 @@ impl<'a> TilePipeline<'a> {
                     material: p.material,
                     irradiance: p.irradiance,
                 }));
-                filter.filter(
-                    region,
-                    tile,
-                    &self.interleave,
-                    settings,
-                    filter_samples,
-                    glossy,
-                    filtered,
-                    filtered_glossy,
-                );
+                filter.filter(region, tile, &self.interleave, settings, (filter_samples, glossy), filtered);
                 // The compensation's points lie wherever its rays landed, not on a pixel grid:
                 // averaging their D over neighbours would weight it by the wrong distances.
                 for (i, p) in points.iter().enumerate() {
                     if p.state.path & COMPENSATION != 0 {
-                        filtered[i] = p.irradiance;
-                        if let Some(g) = filtered_glossy.get_mut(i) {
+                        filtered.irradiance[i] = p.irradiance;
+                        if let Some(g) = filtered.glossy.get_mut(i) {
                             *g = p.glossy;
                         }
                     }
                 }
             }
             None => {
-                filtered.clear();
-                filtered.extend(points.iter().map(|p| p.irradiance));
-                filtered_glossy.clear();
-                filtered_glossy.extend_from_slice(glossy);
+                filtered.irradiance.clear();
+                filtered.irradiance.extend(points.iter().map(|p| p.irradiance));
+                filtered.glossy.clear();
+                filtered.glossy.extend_from_slice(glossy);
             }
         }
 
@@ -676,9 +664,9 @@ impl<'a> TilePipeline<'a> {
             (x >= tile.x0 && x < tile.x1 && y >= tile.y0 && y < tile.y1)
                 .then(|| (y - tile.y0) as usize * tw + (x - tile.x0) as usize)
         };
-        for (i, (p, d)) in points.iter().zip(filtered.iter()).enumerate() {
+        for (i, (p, d)) in points.iter().zip(&filtered.irradiance).enumerate() {
             if let Some(pixel) = tile_index(p.state.pixel) {
-                let g = filtered_glossy.get(i).map_or(Vec3::ZERO, |g| p.specular * *g);
+                let g = filtered.glossy.get(i).map_or(Vec3::ZERO, |g| p.specular * *g);
                 pixels[pixel] += p.state.throughput * (p.albedo * *d + g + p.exact);
             }
         }
