@@ -6,8 +6,8 @@
 //! ```
 //!
 //! (dropping the term in ∂n/∂u, small for smooth geometry, as pbrt does), and its normal is
-//! their cross product. The derivatives of h come from forward differences one texel apart at
-//! the mipmap level the footprint selects, so the bumps are filtered like the colour.
+//! their cross product. The derivatives of h are those of the bilinear interpolant at the
+//! mipmap level the footprint selects, so the bumps are filtered like the colour.
 //!
 //! Height maps store h in [0, 1] without a unit, so the height scale s is relative:
 //! [`BUMP_HEIGHT`] times the world size of the texture's [0, 1]² tile (the square root of
@@ -21,16 +21,16 @@ use glam::{Vec2, Vec3};
 pub const BUMP_HEIGHT: f32 = 0.004;
 
 /// The shading normal of a surface with unit normal `n` and tangents `dpdu`, `dpdv`, bumped by
-/// the height map `heights` (the mean of its RGB) at `uv`, level of detail `lod`. Returns `n`
-/// where the tangents are degenerate.
+/// the height map `heights` (the mean of its RGB) at `uv`, level of detail `lod` (rounded to
+/// a level). The height's derivatives are those of the bilinear patch around `uv`, one
+/// lookup of four texels. Returns `n` where the tangents are degenerate.
 pub fn bump_normal(heights: &MipMap, uv: Vec2, lod: f32, n: Vec3, dpdu: Vec3, dpdv: Vec3) -> Vec3 {
-    let level = lod.round().max(0.0) as usize;
-    let Some(l) = heights.levels().get(level).or(heights.levels().last()) else { return n };
-    let (du, dv) = (1.0 / l.width as f32, 1.0 / l.height as f32);
-    let h = |uv: Vec2| heights.bilinear(uv, level).truncate().dot(Vec3::splat(1.0 / 3.0));
-    let h0 = h(uv);
-    let dh_du = (h(uv + Vec2::new(du, 0.0)) - h0) / du;
-    let dh_dv = (h(uv + Vec2::new(0.0, dv)) - h0) / dv;
+    if !uv.is_finite() {
+        return n;
+    }
+    let (_, d_du, d_dv) = heights.level(lod).bilinear_gradient(uv, heights.wrap());
+    let mean = Vec3::splat(1.0 / 3.0);
+    let (dh_du, dh_dv) = (d_du.truncate().dot(mean), d_dv.truncate().dot(mean));
     let scale = BUMP_HEIGHT * dpdu.cross(dpdv).length().sqrt();
     let bumped = (dpdu + scale * dh_du * n).cross(dpdv + scale * dh_dv * n);
     let bumped = bumped.normalize_or_zero();

@@ -17,28 +17,37 @@ pub struct Level {
 }
 
 impl Level {
-    /// The texel at integer coordinates (x, y), wrapped into the level.
+    /// The four texels around texture coordinates `uv` (top left, top right, bottom left,
+    /// bottom right) and the position of `uv` between their centres.
     #[inline]
-    fn texel(&self, x: i64, y: i64, wrap: [Wrap; 2]) -> Vec4 {
-        let x = wrap_texel(x, i64::from(self.width), wrap[0]);
-        let y = wrap_texel(y, i64::from(self.height), wrap[1]);
-        self.texels[(y * i64::from(self.width) + x) as usize]
+    fn quad(&self, uv: Vec2, wrap: [Wrap; 2]) -> ([Vec4; 4], Vec2) {
+        let x = uv.x * self.width as f32 - 0.5;
+        let y = uv.y * self.height as f32 - 0.5;
+        let (x0, y0) = (x.floor(), y.floor());
+        // The texel columns and rows on either side, wrapped once per axis (not per texel).
+        let [c0, c1] = wrap_pair(x0, self.width, wrap[0]);
+        let [r0, r1] = wrap_pair(y0, self.height, wrap[1]);
+        let (r0, r1) = (r0 * self.width as usize, r1 * self.width as usize);
+        let t = &self.texels;
+        ([t[r0 + c0], t[r0 + c1], t[r1 + c0], t[r1 + c1]], Vec2::new(x - x0, y - y0))
     }
 
     /// Bilinear interpolation of the four texels around texture coordinates `uv`.
     #[inline]
     pub fn bilinear(&self, uv: Vec2, wrap: [Wrap; 2]) -> Vec4 {
-        let x = uv.x * self.width as f32 - 0.5;
-        let y = uv.y * self.height as f32 - 0.5;
-        let (x0, y0) = (x.floor(), y.floor());
-        let (ax, ay) = (x - x0, y - y0);
-        // Far outside the image every mode has already wrapped or clamped: keep the integer
-        // conversion in range.
-        let limit = 1.0e9;
-        let (x0, y0) = (x0.clamp(-limit, limit) as i64, y0.clamp(-limit, limit) as i64);
-        let top = self.texel(x0, y0, wrap).lerp(self.texel(x0 + 1, y0, wrap), ax);
-        let bottom = self.texel(x0, y0 + 1, wrap).lerp(self.texel(x0 + 1, y0 + 1, wrap), ax);
-        top.lerp(bottom, ay)
+        let ([a, b, c, d], f) = self.quad(uv, wrap);
+        a.lerp(b, f.x).lerp(c.lerp(d, f.x), f.y)
+    }
+
+    /// The bilinear interpolant at `uv` and its derivatives ∂/∂u and ∂/∂v (the exact
+    /// derivatives of the bilinear patch between the four texel centres around `uv`).
+    #[inline]
+    pub fn bilinear_gradient(&self, uv: Vec2, wrap: [Wrap; 2]) -> (Vec4, Vec4, Vec4) {
+        let ([a, b, c, d], f) = self.quad(uv, wrap);
+        let value = a.lerp(b, f.x).lerp(c.lerp(d, f.x), f.y);
+        let d_dx = (b - a).lerp(d - c, f.y);
+        let d_dy = c.lerp(d, f.x) - a.lerp(b, f.x);
+        (value, d_dx * self.width as f32, d_dy * self.height as f32)
     }
 
     /// The next coarser level: ⌈w/2⌉ × ⌈h/2⌉ texels, each the mean of the (up to) 2 × 2
@@ -62,6 +71,24 @@ impl Level {
         }
         Self { width: w, height: h, texels }
     }
+}
+
+/// The wrapped indices of texel coordinate `i` (an integer-valued float) and of `i + 1` along
+/// an axis of `size` texels.
+#[inline]
+fn wrap_pair(i: f32, size: u32, wrap: Wrap) -> [usize; 2] {
+    // Far outside the image every mode has wrapped or clamped already: keep the integer
+    // conversion in range.
+    let i = i.clamp(-1.0e9, 1.0e9) as i64;
+    let size = i64::from(size);
+    let [a, b] = match wrap {
+        // Bilinear lookups of coordinates in [0, 1] only step one texel outside.
+        Wrap::Repeat if (-1..size).contains(&i) => {
+            [if i < 0 { size - 1 } else { i }, if i + 1 == size { 0 } else { i + 1 }]
+        }
+        _ => [wrap_texel(i, size, wrap), wrap_texel(i + 1, size, wrap)],
+    };
+    [a as usize, b as usize]
 }
 
 /// A texture ready for filtered lookups: level 0 is the image, each further level half the
@@ -116,6 +143,18 @@ impl MipMap {
             return Vec4::ONE;
         }
         self.levels[level.min(self.levels.len() - 1)].bilinear(uv, self.wrap)
+    }
+
+    /// The level `lod` rounds to (clamped to the pyramid).
+    #[inline]
+    pub fn level(&self, lod: f32) -> &Level {
+        let level = if lod.is_finite() { lod.round().max(0.0) as usize } else { 0 };
+        &self.levels[level.min(self.levels.len() - 1)]
+    }
+
+    /// The wrap modes along u and v.
+    pub fn wrap(&self) -> [Wrap; 2] {
+        self.wrap
     }
 
     /// Trilinear lookup: bilinear in the two levels around `lod`, blended linearly.
