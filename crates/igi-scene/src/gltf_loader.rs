@@ -17,9 +17,10 @@
 //!   `emission` = emissiveFactor × KHR_materials_emissive_strength × the *average* of the
 //!   emissiveTexture: the model has no emission maps, and the average keeps the emitted power
 //!   right, which is what instant radiosity's light sampling needs (an emissive map that
-//!   cannot be read gives no emission rather than a uniform glow). Metallic-roughness,
-//!   normal and occlusion maps are not used. Primitives without a material get the grey
-//!   default of the other formats rather than glTF's white metal.
+//!   cannot be read gives no emission rather than a uniform glow). `normal_texture` and
+//!   `normal_scale` = normalTexture (linear) and its scale. Metallic-roughness and occlusion
+//!   maps are not used (the factors are). Primitives without a material get the grey default
+//!   of the other formats rather than glTF's white metal.
 //! - KHR_lights_punctual: colour × intensity, with candela read as W/sr and lux as W/m² (the
 //!   renderer works in unitless linear RGB, so no 683 lm/W factor); a spot's full cone angle
 //!   is twice its outer cone angle (the inner angle is dropped); `range` is ignored. Lights
@@ -601,6 +602,19 @@ impl Loader<'_> {
             }
             self.image(info.texture().source(), ColorSpace::Srgb)
         });
+        let (normal_texture, normal_scale) = match material.normal_texture() {
+            Some(info) if info.tex_coord() == 0 => {
+                (self.image(info.texture().source(), ColorSpace::Linear), info.scale())
+            }
+            Some(info) => {
+                self.report.warn(
+                    self.file,
+                    format!("materials[{index}]: normal texture uses TEXCOORD_{}; ignored", info.tex_coord()),
+                );
+                (None, 1.0)
+            }
+            None => (None, 1.0),
+        };
         let mut emission =
             Vec3::from(material.emissive_factor()) * material.emissive_strength().unwrap_or(1.0);
         if let Some(info) = material.emissive_texture() {
@@ -616,6 +630,8 @@ impl Loader<'_> {
             exponent: 2.0 / (alpha * alpha) - 2.0,
             emission: emission.max(Vec3::ZERO),
             bump_texture: None,
+            normal_texture,
+            normal_scale,
             transparency: if material.alpha_mode() == gltf::material::AlphaMode::Blend {
                 (1.0 - a).clamp(0.0, 1.0)
             } else {

@@ -65,6 +65,11 @@ pub struct Material {
     pub emission: Vec3,
     /// Optional bump or height map (index into [`Scene::textures`]).
     pub bump_texture: Option<u32>,
+    /// Optional tangent-space normal map (glTF `normalTexture`; index into
+    /// [`Scene::textures`], linear RGB, +X along u, +Y toward decreasing v, +Z out).
+    pub normal_texture: Option<u32>,
+    /// Scale of the normal map's X and Y (glTF `normalTexture.scale`).
+    pub normal_scale: f32,
     /// Fraction of light transmitted (1 - opacity); kept for the glass BRDF of later issues.
     pub transparency: f32,
     /// Index of refraction, kept for the glass BRDF of later issues.
@@ -98,6 +103,8 @@ impl Default for Material {
             exponent: 1.0,
             emission: Vec3::ZERO,
             bump_texture: None,
+            normal_texture: None,
+            normal_scale: 1.0,
             transparency: 0.0,
             ior: 1.0,
             kind: MaterialKind::Plastic,

@@ -217,6 +217,8 @@ fn material(
         exponent: m.shininess.unwrap_or(defaults.exponent).max(0.0),
         emission: m.emissive.map_or(defaults.emission, Vec3::from).max(Vec3::ZERO),
         bump_texture: load(&m.normal_texture, ColorSpace::Linear),
+        normal_texture: None,
+        normal_scale: 1.0,
         transparency: transparency.clamp(0.0, 1.0),
         ior: m.optical_density.filter(|&ni| ni > 0.0).unwrap_or(if kind == MaterialKind::Glass {
             1.5

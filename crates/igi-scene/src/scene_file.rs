@@ -596,6 +596,7 @@ fn append(scene: &mut Scene, sub: Scene, placements: &[Affine3A], material: Opti
             scene.materials.extend(sub.materials.into_iter().map(|mut m| {
                 m.diffuse_texture = m.diffuse_texture.map(|t| t + texture_base);
                 m.bump_texture = m.bump_texture.map(|t| t + texture_base);
+                m.normal_texture = m.normal_texture.map(|t| t + texture_base);
                 m
             }));
             scene.textures.extend(sub.textures);

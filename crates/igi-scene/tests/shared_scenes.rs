@@ -271,6 +271,14 @@ fn gltf_hierarchies_cameras_lights_and_emission() {
         "averaged emissive map: {emission}"
     );
     assert_eq!(helmet.emissive_triangle_count(), 15_452);
+    // Its normal map is loaded (linear, scale 1) beside the base colour.
+    let m = &helmet.materials[0];
+    let normal = m.normal_texture.expect("DamagedHelmet has a normalTexture") as usize;
+    assert_ne!(Some(normal as u32), m.diffuse_texture);
+    assert_eq!(m.normal_scale, 1.0);
+    let t = &helmet.textures[normal];
+    let mean_z = t.texels.iter().map(|p| p[2]).sum::<f32>() / t.texels.len() as f32;
+    assert!(mean_z > 0.7, "a tangent-space normal map is mostly +Z (blue): {mean_z}");
 }
 
 #[test]

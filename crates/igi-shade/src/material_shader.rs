@@ -8,7 +8,8 @@
 //! | `Glass` | glass = 1 with index `ior` (1.5 if unset or 1) |
 //!
 //! and emission = `emission` for all; a bump texture (MTL `bump`, `map_bump`) bends the
-//! shading normal ([`crate::bump`]). glTF metallic-roughness materials arrive already mapped
+//! shading normal ([`crate::bump`]), and so does a tangent-space normal map (glTF
+//! `normalTexture`, tangent frame from ∂p/∂u; see [`normal_mapped`]). glTF metallic-roughness materials arrive already mapped
 //! by the loader (`igi_scene::gltf_loader`): diffuse = base·(1 − metallic), specular =
 //! mix(0.04, base, metallic), exponent = 2/α² − 2 with α = roughness², the Phong exponent
 //! whose lobe matches a microfacet lobe of that width.
@@ -32,6 +33,8 @@ pub struct MaterialShader {
     diffuse: Vec3,
     diffuse_texture: Option<Arc<MipMap>>,
     bump_texture: Option<Arc<MipMap>>,
+    normal_texture: Option<Arc<MipMap>>,
+    normal_scale: f32,
     specular: Vec3,
     exponent: f32,
     mirror: Vec3,
@@ -49,6 +52,8 @@ impl MaterialShader {
             diffuse: if plastic { material.diffuse } else { Vec3::ZERO },
             diffuse_texture: map(material.diffuse_texture).filter(|_| plastic),
             bump_texture: map(material.bump_texture),
+            normal_texture: map(material.normal_texture),
+            normal_scale: material.normal_scale,
             specular: if plastic { material.specular } else { Vec3::ZERO },
             exponent: material.exponent,
             mirror: match material.kind {
@@ -63,6 +68,18 @@ impl MaterialShader {
     }
 }
 
+/// The normal that a tangent-space normal-map texel `rgb` (each channel 2c − 1, X and Y times
+/// `scale`) gives a surface of unit normal `n` whose u grows along `dpdu`: X along the tangent
+/// (∂p/∂u made orthogonal to n), Y along n × tangent (toward decreasing v, glTF's image-up),
+/// Z along n. Returns `n` where the tangent or the texel is degenerate.
+fn normal_mapped(rgb: Vec3, scale: f32, n: Vec3, dpdu: Vec3) -> Vec3 {
+    let t = (dpdu - n * n.dot(dpdu)).normalize_or_zero();
+    let local = 2.0 * rgb - Vec3::ONE;
+    let local = Vec3::new(local.x * scale, local.y * scale, local.z);
+    let mapped = (t * local.x + n.cross(t) * local.y + n * local.z).normalize_or_zero();
+    if t == Vec3::ZERO || mapped == Vec3::ZERO || !mapped.is_finite() { n } else { mapped }
+}
+
 /// The level of detail of `map` for a footprint of `footprint` world units where the texture
 /// tile [0, 1]² covers `tile_area` world units².
 #[inline]
@@ -74,7 +91,9 @@ fn lod(map: &MipMap, footprint: f32, tile_area: f32) -> f32 {
 
 impl SurfaceShader for MaterialShader {
     fn uniform(&self) -> Option<BrdfParams> {
-        (self.diffuse_texture.is_none() && self.bump_texture.is_none()).then_some(BrdfParams {
+        let textured =
+            self.diffuse_texture.is_some() || self.bump_texture.is_some() || self.normal_texture.is_some();
+        (!textured).then_some(BrdfParams {
             diffuse: self.diffuse,
             specular: self.specular,
             exponent: self.exponent,
@@ -95,7 +114,7 @@ impl SurfaceShader for MaterialShader {
         out.ior = F32x8::splat(self.ior);
         out.emission = splat(self.emission);
         out.diffuse = splat(self.diffuse);
-        if self.diffuse_texture.is_none() && self.bump_texture.is_none() {
+        if self.diffuse_texture.is_none() && self.bump_texture.is_none() && self.normal_texture.is_none() {
             return;
         }
         let (u, v, footprint) = (hits.u.to_array(), hits.v.to_array(), hits.footprint.to_array());
@@ -123,5 +142,38 @@ impl SurfaceShader for MaterialShader {
             }
             out.shading_normal = Vec3x8::from_lanes(normals);
         }
+        if let Some(map) = &self.normal_texture {
+            let mut normals = [[0.0f32; 3]; 8];
+            for (i, n) in normals.iter_mut().enumerate() {
+                let ns = Vec3::from(out.shading_normal.lane(i));
+                *n = if active & (1 << i) != 0 {
+                    let texel = map.trilinear(Vec2::new(u[i], v[i]), lod(map, footprint[i], tile_area[i]));
+                    let dpdu = Vec3::from(hits.dpdu.lane(i));
+                    normal_mapped(texel.truncate(), self.normal_scale, ns, dpdu).to_array()
+                } else {
+                    ns.to_array()
+                };
+            }
+            out.shading_normal = Vec3x8::from_lanes(normals);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_flat_normal_map_keeps_the_normal_and_a_tilted_texel_tilts_it_along_u() {
+        let n = Vec3::new(0.0, 0.6, 0.8);
+        let dpdu = Vec3::new(2.0, 0.0, 0.0);
+        let flat = normal_mapped(Vec3::new(0.5, 0.5, 1.0), 1.0, n, dpdu);
+        assert!((flat - n).length() < 1e-6, "{flat}");
+        // (1, 0.5, 0.5): X = 1, Y = 0, Z = 0: the tangent itself.
+        let along_u = normal_mapped(Vec3::new(1.0, 0.5, 0.5), 1.0, n, dpdu);
+        assert!((along_u - Vec3::X).length() < 1e-6, "{along_u}");
+        // Scale 0 flattens any texel to the normal.
+        let flattened = normal_mapped(Vec3::new(0.9, 0.1, 0.7), 0.0, n, dpdu);
+        assert!((flattened - n).length() < 1e-6, "{flattened}");
     }
 }

@@ -23,9 +23,10 @@ impl ShaderTable {
     pub fn new(materials: &[Material], textures: &[Texture]) -> Self {
         // Only the textures some material reads get a pyramid (the sky's image, say, does not).
         let used = |t: usize| {
-            materials
-                .iter()
-                .any(|m| m.shader.is_none() && [m.diffuse_texture, m.bump_texture].contains(&Some(t as u32)))
+            materials.iter().any(|m| {
+                m.shader.is_none()
+                    && [m.diffuse_texture, m.bump_texture, m.normal_texture].contains(&Some(t as u32))
+            })
         };
         let maps: Vec<Arc<MipMap>> = textures
             .iter()
