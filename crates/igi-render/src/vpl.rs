@@ -26,7 +26,7 @@
 //! one entry of this choice (weight: luminance of their total power); [`AreaLights::sample`]
 //! then picks the triangle by its own power.
 //!
-//! With P paths per set, a particle starts with power (per RGB channel)
+//! With P paths in its set, a particle starts with power (per RGB channel)
 //!
 //! ```text
 //! Φ = Φ_l / (p_l · P)                               (punctual and directional lights)
@@ -73,8 +73,9 @@
 //! # Sampling
 //!
 //! The sets of a frame are consecutive blocks of one Owen-scrambled Sobol sequence
-//! ([`sobol4`]): path k of set s is sample `first + s·P + k`, with the scramble seed
-//! `hash_combine(span.seed, VPL_STREAM)` and `span = frame.sequence(S·P)`. Each set is then an
+//! ([`sobol4`]): the frame's paths are samples `first …` of one sequence, set s taking the
+//! s-th block of [`VplSets::paths_in_set`] of them, with the scramble seed
+//! `hash_combine(span.seed, VPL_STREAM)` and `span = frame.sequence(paths)`. Each set is then an
 //! unbiased randomized quasi-Monte Carlo estimate on its own (a stratified net when P is a
 //! power of two), the S sets that the filter combines are spread evenly together, and
 //! progressive frames continue the same sequence. Its 4D dimension
@@ -89,14 +90,16 @@
 //! [`IgiSettings::vpls_per_pixel`](crate::frame::IgiSettings::vpls_per_pixel) asks for V
 //! VPLs per set, the lights of [`VplSets::lights`] included, so the target of surface VPLs is
 //! T = max(1, V − lights): a set keeps at least one path even when the punctual lights alone
-//! exhaust V, or it would hold no indirect light. P = round(T / e), at least 1 and at most
-//! min(64·T, [`MAX_SAMPLES`]), where e is the expected number of VPLs per path. The walk
+//! exhaust V, or it would hold no indirect light. The frame starts round(S·T / e) paths, at
+//! least one and at most min(64·T, [`MAX_SAMPLES`] / S) per set, shared out so that sets
+//! differ by at most one path, where e is the expected number of VPLs per path. (Rounding
+//! per set instead, with e = 2.5 and T = 11, would give every set 4 paths and 10 VPLs.) The walk
 //! makes e depend on the scene's reflectances, textures, specular surfaces and on how much
 //! light escapes through openings, which no closed formula over the materials captures (a
 //! closed scene of mean reflectance r leaves P_area + 1/(1 − r) VPLs per path; for the
 //! Cornell box, open at the front, that is 4.0 against 2.9 measured). So e is measured: a
 //! pilot of [`PILOT_PATHS`] paths with a fixed seed runs the same walk and counts VPLs. The
-//! pilot depends only on the scene (and the camera, for the headlight), so P does not change
+//! pilot depends only on the scene (and the camera, for the headlight), so the paths do not change
 //! between frames of a still scene, and the pilot's own VPLs are discarded, so the estimate
 //! stays unbiased. The number of VPLs in a set is random, about V on average.
 //!
@@ -187,13 +190,13 @@ pub struct VplSets {
     lights: Vec<Light>,
     sets: Vec<Vec<Vpl>>,
     sky: Vec<Vec<Light>>,
-    paths_per_set: u32,
+    paths: u32,
     expected_vpls_per_path: f32,
 }
 
 impl VplSets {
     /// Generates the sets of `frame` in `scene`: `frame.settings.set_count()` sets of
-    /// [`VplSets::paths_per_set`] light paths each (see the module documentation). The result
+    /// [`VplSets::paths_in_set`] light paths each (see the module documentation). The result
     /// depends only on `scene` and `frame`. A scene whose lights all have zero power gets
     /// empty sets.
     pub fn generate(scene: &PreparedScene, frame: &FrameState) -> Self {
@@ -202,47 +205,47 @@ impl VplSets {
         let Some(emitters) = Emitters::new(scene, &lights) else {
             let sets = vec![Vec::new(); frame.settings.set_count() as usize];
             let sky = sets.iter().map(|_| Vec::new()).collect();
-            return Self { lights, sets, sky, paths_per_set: 0, expected_vpls_per_path: 0.0 };
+            return Self { lights, sets, sky, paths: 0, expected_vpls_per_path: 0.0 };
         };
 
         let expected_vpls_per_path = emitters.pilot();
         let light_count = u32::try_from(lights.len()).unwrap_or(u32::MAX);
         let target = frame.settings.vpls_per_pixel.saturating_sub(light_count).max(1);
-        // All sets of a frame share one Sobol sequence, so P times the set count must fit in it.
-        let max_paths =
-            target.saturating_mul(MAX_PATHS_PER_TARGET).min(MAX_SAMPLES / frame.settings.set_count().max(1));
-        let paths_per_set = if expected_vpls_per_path > 0.0 {
-            // The float-to-int cast saturates; the clamp keeps at least one path.
-            let wanted = (target as f32 / expected_vpls_per_path).round() as u32;
+        let set_count = frame.settings.set_count().max(1);
+        // All sets of a frame share one Sobol sequence, so the paths of all sets must fit in it.
+        let max_paths = target.saturating_mul(MAX_PATHS_PER_TARGET).min(MAX_SAMPLES / set_count) * set_count;
+        // The frame's paths are rounded as a whole and shared out (sets differ by at most one
+        // path), so the VPL count per set is V on average, not round(V / e) · e.
+        let paths = if expected_vpls_per_path > 0.0 {
+            // The float-to-int cast saturates; the clamp keeps at least one path per set.
+            let wanted = (target as f32 * set_count as f32 / expected_vpls_per_path).round() as u32;
             if wanted > max_paths {
                 tracing::warn!(
-                    "{} VPLs per pixel need {wanted} light paths per set; using {max_paths}, the most one \
-                     sequence of {MAX_SAMPLES} samples holds for {} sets",
+                    "{} VPLs per pixel need {wanted} light paths per frame; using {max_paths}, the most one \
+                     sequence of {MAX_SAMPLES} samples holds for {set_count} sets",
                     frame.settings.vpls_per_pixel,
-                    frame.settings.set_count()
                 );
             }
-            wanted.clamp(1, max_paths)
+            wanted.clamp(set_count, max_paths)
         } else {
             max_paths
         };
 
-        let set_count = frame.settings.set_count();
-        let span = frame.sequence(paths_per_set.saturating_mul(set_count));
+        let span = frame.sequence(paths);
         let seed = hash_combine(span.seed, VPL_STREAM);
-        let capacity = (paths_per_set as f32 * expected_vpls_per_path * 1.25) as usize + 8;
+        let capacity = (paths as f32 / set_count as f32 * expected_vpls_per_path * 1.25) as usize + 8;
         let (sets, sky) = (0..set_count)
             .into_par_iter()
             .map(|s| {
                 let mut set = PathVpls { surface: Vec::with_capacity(capacity), sky: Vec::new() };
-                let first = span.first + s * paths_per_set;
-                for k in first..first + paths_per_set {
-                    emitters.trace_path(k, seed, paths_per_set, &mut set);
+                let (first, count) = share(paths, set_count, s);
+                for k in span.first + first..span.first + first + count {
+                    emitters.trace_path(k, seed, count, &mut set);
                 }
                 (set.surface, set.sky)
             })
             .unzip();
-        Self { lights, sets, sky, paths_per_set, expected_vpls_per_path }
+        Self { lights, sets, sky, paths, expected_vpls_per_path }
     }
 
     /// Point, spot and directional lights (or the headlight): exact direct light, in every set.
@@ -266,9 +269,15 @@ impl VplSets {
         self.sets.len() as u32
     }
 
-    /// Light paths started per set.
-    pub fn paths_per_set(&self) -> u32 {
-        self.paths_per_set
+    /// Light paths started in all sets together.
+    pub fn paths(&self) -> u32 {
+        self.paths
+    }
+
+    /// Light paths started in set `s`: the frame's [`VplSets::paths`] shared out, the first
+    /// sets taking one more where they do not divide evenly.
+    pub fn paths_in_set(&self, s: u32) -> u32 {
+        share(self.paths, self.set_count(), s).1
     }
 
     /// Surface and sky VPLs of all sets together.
@@ -277,10 +286,17 @@ impl VplSets {
     }
 
     /// The pilot's estimate of the VPLs one light path leaves, which chose
-    /// [`VplSets::paths_per_set`] (0 if no light has any power).
+    /// [`VplSets::paths`] (0 if no light has any power).
     pub fn expected_vpls_per_path(&self) -> f32 {
         self.expected_vpls_per_path
     }
+}
+
+/// The first path (relative to the frame's span) and the number of paths of set `s` when
+/// `paths` are shared out over `sets` sets.
+fn share(paths: u32, sets: u32, s: u32) -> (u32, u32) {
+    let (base, extra) = (paths / sets, paths % sets);
+    (s * base + s.min(extra), base + u32::from(s < extra))
 }
 
 /// The VPLs light paths leave: on surfaces, and in the sky.

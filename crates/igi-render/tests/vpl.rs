@@ -113,7 +113,7 @@ fn direct_vpls_carry_the_area_light_power_uniformly_by_area() {
     for seed in 0..40 {
         let sets = VplSets::generate(&scene, &frame(seed, 16));
         assert!(sets.lights().is_empty(), "area lights are not punctual lights");
-        assert_eq!(sets.paths_per_set(), 16, "one VPL per path, no punctual light: P = V");
+        assert_eq!(sets.paths(), 16 * sets.set_count(), "one VPL per path, no punctual light: P = V per set");
         for s in 0..sets.set_count() {
             let set = sets.set(s);
             assert_eq!(set.len(), 16);
@@ -190,7 +190,7 @@ fn same_frame_gives_the_same_vpls_at_any_thread_count() {
 
     let vpls = |f: &FrameState| {
         let sets = VplSets::generate(&scene, f);
-        (sets.paths_per_set(), (0..sets.set_count()).map(|s| sets.set(s).to_vec()).collect::<Vec<_>>())
+        (sets.paths(), (0..sets.set_count()).map(|s| sets.set(s).to_vec()).collect::<Vec<_>>())
     };
     // A still scene keeps its VPLs from frame to frame unless asked to reseed.
     let (paths, base) = vpls(&f);
@@ -421,12 +421,12 @@ fn cornell_box_sets_hold_about_v_vpls() {
         let (mean, _) = mean_and_error(&counts);
         let sets = VplSets::generate(&scene, &frame(0, v));
         assert!(sets.lights().is_empty());
-        // P = round(V / e): rounding alone moves the mean by up to e / 2 VPLs.
-        let rounding = 0.5 * f64::from(sets.expected_vpls_per_path()) / f64::from(v);
+        // round(S·V / e) paths shared out: rounding moves the mean by at most e / (2S) VPLs.
+        let rounding = 0.5 * f64::from(sets.expected_vpls_per_path()) / f64::from(v) / 9.0;
         assert!(
             (mean / f64::from(v) - 1.0).abs() < 0.1 + rounding,
-            "V = {v}: mean {mean} VPLs per set from {} paths (e = {})",
-            sets.paths_per_set(),
+            "V = {v}: mean {mean} VPLs per set from {} paths in all (e = {})",
+            sets.paths(),
             sets.expected_vpls_per_path()
         );
     }

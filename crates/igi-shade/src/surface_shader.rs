@@ -11,6 +11,24 @@ use crate::{BrdfParams, BrdfParams8, ShadingHit8};
 /// depend on the thread count. The renderer makes the result energy-conserving
 /// ([`crate::BrdfParams::conserving`]) and turns shading normals to the side of the
 /// geometric normal, so a shader need not.
+///
+/// ```
+/// use igi_shade::{BrdfParams8, ShadingHit8, SurfaceShader};
+/// use igi_simd::{F32x8, Vec3x8};
+///
+/// /// Red and white stripes along world x, ten per unit.
+/// #[derive(Debug)]
+/// struct Stripes;
+///
+/// impl SurfaceShader for Stripes {
+///     fn shade(&self, hits: &ShadingHit8, out: &mut BrdfParams8) {
+///         let x = hits.position.x * F32x8::splat(5.0);
+///         let red = (x - x.floor()).lt(F32x8::splat(0.5));
+///         let g = F32x8::select(red, F32x8::splat(0.1), F32x8::splat(0.8));
+///         out.diffuse = Vec3x8::new(F32x8::splat(0.8), g, g);
+///     }
+/// }
+/// ```
 pub trait SurfaceShader: Send + Sync + std::fmt::Debug {
     /// Writes the parameters of the active lanes of `hits` into `out`, which arrives holding
     /// black, non-emitting surfaces with the interpolated shading normals
