@@ -3,20 +3,23 @@
 //!
 //! 1. **primary**: the camera rays of the set's pixels in the tile and its apron, as 8-ray
 //!    packets of neighbouring set pixels (paper Figure 2);
-//! 2. **shading**: the surface at every hit (position, normals, material, albedo), emission
-//!    seen directly, and the shading points of diffuse hits;
-//! 3. **specular**: mirror and glass hits continue as reflection and refraction rays, traced as
-//!    streams of packets bounce by bounce up to the depth limit; their diffuse hits become
-//!    shading points of the same group, weighted by the chain's throughput;
-//! 4. **shadow**: for each light and each VPL of the group, the shadow packets of all shading
-//!    points and the accumulation of D = E/π ([`crate::vpl_lighting`]).
+//! 2. **shading**: the surface shaders of all hits (paper 3.2: eight consecutive hits of one
+//!    material per call; constant materials skip the call), the sky behind misses, emission
+//!    seen directly, and a shading point for every hit with a diffuse or glossy lobe;
+//! 3. **specular**: mirror and glass lobes continue as reflection and refraction rays, traced
+//!    as streams of packets bounce by bounce up to the depth limit; their hits are shaded the
+//!    same way and become shading points of the same group, weighted by the chain's throughput;
+//! 4. **shadow**: for each light, sky VPL and VPL of the group, the shadow packets of all
+//!    shading points, and the BRDF shaders accumulating D = E/π and the glossy term G
+//!    ([`crate::vpl_lighting`]).
 //!
 //! Specular rays run before the shadow phase (not after it, as in a Whitted tracer) so that
 //! every shading point of the group, seen directly or through glass, is lit in one pass over
 //! the VPLs while their data is hot. Then the tile is filtered ([`crate::discontinuity`]) and
-//! composed: pixel = 1/N Σ_samples (emission seen + Σ_points throughput · albedo · (D̃ + D_l)),
-//! where D̃ is the filtered VPL term and D_l the exact light of point, spot and directional
-//! lights, which the filter leaves alone so their shadow edges stay sharp.
+//! composed: pixel = 1/N Σ_samples (emission and sky seen + Σ_points throughput · (ρ_d · D̃ +
+//! ρ_s · G̃ + L_l)), where D̃ and G̃ are the filtered VPL terms and L_l the light reflected from
+//! point, spot and directional lights, which the filter leaves alone so their shadow edges stay
+//! sharp.
 //!
 //! Every value depends only on the scene, the [`FrameState`] and the pixel, and the apron
 //! pixels are computed exactly as in their own tile, so a tiled image equals an untiled one.
