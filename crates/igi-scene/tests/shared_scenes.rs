@@ -196,8 +196,8 @@ fn gltf_samples() {
         sample("BoxAnimated/glTF-Binary/BoxAnimated.glb", 254, 2, 2, 0),
         sample("InterpolationTest/glTF/InterpolationTest.gltf", 110, 10, 10, 1),
         sample("Cameras/glTF-Embedded/Cameras.gltf", 2, 1, 1, 0),
-        sample("DracoSphereLights/glTF/sphere_lights.gltf", 224, 1, 1, 1),
-        sample("DamagedHelmet/glTF/DamagedHelmet.gltf", 15_452, 1, 1, 1),
+        sample("DracoSphereLights/glTF/sphere_lights.gltf", 224, 1, 1, 2),
+        sample("DamagedHelmet/glTF/DamagedHelmet.gltf", 15_452, 1, 1, 2),
         Sample {
             warning: Some("skinned mesh loaded in its bind pose"),
             ..sample("Fox/glTF/Fox.gltf", 576, 1, 1, 1)
