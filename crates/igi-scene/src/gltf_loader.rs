@@ -18,7 +18,8 @@
 //!   emissiveTexture: the model has no emission maps, and the average keeps the emitted power
 //!   right, which is what instant radiosity's light sampling needs (an emissive map that
 //!   cannot be read gives no emission rather than a uniform glow). `normal_texture` and
-//!   `normal_scale` = normalTexture (linear) and its scale. Metallic-roughness and occlusion
+//!   `normal_scale` = normalTexture (linear) and its scale. Textures take the wrap modes of
+//!   their samplers (wrapS, wrapT). Metallic-roughness and occlusion
 //!   maps are not used (the factors are). Primitives without a material get the grey default
 //!   of the other formats rather than glTF's white metal.
 //! - KHR_lights_punctual: colour × intensity, with candela read as W/sr and lux as W/m² (the
@@ -44,7 +45,7 @@ use gltf::khr_lights_punctual::Kind;
 use gltf::mesh::Mode;
 
 use crate::error::{Location, SceneError};
-use crate::model::{Camera, Instance, Light, Material, MaterialKind, Scene};
+use crate::model::{Camera, Instance, Light, Material, MaterialKind, Scene, Wrap};
 use crate::report::LoadReport;
 use crate::resources;
 use crate::texture::{self, ColorSpace, TextureSet};
@@ -600,11 +601,11 @@ impl Loader<'_> {
                 );
                 return None;
             }
-            self.image(info.texture().source(), ColorSpace::Srgb)
+            self.texture(info.texture(), ColorSpace::Srgb)
         });
         let (normal_texture, normal_scale) = match material.normal_texture() {
             Some(info) if info.tex_coord() == 0 => {
-                (self.image(info.texture().source(), ColorSpace::Linear), info.scale())
+                (self.texture(info.texture(), ColorSpace::Linear), info.scale())
             }
             Some(info) => {
                 self.report.warn(
@@ -641,6 +642,20 @@ impl Loader<'_> {
             kind,
             shader: None,
         }
+    }
+
+    /// The texture index of a glTF texture: its image, with the wrap modes of its sampler.
+    /// An image that two samplers wrap differently keeps the modes of the last one read.
+    fn texture(&mut self, texture: gltf::Texture, space: ColorSpace) -> Option<u32> {
+        let index = self.image(texture.source(), space)?;
+        let wrap = |mode: gltf::texture::WrappingMode| match mode {
+            gltf::texture::WrappingMode::ClampToEdge => Wrap::Clamp,
+            gltf::texture::WrappingMode::MirroredRepeat => Wrap::MirroredRepeat,
+            gltf::texture::WrappingMode::Repeat => Wrap::Repeat,
+        };
+        let sampler = texture.sampler();
+        self.textures.set_wrap(index, [wrap(sampler.wrap_s()), wrap(sampler.wrap_t())]);
+        Some(index)
     }
 
     /// The encoded bytes of an image, or where to find them.

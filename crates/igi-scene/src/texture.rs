@@ -204,6 +204,13 @@ impl TextureSet {
         }
     }
 
+    /// Sets the wrap modes (along u and v) of texture `index`.
+    pub fn set_wrap(&mut self, index: u32, wrap: [Wrap; 2]) {
+        if let Some(texture) = self.textures.get_mut(index as usize) {
+            texture.wrap = wrap;
+        }
+    }
+
     /// The loaded textures, in the order their indices refer to.
     pub fn into_textures(self) -> Vec<Texture> {
         self.textures

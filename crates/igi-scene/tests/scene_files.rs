@@ -339,3 +339,37 @@ fn image_environment_is_read_relative_to_the_scene_file() {
         "{err}"
     );
 }
+
+#[test]
+fn gltf_textures_keep_their_sampler_wrap_modes_and_the_normal_map_its_scale() {
+    // A base-colour texture whose sampler clamps u and mirrors v, and a normal map with the
+    // default sampler (repeat) and scale 0.5.
+    let png = |rgba: [u8; 4]| {
+        let mut bytes = Vec::new();
+        image::RgbaImage::from_pixel(2, 2, image::Rgba(rgba))
+            .write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)
+            .expect("encode a PNG");
+        format!("data:image/png;base64,{}", common::base64(&bytes))
+    };
+    let (json, _) = gltf_document(&[[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], &[0, 1, 2], true);
+    let json = json.replace(r#""indices":1}"#, r#""indices":1,"material":0}"#);
+    let extra = format!(
+        r#","materials":[{{"pbrMetallicRoughness":{{"baseColorTexture":{{"index":0}}}},"normalTexture":{{"index":1,"scale":0.5}}}}],
+"textures":[{{"source":0,"sampler":0}},{{"source":1}}],"samplers":[{{"wrapS":33071,"wrapT":33648}}],
+"images":[{{"uri":"{}"}},{{"uri":"{}"}}]}}"#,
+        png([200, 100, 50, 255]),
+        png([128, 128, 255, 255])
+    );
+    let json = format!("{}{extra}", json.trim_end().strip_suffix('}').expect("a JSON object"));
+    let mut report = igi_scene::LoadReport::default();
+    let scene = igi_scene::gltf_loader::parse(json.as_bytes(), "wrap.gltf", None, &mut report)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let m = &scene.materials[0];
+    let base = &scene.textures[m.diffuse_texture.expect("base colour texture") as usize];
+    assert_eq!(base.wrap, [igi_scene::Wrap::Clamp, igi_scene::Wrap::MirroredRepeat]);
+    let normal = &scene.textures[m.normal_texture.expect("normal texture") as usize];
+    assert_eq!(normal.wrap, [igi_scene::Wrap::Repeat; 2]);
+    assert_eq!(m.normal_scale, 0.5);
+    // The normal map is data: linear, (128, 128, 255) → about (0.5, 0.5, 1).
+    assert!((normal.texels[0][2] - 1.0).abs() < 1e-6 && (normal.texels[0][0] - 128.0 / 255.0).abs() < 1e-6);
+}
