@@ -215,9 +215,5 @@ pub fn linear_to_srgb(c: f32) -> f32 {
     if c <= 0.003_130_8 { 12.92 * c } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 }
 }
 
-/// Inverse of [`linear_to_srgb`].
-#[inline]
-pub fn srgb_to_linear(c: f32) -> f32 {
-    let c = c.clamp(0.0, 1.0);
-    if c <= 0.040_45 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
-}
+/// Inverse of [`linear_to_srgb`] (the scene loaders' decoder).
+pub use igi_scene::srgb_to_linear;

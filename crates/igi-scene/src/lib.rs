@@ -44,6 +44,7 @@ pub use error::{Location, SceneError};
 pub use model::{Bounds, Camera, Instance, Light, Material, MaterialKind, Mesh, Scene, Texture, Wrap};
 pub use report::LoadReport;
 pub use shader::{Pattern, ShaderDesc};
+pub use texture::srgb_to_linear;
 
 /// The file formats [`load`] reads, by extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -118,8 +118,11 @@ fn lut8(space: ColorSpace) -> [f32; 256] {
     })
 }
 
-/// The sRGB transfer function, inverted (IEC 61966-2-1).
-fn srgb_to_linear(x: f32) -> f32 {
+/// The sRGB transfer function, inverted (IEC 61966-2-1): the linear value of an sRGB-encoded
+/// value in [0, 1] (clamped to it). Every decoder of the workspace uses this one, so an
+/// 8-bit value decodes to the same float everywhere.
+pub fn srgb_to_linear(x: f32) -> f32 {
+    let x = x.clamp(0.0, 1.0);
     if x <= 0.04045 { x / 12.92 } else { ((x + 0.055) / 1.055).powf(2.4) }
 }
 
