@@ -119,6 +119,7 @@ impl SurfaceShader for MaterialShader {
         }
         let (u, v, footprint) = (hits.u.to_array(), hits.v.to_array(), hits.footprint.to_array());
         let tile_area = hits.dpdu.cross(hits.dpdv).length().to_array();
+        let (dpdu, dpdv) = (hits.dpdu.to_lanes(), hits.dpdv.to_lanes());
         let active = hits.active.bitmask();
         if let Some(map) = &self.diffuse_texture {
             let mut rgb = [[0.0f32; 3]; 8];
@@ -129,11 +130,12 @@ impl SurfaceShader for MaterialShader {
             out.diffuse = Vec3x8::from_lanes(rgb);
         }
         if let Some(map) = &self.bump_texture {
+            let shading_normals = hits.shading_normal.to_lanes();
             let mut normals = [[0.0f32; 3]; 8];
             for (i, n) in normals.iter_mut().enumerate() {
-                let ns = Vec3::from(hits.shading_normal.lane(i));
+                let ns = Vec3::from(shading_normals[i]);
                 *n = if active & (1 << i) != 0 {
-                    let (dpdu, dpdv) = (Vec3::from(hits.dpdu.lane(i)), Vec3::from(hits.dpdv.lane(i)));
+                    let (dpdu, dpdv) = (Vec3::from(dpdu[i]), Vec3::from(dpdv[i]));
                     let lod = lod(map, footprint[i], tile_area[i]);
                     bump_normal(map, Vec2::new(u[i], v[i]), lod, ns, dpdu, dpdv).to_array()
                 } else {
@@ -143,13 +145,13 @@ impl SurfaceShader for MaterialShader {
             out.shading_normal = Vec3x8::from_lanes(normals);
         }
         if let Some(map) = &self.normal_texture {
+            let shading_normals = out.shading_normal.to_lanes();
             let mut normals = [[0.0f32; 3]; 8];
             for (i, n) in normals.iter_mut().enumerate() {
-                let ns = Vec3::from(out.shading_normal.lane(i));
+                let ns = Vec3::from(shading_normals[i]);
                 *n = if active & (1 << i) != 0 {
                     let texel = map.trilinear(Vec2::new(u[i], v[i]), lod(map, footprint[i], tile_area[i]));
-                    let dpdu = Vec3::from(hits.dpdu.lane(i));
-                    normal_mapped(texel.truncate(), self.normal_scale, ns, dpdu).to_array()
+                    normal_mapped(texel.truncate(), self.normal_scale, ns, Vec3::from(dpdu[i])).to_array()
                 } else {
                     ns.to_array()
                 };

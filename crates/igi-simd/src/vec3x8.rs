@@ -44,6 +44,13 @@ impl Vec3x8 {
         [self.x.lane(i), self.y.lane(i), self.z.lane(i)]
     }
 
+    /// All eight lanes as arrays, lane 0 first (one store per component, not per lane).
+    #[inline(always)]
+    pub fn to_lanes(&self) -> [[f32; 3]; 8] {
+        let (x, y, z) = (self.x.to_array(), self.y.to_array(), self.z.to_array());
+        std::array::from_fn(|i| [x[i], y[i], z[i]])
+    }
+
     /// Component `axis` (0 = x, 1 = y, 2 = z).
     #[inline(always)]
     pub fn axis(&self, axis: usize) -> F32x8 {
