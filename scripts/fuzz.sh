@@ -43,6 +43,13 @@ for target in obj ply gltf scene_file; do
             'material = { diffuse = [0.5, 0.5, 0.5] }' '[[light]]' 'type = "quad"' 'position = [0, 1.9, 0]' \
             'u = [0.2, 0, 0]' 'v = [0, 0, 0.2]' 'radiance = [10, 10, 10]' > "$corpus/seed.toml"
     fi
+    if [[ "$target" == scene_file && ! -e "$corpus/shading.toml" ]]; then
+        printf '%s\n' '[[light]]' 'type = "quad"' 'position = [0, 1, 0]' 'u = [1, 0, 0]' 'v = [0, 0, 1]' 'radiance = [1, 1, 1]' \
+            '[[shader]]' 'target = "light[0]"' 'type = "brick"' 'scale = 2.0' 'size = [3, 1, 1.5]' \
+            'mortar = 0.1' 'bump = 0.01' 'colors = [[0.6, 0.2, 0.1], [0.8, 0.8, 0.8]]' \
+            '[[shader]]' 'target = "light[0]"' 'type = "marble"' 'octaves = 4' 'turbulence = 5' \
+            '[environment]' 'color = [0.3, 0.45, 0.8]' > "$corpus/shading.toml"
+    fi
     log="$(mktemp)"
     echo "== $target: ${seconds}s"
     if cargo fuzz run "$target" "$corpus" -- -max_total_time="$seconds" -jobs=1 -workers=1 \

@@ -4,7 +4,7 @@
 use anyhow::{Context, Result};
 use clap::Args;
 use glam::Vec3;
-use igi_scene::{Light, Scene};
+use igi_scene::{Environment, Light, Scene};
 use std::time::Instant;
 
 /// Arguments of `igi info`.
@@ -63,12 +63,27 @@ pub fn run(args: &InfoArgs) -> Result<()> {
         scene.meshes.len()
     );
     outln!("instances    {}", scene.instances.len());
-    outln!("materials    {} ({textured} with a diffuse texture)", scene.materials.len());
+    let procedural = scene.materials.iter().filter(|m| m.shader.is_some()).count();
+    let bumped =
+        scene.materials.iter().filter(|m| m.bump_texture.is_some() || m.normal_texture.is_some()).count();
+    outln!(
+        "materials    {} ({textured} with a diffuse texture, {bumped} with a bump or normal map, \
+         {procedural} procedural)",
+        scene.materials.len()
+    );
     outln!("textures     {}", scene.textures.len());
     outln!(
         "lights       {point} point, {spot} spot, {directional} directional; \
          {emissive_tris} emissive triangles (area {emissive_area})"
     );
+    match &scene.environment {
+        Some(Environment::Constant { radiance }) => outln!("environment  constant sky {}", v(*radiance)),
+        Some(Environment::Map { texture, intensity, rotation_deg }) => outln!(
+            "environment  {} × {intensity}, turned {rotation_deg} deg",
+            scene.textures.get(*texture as usize).map_or("(missing image)", |t| t.name.as_str())
+        ),
+        None => outln!("environment  none (rays leaving the scene see black)"),
+    }
     if bounds.is_empty() {
         outln!("bounds       empty");
     } else {
