@@ -114,7 +114,9 @@ impl Bsdf {
     /// glossy lobes (lobe choice included).
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         let (side, n) = self.side(wo);
-        if wi.dot(side) <= 0.0 || wo.dot(n) <= 0.0 {
+        // Directions below the shading hemisphere are never returned by `sample` (f is zero
+        // there), so they have no density.
+        if wi.dot(side) <= 0.0 || wi.dot(n) <= 0.0 || wo.dot(n) <= 0.0 {
             return 0.0;
         }
         let [pd, ps, ..] = self.choice;
