@@ -13,7 +13,7 @@
 //! [`BrdfParams::conserving`] scales a surface that asks for more.
 
 use glam::Vec3;
-use igi_simd::{F32x8, M32x8, Vec3x8};
+use igi_simd::{F32x8, Vec3x8};
 
 /// BRDF parameters of one surface point. See the module documentation for the model.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -58,37 +58,12 @@ impl BrdfParams {
         self.diffuse.max_element() > 0.0 || self.specular.max_element() > 0.0
     }
 
-    /// True if the surface has a mirror or glass lobe (which the camera path follows).
-    pub fn has_delta(&self) -> bool {
-        self.mirror.max_element() > 0.0 || self.glass > 0.0
-    }
-
     /// The parameters with every reflectance clamped to [0, 1], non-finite values replaced
     /// (reflectances by 0, the exponent by 1, the index by 1.5), and the lobes scaled down
     /// together where their sum exceeds 1 in some channel, so the surface never creates energy.
-    /// [`BrdfParams8::conserving`] computes the same, eight points at a time.
+    /// One rule for both: this is [`BrdfParams8::conserving`] of one lane.
     pub fn conserving(self) -> Self {
-        let clean = |v: Vec3| {
-            Vec3::from_array(v.to_array().map(|x| if x.is_finite() { x.clamp(0.0, 1.0) } else { 0.0 }))
-        };
-        let (diffuse, specular, mirror) = (clean(self.diffuse), clean(self.specular), clean(self.mirror));
-        let glass = if self.glass.is_finite() { self.glass.clamp(0.0, 1.0) } else { 0.0 };
-        let total = (diffuse + specular + mirror + Vec3::splat(glass)).max_element();
-        let k = if total > 1.0 { 1.0 / total } else { 1.0 };
-        let exponent = if self.exponent.is_finite() { self.exponent.clamp(0.0, 1.0e6) } else { 1.0 };
-        let ior = if self.ior.is_finite() && self.ior > 0.0 { self.ior } else { 1.5 };
-        let emission =
-            Vec3::from_array(self.emission.to_array().map(|x| if x.is_finite() { x.max(0.0) } else { 0.0 }));
-        Self {
-            diffuse: diffuse * k,
-            specular: specular * k,
-            exponent,
-            mirror: mirror * k,
-            glass: glass * k,
-            ior,
-            shading_normal: self.shading_normal,
-            emission,
-        }
+        BrdfParams8::splat(&self).conserving().to_lanes()[0]
     }
 }
 
@@ -128,6 +103,21 @@ impl BrdfParams8 {
             ior: F32x8::splat(1.5),
             shading_normal: n,
             emission: zero,
+        }
+    }
+
+    /// The same parameters in every lane.
+    pub fn splat(p: &BrdfParams) -> Self {
+        let v = |x: Vec3| Vec3x8::splat(x.to_array());
+        Self {
+            diffuse: v(p.diffuse),
+            specular: v(p.specular),
+            exponent: F32x8::splat(p.exponent),
+            mirror: v(p.mirror),
+            glass: F32x8::splat(p.glass),
+            ior: F32x8::splat(p.ior),
+            shading_normal: v(p.shading_normal),
+            emission: v(p.emission),
         }
     }
 
@@ -181,35 +171,5 @@ impl BrdfParams8 {
             shading_normal: normal[i],
             emission: emission[i],
         })
-    }
-
-    /// Lane `i` as scalar parameters.
-    pub fn lane(&self, i: usize) -> BrdfParams {
-        BrdfParams {
-            diffuse: Vec3::from(self.diffuse.lane(i)),
-            specular: Vec3::from(self.specular.lane(i)),
-            exponent: self.exponent.lane(i),
-            mirror: Vec3::from(self.mirror.lane(i)),
-            glass: self.glass.lane(i),
-            ior: self.ior.lane(i),
-            shading_normal: Vec3::from(self.shading_normal.lane(i)),
-            emission: Vec3::from(self.emission.lane(i)),
-        }
-    }
-
-    /// Keeps `self` in the lanes of `m` and takes `other` elsewhere.
-    pub fn select(m: M32x8, a: &Self, b: &Self) -> Self {
-        let v = |x: Vec3x8, y: Vec3x8| Vec3x8::select(m, x, y);
-        let f = |x: F32x8, y: F32x8| F32x8::select(m, x, y);
-        Self {
-            diffuse: v(a.diffuse, b.diffuse),
-            specular: v(a.specular, b.specular),
-            exponent: f(a.exponent, b.exponent),
-            mirror: v(a.mirror, b.mirror),
-            glass: f(a.glass, b.glass),
-            ior: f(a.ior, b.ior),
-            shading_normal: v(a.shading_normal, b.shading_normal),
-            emission: v(a.emission, b.emission),
-        }
     }
 }
