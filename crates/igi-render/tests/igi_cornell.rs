@@ -1,6 +1,6 @@
 //! Converged instant global illumination against the reference path tracer on the built-in
 //! Cornell box (all Lambertian: both estimators compute the same light transport, see
-//! `scattering.rs`), and what the default VPL clamp costs.
+//! `igi_shade::brdf`), and what the default VPL clamp costs.
 //!
 //! IGI runs unclamped (clamp 0, unbiased apart from the 32-bounce cap, which drops 0.8³² of
 //! the indirect light) and accumulates frames with fresh VPLs; the path tracer is unbiased.

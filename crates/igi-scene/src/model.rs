@@ -70,9 +70,10 @@ pub struct Material {
     pub normal_texture: Option<u32>,
     /// Scale of the normal map's X and Y (glTF `normalTexture.scale`).
     pub normal_scale: f32,
-    /// Fraction of light transmitted (1 - opacity); kept for the glass BRDF of later issues.
+    /// Fraction of light transmitted (1 - opacity), as the source gives it; the renderer's glass
+    /// comes from `kind` (alpha blending and cut-outs are not rendered).
     pub transparency: f32,
-    /// Index of refraction, kept for the glass BRDF of later issues.
+    /// Index of refraction of a [`MaterialKind::Glass`] material.
     pub ior: f32,
     /// Perfect-mirror or glass behaviour requested by the source (MTL `illum` 3-7).
     pub kind: MaterialKind,
