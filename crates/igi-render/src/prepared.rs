@@ -16,7 +16,7 @@ use crate::environment::EnvironmentLight;
 use crate::lights::{AreaLights, EmissiveTriangle};
 use glam::{Affine3A, Mat3A, Vec2, Vec3};
 use igi_bvh::{Aabb, Accel, Hit, TriangleMesh};
-use igi_scene::{Camera, Light, Material, Scene, Texture};
+use igi_scene::{Animation, Camera, Light, Material, Pose, Scene, Texture};
 use igi_shade::{BrdfParams, BrdfParams8, ShaderTable, ShadingHit8, SurfaceShader};
 use igi_simd::{F32x8, I32x8, M32x8, Vec3x8};
 use std::sync::Arc;
@@ -83,6 +83,19 @@ pub struct PreparedScene {
     uniform: Vec<Option<BrdfParams>>,
     /// Scene time handed to the surface shaders.
     time: f32,
+    /// How instances and lights move with the clock.
+    animation: Animation,
+    /// Instance transforms and lights as loaded: a [`Pose`] overrides some of them.
+    rest_transforms: Vec<Affine3A>,
+    rest_lights: Vec<Light>,
+    /// The instances that have emissive triangles.
+    emitter_instances: Vec<u32>,
+}
+
+/// The matrix taking object-space normals to world space (the inverse transpose), `None` for
+/// the identity.
+fn normal_matrix(m: &Affine3A) -> Option<Mat3A> {
+    (*m != Affine3A::IDENTITY).then(|| m.matrix3.inverse().transpose())
 }
 
 impl PreparedScene {
@@ -91,7 +104,7 @@ impl PreparedScene {
     /// Logs a warning if the scene has no light at all (the renderer then lights it with a
     /// headlight at the camera).
     pub fn new(scene: Scene) -> Self {
-        let Scene { meshes, instances, mut materials, textures, lights, camera, environment } = scene;
+        let Scene { meshes, instances, mut materials, textures, lights, camera, environment, animation } = scene;
 
         let valid = materials.len();
         let mut fallback = None;
@@ -122,10 +135,8 @@ impl PreparedScene {
             mesh.material_ids = order.iter().map(|&i| mesh.material_ids[i as usize]).collect();
         }
 
-        let normal_matrices = placements
-            .iter()
-            .map(|(_, m)| (*m != Affine3A::IDENTITY).then(|| m.matrix3.inverse().transpose()))
-            .collect();
+        let normal_matrices = placements.iter().map(|(_, m)| normal_matrix(m)).collect();
+        let lights_copy = lights.clone();
 
         let mut prepared = Self {
             accel,
@@ -140,10 +151,20 @@ impl PreparedScene {
             shaders: Vec::new(),
             uniform: Vec::new(),
             time: 0.0,
+            animation,
+            rest_transforms: placements.iter().map(|&(_, m)| m).collect(),
+            rest_lights: lights_copy,
+            emitter_instances: Vec::new(),
         };
         prepared.shaders = ShaderTable::new(&prepared.materials, &prepared.textures).into_shaders();
         prepared.uniform = prepared.shaders.iter().map(|s| s.uniform().map(BrdfParams::conserving)).collect();
         prepared.area_lights = AreaLights::new(prepared.collect_emissive());
+        if let Err(e) = prepared.animation.validate(prepared.rest_transforms.len(), prepared.rest_lights.len()) {
+            tracing::warn!("ignoring the scene's animation: {e}");
+            prepared.animation = Animation::default();
+        }
+        prepared.emitter_instances = prepared.area_lights.triangles().iter().map(|t| t.instance).collect();
+        prepared.emitter_instances.dedup();
         prepared.environment = environment
             .map(|e| EnvironmentLight::new(&e, &prepared.textures))
             .filter(|e| e.integral().max_element() > 0.0);
@@ -151,6 +172,60 @@ impl PreparedScene {
             tracing::warn!("the scene has no light source; lighting it with a headlight at the camera");
         }
         prepared
+    }
+
+    /// The scene's animation.
+    pub fn animation(&self) -> &Animation {
+        &self.animation
+    }
+
+    /// The scene time last set by [`PreparedScene::set_time`] (seconds).
+    pub fn time(&self) -> f32 {
+        self.time
+    }
+
+    /// Moves the scene to time `t` (seconds) of its animation: the animated instances and
+    /// lights take their pose, the top-level BVH is rebuilt over the moved instances (the
+    /// per-mesh BVHs stay), and the surface shaders see `t`. Everything else the renderer
+    /// derives from the scene (VPLs, lighting) is recomputed by the next frame anyway.
+    pub fn set_time(&mut self, t: f32) {
+        self.time = t;
+        if !self.animation.is_empty() {
+            let pose = self.animation.pose(t);
+            self.set_pose(&pose, &[]);
+        }
+    }
+
+    /// Places the scene: every instance and light at its rest state (as loaded), overridden
+    /// by `pose`, and then the instances in `moved` (a viewer's object moves) transformed
+    /// once more by their matrix (applied in world space, after the pose). Rebuilds the top
+    /// level of the acceleration structure and, if an emitter may have moved, the table of
+    /// emissive triangles.
+    pub fn set_pose(&mut self, pose: &Pose, moved: &[(u32, Affine3A)]) {
+        let mut transforms = self.rest_transforms.clone();
+        for &(i, m) in &pose.instances {
+            if let Some(t) = transforms.get_mut(i as usize) {
+                *t = m;
+            }
+        }
+        for &(i, m) in moved {
+            if let Some(t) = transforms.get_mut(i as usize) {
+                *t = m * *t;
+            }
+        }
+        self.lights.clone_from(&self.rest_lights);
+        for (i, light) in &pose.lights {
+            if let Some(l) = self.lights.get_mut(*i as usize) {
+                *l = light.clone();
+            }
+        }
+        let emitters_moved =
+            self.emitter_instances.iter().any(|&i| transforms[i as usize] != self.accel.instance_transform(i));
+        self.accel.set_transforms(&transforms);
+        self.normal_matrices = transforms.iter().map(normal_matrix).collect();
+        if emitters_moved {
+            self.area_lights = AreaLights::new(self.collect_emissive());
+        }
     }
 
     /// The emissive triangles of every instance, in world space.

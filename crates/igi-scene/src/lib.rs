@@ -21,6 +21,7 @@
 //! texture or material library falls back to constant colours, an undefined OBJ material
 //! gets a default.
 
+pub mod animation;
 mod builtin;
 mod environment;
 mod error;
@@ -38,6 +39,7 @@ mod validate;
 
 use std::path::Path;
 
+pub use animation::{Animation, Interpolation, Pose, Track};
 pub use builtin::{builtin, builtin_names};
 pub use environment::Environment;
 pub use error::{Location, SceneError};

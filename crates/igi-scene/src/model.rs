@@ -7,6 +7,7 @@
 
 use crate::environment::Environment;
 use crate::shader::ShaderDesc;
+use crate::animation::Animation;
 use glam::{Affine3A, Vec2, Vec3};
 
 /// A triangle mesh in its own object space. Meshes are placed in the world by [`Instance`]s.
@@ -252,6 +253,8 @@ pub struct Scene {
     pub environment: Option<Environment>,
     /// The scene's own camera, if its file has one.
     pub camera: Option<Camera>,
+    /// How instances and lights move with the scene clock (empty for a still scene).
+    pub animation: Animation,
 }
 
 impl Scene {

@@ -5,6 +5,7 @@ use std::f32::consts::{PI, TAU};
 
 use glam::{Affine3A, Quat, Vec3};
 
+use crate::animation::Animation;
 use crate::model::{Camera, Instance, Material, Scene};
 use crate::validate::{MeshBuilder, Part};
 
@@ -96,6 +97,7 @@ pub(super) fn assemble(name: &str, parts: Vec<Part>, materials: Vec<Material>, c
         lights: Vec::new(),
         environment: None,
         camera: Some(camera),
+        animation: Animation::default(),
     }
 }
 
