@@ -104,7 +104,8 @@ impl PreparedScene {
     /// Logs a warning if the scene has no light at all (the renderer then lights it with a
     /// headlight at the camera).
     pub fn new(scene: Scene) -> Self {
-        let Scene { meshes, instances, mut materials, textures, lights, camera, environment, animation } = scene;
+        let Scene { meshes, instances, mut materials, textures, lights, camera, environment, animation } =
+            scene;
 
         let valid = materials.len();
         let mut fallback = None;
@@ -159,7 +160,9 @@ impl PreparedScene {
         prepared.shaders = ShaderTable::new(&prepared.materials, &prepared.textures).into_shaders();
         prepared.uniform = prepared.shaders.iter().map(|s| s.uniform().map(BrdfParams::conserving)).collect();
         prepared.area_lights = AreaLights::new(prepared.collect_emissive());
-        if let Err(e) = prepared.animation.validate(prepared.rest_transforms.len(), prepared.rest_lights.len()) {
+        if let Err(e) =
+            prepared.animation.validate(prepared.rest_transforms.len(), prepared.rest_lights.len())
+        {
             tracing::warn!("ignoring the scene's animation: {e}");
             prepared.animation = Animation::default();
         }
@@ -219,8 +222,10 @@ impl PreparedScene {
                 *l = light.clone();
             }
         }
-        let emitters_moved =
-            self.emitter_instances.iter().any(|&i| transforms[i as usize] != self.accel.instance_transform(i));
+        let emitters_moved = self
+            .emitter_instances
+            .iter()
+            .any(|&i| transforms[i as usize] != self.accel.instance_transform(i));
         self.accel.set_transforms(&transforms);
         self.normal_matrices = transforms.iter().map(normal_matrix).collect();
         if emitters_moved {

@@ -198,7 +198,11 @@ impl<T: Keyable> Track<T> {
                 if k == 0 || k + 1 == n {
                     return (T::ZERO, T::ZERO);
                 }
-                let m = T::slope(track.values[k - 1], track.values[k + 1], track.times[k + 1] - track.times[k - 1]);
+                let m = T::slope(
+                    track.values[k - 1],
+                    track.values[k + 1],
+                    track.times[k + 1] - track.times[k - 1],
+                );
                 (m, m)
             })
             .collect();
@@ -524,14 +528,16 @@ impl Animation {
         Ok(())
     }
 
-    /// Appends `other`, whose instance, light and node indices start at the given offsets in
-    /// the combined scene.
-    pub fn append(&mut self, other: &Animation, instance_base: u32, light_base: u32) {
+    /// Appends `other`, whose instance and light indices start at the given offsets in the
+    /// combined scene; its root nodes become children of `root`.
+    pub fn append(&mut self, other: &Animation, instance_base: u32, light_base: u32, root: Option<u32>) {
         let node_base = self.nodes.len() as u32;
-        self.nodes.extend(other.nodes.iter().map(|n| AnimationNode {
-            parent: n.parent.map(|p| p + node_base),
-            ..n.clone()
-        }));
+        self.nodes.extend(
+            other
+                .nodes
+                .iter()
+                .map(|n| AnimationNode { parent: n.parent.map(|p| p + node_base).or(root), ..n.clone() }),
+        );
         self.instances.extend(other.instances.iter().map(|a| AnimatedInstance {
             instance: a.instance + instance_base,
             node: a.node + node_base,
@@ -539,7 +545,7 @@ impl Animation {
         }));
         self.lights.extend(other.lights.iter().map(|a| AnimatedLight {
             light: a.light + light_base,
-            node: a.node.map(|n| n + node_base),
+            node: a.node.map(|n| n + node_base).or(root),
             ..a.clone()
         }));
     }
@@ -559,7 +565,8 @@ mod tests {
         let values = vec![10.0, 20.0, 0.0];
         let linear = Track::linear(times.clone(), values.clone()).unwrap();
         let step = Track::step(times, values).unwrap();
-        for (t, l, s) in [(0.0, 10.0, 10.0), (1.0, 10.0, 10.0), (2.0, 15.0, 10.0), (3.5, 10.0, 20.0), (9.0, 0.0, 0.0)]
+        for (t, l, s) in
+            [(0.0, 10.0, 10.0), (1.0, 10.0, 10.0), (2.0, 15.0, 10.0), (3.5, 10.0, 20.0), (9.0, 0.0, 0.0)]
         {
             assert!(close(linear.sample(t), l), "linear at {t}: {}", linear.sample(t));
             assert!(close(step.sample(t), s), "step at {t}: {}", step.sample(t));
@@ -569,7 +576,9 @@ mod tests {
     #[test]
     fn smooth_passes_through_keys_and_eases_at_the_ends() {
         let track = Track::smooth(vec![0.0, 1.0, 3.0], vec![0.0, 2.0, 2.0]).unwrap();
-        assert!(close(track.sample(0.0), 0.0) && close(track.sample(1.0), 2.0) && close(track.sample(3.0), 2.0));
+        assert!(
+            close(track.sample(0.0), 0.0) && close(track.sample(1.0), 2.0) && close(track.sample(3.0), 2.0)
+        );
         // Middle tangent (2 - 0) / 3; first segment h10 = 0, h11 = s³ − s² at s = 1/2 is -1/8:
         // 0·h00 + 2·h01(1/2) + dt·m1·h11 = 1 − 1/12.
         assert!(close(track.sample(0.5), 1.0 - 1.0 / 12.0), "{}", track.sample(0.5));
@@ -606,8 +615,7 @@ mod tests {
 
     #[test]
     fn euler_tracks_turn_a_full_revolution() {
-        let track = Track::linear(vec![0.0, 4.0], vec![Vec3::ZERO, Vec3::new(0.0, 360.0, 0.0)])
-            .unwrap();
+        let track = Track::linear(vec![0.0, 4.0], vec![Vec3::ZERO, Vec3::new(0.0, 360.0, 0.0)]).unwrap();
         let rotation = RotationTrack::EulerDegrees(track);
         let half = rotation.sample(2.0) * Vec3::X;
         assert!((half - Vec3::NEG_X).length() < 1e-5, "{half}");
@@ -627,12 +635,14 @@ mod tests {
         let spin = Track::linear(
             vec![0.0, 1.0],
             vec![Quat::IDENTITY, Quat::from_rotation_y(std::f32::consts::FRAC_PI_2)],
-            Interpolation::Linear,
         )
         .unwrap();
         let animation = Animation {
             nodes: vec![
-                AnimationNode { rotation: Some(RotationTrack::Quaternion(spin)), ..AnimationNode::fixed(None, Affine3A::IDENTITY) },
+                AnimationNode {
+                    rotation: Some(RotationTrack::Quaternion(spin)),
+                    ..AnimationNode::fixed(None, Affine3A::IDENTITY)
+                },
                 AnimationNode::fixed(Some(0), Affine3A::from_translation(Vec3::X)),
             ],
             instances: vec![AnimatedInstance { instance: 0, node: 1, local: Affine3A::IDENTITY }],

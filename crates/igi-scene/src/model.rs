@@ -5,9 +5,9 @@
 //! Area lights are not a separate type: any triangle whose material has a non-zero `emission`
 //! is an area light, and a `quad` light of a scene file becomes two such triangles.
 
+use crate::animation::Animation;
 use crate::environment::Environment;
 use crate::shader::ShaderDesc;
-use crate::animation::Animation;
 use glam::{Affine3A, Vec2, Vec3};
 
 /// A triangle mesh in its own object space. Meshes are placed in the world by [`Instance`]s.

@@ -15,6 +15,11 @@
 //! instances = [ { translate = [3, 0, 0] }, { rotate = [0, 45, 0] } ]   # optional
 //! material = { diffuse = [0.8, 0.8, 0.8] }  # optional: replaces every material of the file
 //!
+//! [mesh.animation]                          # optional: keyframes of translate/rotate/scale
+//! interpolation = "smooth"                  # step | linear (default) | smooth
+//! loop = true                               # default true: repeat after the last key
+//! keys = [ { time = 0, rotate = [0, 0, 0] }, { time = 4, rotate = [0, 360, 0] } ]
+//!
 //! [[light]]
 //! type = "quad"                  # quad | point | spot | directional
 //! position = [350, 640, -210]    # quad: centre
@@ -24,6 +29,9 @@
 //! # point: position, intensity = [r, g, b] (W/sr)
 //! # spot: position, direction, angle (full cone, degrees), intensity
 //! # directional: direction (the way the light travels), irradiance = [r, g, b] (W/m²)
+//! # animation = { interpolation = "linear", loop = true, keys = [ { time = 0, ... } ] }:
+//! #   quad: position, rotate (about its centre); point: position, intensity;
+//! #   spot: position, direction, intensity; directional: direction, irradiance
 //!
 //! [[shader]]
 //! target = "floor"               # a material name, or else a mesh name
@@ -54,6 +62,14 @@
 //! is placed once. A `material` replaces every material of the file (useful for PLY, which has
 //! none), and then the file's own materials and textures are dropped.
 //!
+//! Animation: each key sets a time in seconds and any of the fields its entry may animate;
+//! each field is a track over the keys that set it, and replaces the entry's own value (a
+//! keyed `rotate` replaces the mesh's `rotate`, and so on). Rotations are keyed as angles, so
+//! a turn from 0 to 360 degrees is one revolution. `smooth` is a Catmull-Rom spline that
+//! eases in and out at the first and last key ([`crate::animation`]). A looping entry
+//! repeats with the period of its last key. An animated mesh moves everything its file
+//! contains, glTF animations included, and `instances` place copies that move alike.
+//!
 //! The camera of the scene file wins; without one, the first mesh file's camera (glTF) is
 //! used. A quad light becomes a mesh of two one-sided emissive triangles whose geometric
 //! normal is normalize(u × v), with a black diffuse emissive material and an identity instance.
@@ -80,10 +96,13 @@
 use std::ops::Range;
 use std::path::Path;
 
-use glam::{Affine3A, Quat, Vec3};
+use glam::{Affine3A, Vec3};
 use serde::Deserialize;
 use toml::Spanned;
 
+use crate::animation::{
+    AnimatedInstance, AnimatedLight, AnimationNode, Finite, Keyable, RotationTrack, Track, euler_degrees,
+};
 use crate::environment::Environment;
 use crate::error::{Location, SceneError};
 use crate::model::{Camera, Instance, Light, Material, Mesh, Scene};
@@ -147,6 +166,54 @@ struct MeshSpec {
     scale: Option<Scale>,
     instances: Option<Vec<TransformSpec>>,
     material: Option<MaterialSpec>,
+    animation: Option<AnimationSpec>,
+}
+
+/// `[mesh.animation]` or `[light.animation]`: keyframes of some of the entry's fields.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct AnimationSpec {
+    interpolation: Option<InterpolationKind>,
+    #[serde(rename = "loop")]
+    looping: Option<bool>,
+    keys: Vec<KeySpec>,
+}
+
+#[derive(Clone, Copy, Deserialize)]
+#[serde(rename_all = "lowercase")]
+enum InterpolationKind {
+    Step,
+    Linear,
+    Smooth,
+}
+
+/// One keyframe: a time and any of the fields its entry may animate.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct KeySpec {
+    time: f32,
+    translate: Option<[f32; 3]>,
+    rotate: Option<[f32; 3]>,
+    scale: Option<Scale>,
+    position: Option<[f32; 3]>,
+    direction: Option<[f32; 3]>,
+    intensity: Option<[f32; 3]>,
+    irradiance: Option<[f32; 3]>,
+}
+
+impl KeySpec {
+    /// The animatable fields this key sets.
+    fn present(&self) -> [(&'static str, bool); 7] {
+        [
+            ("translate", self.translate.is_some()),
+            ("rotate", self.rotate.is_some()),
+            ("scale", self.scale.is_some()),
+            ("position", self.position.is_some()),
+            ("direction", self.direction.is_some()),
+            ("intensity", self.intensity.is_some()),
+            ("irradiance", self.irradiance.is_some()),
+        ]
+    }
 }
 
 #[derive(Deserialize)]
@@ -188,6 +255,7 @@ struct LightSpec {
     direction: Option<[f32; 3]>,
     angle: Option<f32>,
     irradiance: Option<[f32; 3]>,
+    animation: Option<AnimationSpec>,
 }
 
 #[derive(Clone, Copy, Deserialize)]
@@ -215,6 +283,16 @@ impl LightKind {
             Self::Quad => &["position", "u", "v", "radiance"],
             Self::Point => &["position", "intensity"],
             Self::Spot => &["position", "direction", "angle", "intensity"],
+            Self::Directional => &["direction", "irradiance"],
+        }
+    }
+
+    /// The fields keyframes of a light of this kind may set.
+    fn keyed_fields(self) -> &'static [&'static str] {
+        match self {
+            Self::Quad => &["position", "rotate"],
+            Self::Point => &["position", "intensity"],
+            Self::Spot => &["position", "direction", "intensity"],
             Self::Directional => &["direction", "irradiance"],
         }
     }
@@ -364,17 +442,124 @@ impl Checker<'_> {
     ) -> Result<Affine3A, SceneError> {
         let translation = self.vector(span, format!("{path}translate"), translate.unwrap_or_default())?;
         let degrees = self.vector(span, format!("{path}rotate"), rotate.unwrap_or_default())?;
-        let scale = match scale.unwrap_or(Scale::Uniform(1.0)) {
+        let scale = self.scale(span, format!("{path}scale"), scale.unwrap_or(Scale::Uniform(1.0)))?;
+        Ok(Affine3A::from_scale_rotation_translation(scale, euler_degrees(degrees), translation))
+    }
+
+    fn scale(&self, span: &Range<usize>, path: String, scale: Scale) -> Result<Vec3, SceneError> {
+        let scale = match scale {
             Scale::Uniform(s) => Vec3::splat(s),
             Scale::Axes(axes) => Vec3::from(axes),
         };
         if !scale.is_finite() || scale.cmpeq(Vec3::ZERO).any() {
-            return Err(self.error(span, format!("{path}scale"), "scale must be finite and non-zero"));
+            return Err(self.error(span, path, "scale must be finite and non-zero"));
         }
-        let [x, y, z] = degrees.to_array().map(f32::to_radians);
-        let rotation = Quat::from_rotation_z(z) * Quat::from_rotation_y(y) * Quat::from_rotation_x(x);
-        Ok(Affine3A::from_scale_rotation_translation(scale, rotation, translation))
+        Ok(scale)
     }
+
+    /// Checks an `animation` table's keys: at least one, times finite and ≥ 0, and only the
+    /// fields in `allowed` (`entry` names the kind of entry in the message).
+    fn keys(
+        &self,
+        span: &Range<usize>,
+        path: &str,
+        spec: &AnimationSpec,
+        allowed: &[&str],
+        entry: &str,
+    ) -> Result<(), SceneError> {
+        if spec.keys.is_empty() {
+            return Err(self.error(span, format!("{path}keys"), "an animation needs at least one key"));
+        }
+        for (k, key) in spec.keys.iter().enumerate() {
+            if !(key.time.is_finite() && key.time >= 0.0) {
+                return Err(self.error(
+                    span,
+                    format!("{path}keys[{k}].time"),
+                    "must be a finite number of seconds ≥ 0",
+                ));
+            }
+            for (field, present) in key.present() {
+                if present && !allowed.contains(&field) {
+                    return Err(self.error(
+                        span,
+                        format!("{path}keys[{k}].{field}"),
+                        format!("{entry} cannot animate `{field}` (it can: {})", allowed.join(", ")),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The track of one field over the keys that set it (`None` if no key does); `value`
+    /// reads and checks a key's value, given the field's path for messages.
+    fn track<T: Keyable + Finite>(
+        &self,
+        span: &Range<usize>,
+        path: &str,
+        spec: &AnimationSpec,
+        field: &str,
+        value: impl Fn(&KeySpec, String) -> Result<Option<T>, SceneError>,
+    ) -> Result<Option<Track<T>>, SceneError> {
+        let mut times = Vec::new();
+        let mut values = Vec::new();
+        for (k, key) in spec.keys.iter().enumerate() {
+            if let Some(v) = value(key, format!("{path}keys[{k}].{field}"))? {
+                times.push(key.time);
+                values.push(v);
+            }
+        }
+        if times.is_empty() {
+            return Ok(None);
+        }
+        let track = match spec.interpolation.unwrap_or(InterpolationKind::Linear) {
+            InterpolationKind::Step => Track::step(times, values),
+            InterpolationKind::Linear => Track::linear(times, values),
+            InterpolationKind::Smooth => Track::smooth(times, values),
+        };
+        track.map(Some).map_err(|e| self.error(span, format!("{path}keys"), format!("`{field}` keys: {e}")))
+    }
+}
+
+/// Makes every track of one entry repeat with the entry's period (its last key time), if the
+/// entry loops (`loop`, default true).
+fn looped<T: Keyable>(track: Option<Track<T>>, spec: &AnimationSpec, period: f32) -> Option<Track<T>> {
+    track.map(|t| if spec.looping.unwrap_or(true) { t.looping(period) } else { t })
+}
+
+/// The transform node of a `[[mesh]]`: its `translate`/`rotate`/`scale` as rest, with the
+/// tracks of its `[mesh.animation]`, if any.
+fn mesh_node(
+    check: &Checker,
+    span: &Range<usize>,
+    path: &str,
+    own: Affine3A,
+    spec: Option<&AnimationSpec>,
+) -> Result<AnimationNode, SceneError> {
+    let mut node = AnimationNode::fixed(None, own);
+    let Some(spec) = spec else {
+        return Ok(node);
+    };
+    let path = format!("{path}animation.");
+    check.keys(span, &path, spec, &["translate", "rotate", "scale"], "a mesh")?;
+    let translation = check.track(span, &path, spec, "translate", |key, at| {
+        key.translate.map(|v| check.vector(span, at, v)).transpose()
+    })?;
+    let rotation = check.track(span, &path, spec, "rotate", |key, at| {
+        key.rotate.map(|v| check.vector(span, at, v)).transpose()
+    })?;
+    let scale = check.track(span, &path, spec, "scale", |key, at| {
+        key.scale.map(|v| check.scale(span, at, v)).transpose()
+    })?;
+    let period = [translation.as_ref(), rotation.as_ref(), scale.as_ref()]
+        .into_iter()
+        .flatten()
+        .map(Track::end)
+        .fold(0.0, f32::max);
+    node.translation = looped(translation, spec, period);
+    node.rotation = looped(rotation, spec, period).map(RotationTrack::EulerDegrees);
+    node.scale = looped(scale, spec, period);
+    Ok(node)
 }
 
 fn parse_file(
@@ -392,16 +577,15 @@ fn parse_file(
         let path = format!("mesh[{index}].");
         let mesh = entry.get_ref();
         let own = check.transform(&span, &path, mesh.translate, mesh.rotate, mesh.scale)?;
+        let own = mesh_node(&check, &span, &path, own, mesh.animation.as_ref())?;
         let placements = match &mesh.instances {
-            None => vec![own],
+            None => vec![Affine3A::IDENTITY],
             Some(instances) => instances
                 .iter()
                 .enumerate()
                 .map(|(i, t)| {
                     let path = format!("{path}instances[{i}].");
-                    check
-                        .transform(&span, &path, t.translate, t.rotate, t.scale)
-                        .map(|placement| placement * own)
+                    check.transform(&span, &path, t.translate, t.rotate, t.scale)
                 })
                 .collect::<Result<_, _>>()?,
         };
@@ -420,7 +604,7 @@ fn parse_file(
             continue;
         };
         let sub = load_mesh_file(&check, dir, index, &mesh.file, report)?;
-        append(&mut scene, sub, &placements, material);
+        append(&mut scene, sub, &placements, &own, material);
     }
 
     for (index, entry) in spec.light.iter().enumerate() {
@@ -574,8 +758,15 @@ fn material_override(
     })
 }
 
-/// Appends the scene of one mesh file, placed once per entry of `placements`.
-fn append(scene: &mut Scene, sub: Scene, placements: &[Affine3A], material: Option<Material>) {
+/// Appends the scene of one mesh file, placed once per entry of `placements` (each placing
+/// the mesh entry's node `own`: a placement is `placement · own`).
+fn append(
+    scene: &mut Scene,
+    sub: Scene,
+    placements: &[Affine3A],
+    own: &AnimationNode,
+    material: Option<Material>,
+) {
     let mesh_base = scene.meshes.len() as u32;
     let material_base = scene.materials.len() as u32;
     let texture_base = scene.textures.len() as u32;
@@ -603,15 +794,50 @@ fn append(scene: &mut Scene, sub: Scene, placements: &[Affine3A], material: Opti
         }
     }
     scene.meshes.extend(meshes);
-    for placement in placements {
+    let animated = own.is_animated() || !sub.animation.is_empty();
+    let own_at_rest = own.local(0.0);
+    for &outer in placements {
+        let placement = outer * own_at_rest;
+        let (instance_base, light_base) = (scene.instances.len() as u32, scene.lights.len() as u32);
         scene.instances.extend(sub.instances.iter().map(|instance| Instance {
             mesh: instance.mesh + mesh_base,
-            transform: *placement * instance.transform,
+            transform: placement * instance.transform,
         }));
-        scene.lights.extend(sub.lights.iter().map(|light| transform_light(light, placement)));
+        scene.lights.extend(sub.lights.iter().map(|light| transform_light(light, &placement)));
+        if !animated {
+            continue;
+        }
+        // A fixed node for the placement and, under it, the entry's own (maybe keyed) node,
+        // which carries the file's instances and lights and its own animation's roots.
+        let root = scene.animation.nodes.len() as u32;
+        scene.animation.nodes.push(AnimationNode::fixed(None, outer));
+        scene.animation.nodes.push(AnimationNode { parent: Some(root), ..own.clone() });
+        let carrier = root + 1;
+        if own.is_animated() {
+            let moving = |i: u32| sub.animation.instances.iter().any(|a| a.instance == i);
+            let keyed = |l: u32| sub.animation.lights.iter().any(|a| a.light == l);
+            for (i, instance) in (0..).zip(&sub.instances).filter(|(i, _)| !moving(*i)) {
+                scene.animation.instances.push(AnimatedInstance {
+                    instance: instance_base + i,
+                    node: carrier,
+                    local: instance.transform,
+                });
+            }
+            for (l, light) in (0..).zip(&sub.lights).filter(|(l, _)| !keyed(*l)) {
+                scene.animation.lights.push(AnimatedLight {
+                    light: light_base + l,
+                    rest: light.clone(),
+                    node: Some(carrier),
+                    position: None,
+                    direction: None,
+                    power: None,
+                });
+            }
+        }
+        scene.animation.append(&sub.animation, instance_base, light_base, Some(carrier));
     }
     if scene.camera.is_none() {
-        if let (Some(camera), Some(placement)) = (sub.camera, placements.first()) {
+        if let (Some(camera), Some(placement)) = (sub.camera, placements.first().map(|&p| p * own_at_rest)) {
             scene.camera = Some(Camera {
                 position: placement.transform_point3(camera.position),
                 target: placement.transform_point3(camera.target),
@@ -688,16 +914,30 @@ fn add_light(
                 emission: radiance,
                 ..Material::default()
             });
-            scene.meshes.push(quad_mesh(
-                format!("light[{index}]"),
-                centre,
-                u,
-                v,
-                scene.materials.len() as u32 - 1,
-            ));
-            scene
-                .instances
-                .push(Instance { mesh: scene.meshes.len() as u32 - 1, transform: Affine3A::IDENTITY });
+            let material = scene.materials.len() as u32 - 1;
+            let mesh = scene.meshes.len() as u32;
+            let instance = scene.instances.len() as u32;
+            match &spec.animation {
+                None => {
+                    scene.meshes.push(quad_mesh(format!("light[{index}]"), centre, u, v, material));
+                    scene.instances.push(Instance { mesh, transform: Affine3A::IDENTITY });
+                }
+                Some(animation) => {
+                    // A moving quad is built about the origin and placed by its node, whose
+                    // translation is the keyed centre and rotation turns it about the centre.
+                    let node = quad_node(check, &span, &path(""), centre, animation)?;
+                    let transform = node.local(0.0);
+                    scene.meshes.push(quad_mesh(format!("light[{index}]"), Vec3::ZERO, u, v, material));
+                    scene.instances.push(Instance { mesh, transform });
+                    let node_index = scene.animation.nodes.len() as u32;
+                    scene.animation.nodes.push(node);
+                    scene.animation.instances.push(AnimatedInstance {
+                        instance,
+                        node: node_index,
+                        local: Affine3A::IDENTITY,
+                    });
+                }
+            }
             return Ok(());
         }
         LightKind::Point => Light::Point {
@@ -730,8 +970,74 @@ fn add_light(
             irradiance: check.colour(&span, path("irradiance"), required("irradiance", spec.irradiance)?)?,
         },
     };
+    if let Some(animation) = &spec.animation {
+        let animated = light_animation(check, &span, &path(""), spec.kind, &light, animation)?;
+        let light_index = scene.lights.len() as u32;
+        scene.animation.lights.push(AnimatedLight { light: light_index, ..animated });
+    }
     scene.lights.push(light);
     Ok(())
+}
+
+/// The node of a keyed quad light: rest at its centre, with `position` and `rotate` tracks.
+fn quad_node(
+    check: &Checker,
+    span: &Range<usize>,
+    path: &str,
+    centre: Vec3,
+    spec: &AnimationSpec,
+) -> Result<AnimationNode, SceneError> {
+    let path = format!("{path}animation.");
+    check.keys(span, &path, spec, LightKind::Quad.keyed_fields(), "a quad light")?;
+    let translation = check.track(span, &path, spec, "position", |key, at| {
+        key.position.map(|v| check.vector(span, at, v)).transpose()
+    })?;
+    let rotation = check.track(span, &path, spec, "rotate", |key, at| {
+        key.rotate.map(|v| check.vector(span, at, v)).transpose()
+    })?;
+    let period =
+        [translation.as_ref(), rotation.as_ref()].into_iter().flatten().map(Track::end).fold(0.0, f32::max);
+    Ok(AnimationNode {
+        translation: looped(translation, spec, period),
+        rotation: looped(rotation, spec, period).map(RotationTrack::EulerDegrees),
+        ..AnimationNode::fixed(None, Affine3A::from_translation(centre))
+    })
+}
+
+/// The tracks of a keyed point, spot or directional light (its index is set by the caller).
+fn light_animation(
+    check: &Checker,
+    span: &Range<usize>,
+    path: &str,
+    kind: LightKind,
+    light: &Light,
+    spec: &AnimationSpec,
+) -> Result<AnimatedLight, SceneError> {
+    let path = format!("{path}animation.");
+    check.keys(span, &path, spec, kind.keyed_fields(), &format!("a {} light", kind.name()))?;
+    let position = check.track(span, &path, spec, "position", |key, at| {
+        key.position.map(|v| check.vector(span, at, v)).transpose()
+    })?;
+    let direction = check.track(span, &path, spec, "direction", |key, at| {
+        key.direction.map(|v| check.direction(span, at, v)).transpose()
+    })?;
+    let power_field = if matches!(kind, LightKind::Directional) { "irradiance" } else { "intensity" };
+    let power = check.track(span, &path, spec, power_field, |key, at| {
+        key.intensity.or(key.irradiance).map(|v| check.colour(span, at, v)).transpose()
+    })?;
+    let period = [position.as_ref(), direction.as_ref(), power.as_ref()]
+        .into_iter()
+        .flatten()
+        .map(Track::end)
+        .fold(0.0, f32::max);
+    Ok(AnimatedLight {
+        light: 0,
+        rest: light.clone(),
+        node: None,
+        position: looped(position, spec, period),
+        direction: looped(direction, spec, period),
+        power: looped(power, spec, period),
+    })
 }
 
 /// The [`ShaderDesc`] of `[[shader]]` entry `index`, every parameter checked.
