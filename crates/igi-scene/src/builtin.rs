@@ -4,6 +4,7 @@
 //! They are built from the same pieces as loaded scenes and pass through the same
 //! [`MeshBuilder`](crate::validate::MeshBuilder), so they keep the same invariants.
 
+mod animated_room;
 mod cornell_box;
 mod procedural_room;
 mod shapes;
@@ -12,7 +13,8 @@ mod shirley_room;
 use crate::model::Scene;
 
 /// Names accepted by [`builtin`], in the order `igi` lists them.
-const NAMES: &[&str] = &["cornell-box", "shirley-room", "procedural-room", "procedural-room-lambert"];
+const NAMES: &[&str] =
+    &["cornell-box", "shirley-room", "procedural-room", "procedural-room-lambert", "animated-room"];
 
 /// The built-in scene called `name`, if there is one:
 /// - `cornell-box`: the geometry, materials, light and camera of the McGuire archive's
@@ -24,13 +26,16 @@ const NAMES: &[&str] = &["cornell-box", "shirley-room", "procedural-room", "proc
 ///   (marble floor, bump-mapped brick walls, a wooden table, a glossy turbulence sphere, a
 ///   checkered box), lit by a ceiling quad and a point light (710 triangles);
 /// - `procedural-room-lambert`: the same room with constant Lambert materials of about the
-///   patterns' mean colours, the baseline for the cost of procedural shading.
+///   patterns' mean colours, the baseline for the cost of procedural shading;
+/// - `animated-room`: a 6 × 3 × 6 m room with a swinging area lamp, a turning statue and a
+///   point light circling it while changing colour (paper Figure 1, left), the dynamic scene.
 pub fn builtin(name: &str) -> Option<Scene> {
     match name {
         "cornell-box" => Some(cornell_box::scene()),
         "shirley-room" => Some(shirley_room::scene()),
         "procedural-room" => Some(procedural_room::scene()),
         "procedural-room-lambert" => Some(procedural_room::lambert_scene()),
+        "animated-room" => Some(animated_room::scene()),
         _ => None,
     }
 }
