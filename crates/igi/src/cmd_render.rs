@@ -77,7 +77,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     }
 
     let t_build = Instant::now();
-    let prepared = PreparedScene::new(scene);
+    let mut prepared = PreparedScene::new(scene);
+    prepared.set_time(args.frame.time);
     let build = t_build.elapsed();
 
     let renderer = FrameRenderer::new(args.frame.threads);

@@ -1,6 +1,6 @@
 //! The frame options shared by `igi render` and `igi bench frame`: image size, VPLs,
-//! interleaving, anti-aliasing, filter, clamp, seed, threads and the camera, turned into a
-//! [`FrameState`].
+//! interleaving, anti-aliasing, filter, clamp, seed, threads, the scene clock and the camera,
+//! turned into a [`FrameState`].
 
 use anyhow::Result;
 use clap::Args;
@@ -62,6 +62,9 @@ pub struct FrameArgs {
     /// Tile edge length in pixels (the image does not depend on it).
     #[arg(long, default_value_t = 64)]
     pub tile_size: u32,
+    /// Scene clock in seconds: animated instances and lights take their pose at this time.
+    #[arg(long, default_value_t = 0.0)]
+    pub time: f32,
     /// Camera overrides.
     #[command(flatten)]
     pub camera: crate::cli::CameraArgs,
@@ -81,6 +84,9 @@ impl FrameArgs {
     pub fn frame_state(&self, scene: &Scene) -> Result<FrameState> {
         if self.threads > MAX_THREADS {
             anyhow::bail!("--threads: {} is more than {MAX_THREADS}", self.threads);
+        }
+        if !(self.time.is_finite() && self.time >= 0.0) {
+            anyhow::bail!("--time: {} is not a finite number of seconds ≥ 0", self.time);
         }
         let camera = self.camera.resolve(scene)?;
         let diagonal = crate::cli::scene_bounds(scene).diagonal();
