@@ -90,6 +90,8 @@ pub struct PreparedScene {
     rest_lights: Vec<Light>,
     /// The instances that have emissive triangles.
     emitter_instances: Vec<u32>,
+    /// True if the last placement moved some instance away from its animation's pose.
+    is_displaced: bool,
 }
 
 /// The matrix taking object-space normals to world space (the inverse transpose), `None` for
@@ -156,6 +158,7 @@ impl PreparedScene {
             rest_transforms: placements.iter().map(|&(_, m)| m).collect(),
             rest_lights: lights_copy,
             emitter_instances: Vec::new(),
+            is_displaced: false,
         };
         prepared.shaders = ShaderTable::new(&prepared.materials, &prepared.textures).into_shaders();
         prepared.uniform = prepared.shaders.iter().map(|s| s.uniform().map(BrdfParams::conserving)).collect();
@@ -192,10 +195,17 @@ impl PreparedScene {
     /// per-mesh BVHs stay), and the surface shaders see `t`. Everything else the renderer
     /// derives from the scene (VPLs, lighting) is recomputed by the next frame anyway.
     pub fn set_time(&mut self, t: f32) {
+        self.place(t, &[]);
+    }
+
+    /// [`PreparedScene::set_time`], with the instances in `moved` also transformed by their
+    /// matrix in world space (a viewer's object moves; see [`PreparedScene::set_pose`]).
+    pub fn place(&mut self, t: f32, moved: &[(u32, Affine3A)]) {
         self.time = t;
-        if !self.animation.is_empty() {
+        if !self.animation.is_empty() || !moved.is_empty() || self.is_displaced {
             let pose = self.animation.pose(t);
-            self.set_pose(&pose, &[]);
+            self.set_pose(&pose, moved);
+            self.is_displaced = !moved.is_empty();
         }
     }
 

@@ -40,7 +40,7 @@ pub fn emitter(name: &str, le: Vec3) -> Material {
 pub fn scene(meshes: Vec<Mesh>, materials: Vec<Material>, lights: Vec<Light>) -> Scene {
     let instances =
         (0..meshes.len() as u32).map(|mesh| Instance { mesh, transform: Affine3A::IDENTITY }).collect();
-    Scene { meshes, instances, materials, textures: Vec::new(), lights, environment: None, camera: None }
+    Scene { meshes, instances, materials, lights, ..Scene::default() }
 }
 
 /// A camera at `position` looking at `target`, +Y up unless the view is vertical.

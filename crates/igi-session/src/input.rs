@@ -1,0 +1,83 @@
+//! [`Input`]: everything a viewer can ask of a session, as one serialisable message type.
+//! The browser sends these as JSON text messages (`{"type": "key", "key": "w", "down": true}`);
+//! the window builds them from its events.
+
+use crate::camera_control::CameraMode;
+use crate::settings::ViewSettings;
+use serde::{Deserialize, Serialize};
+
+/// The keys of the fly camera.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Key {
+    /// Forward.
+    W,
+    /// Left.
+    A,
+    /// Backward.
+    S,
+    /// Right.
+    D,
+    /// Down (world −Y).
+    Q,
+    /// Up (world +Y).
+    E,
+}
+
+/// The mouse button of a drag.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Button {
+    /// Look around (fly) or orbit (orbit).
+    Primary,
+    /// Move the selected object in the view plane.
+    Secondary,
+}
+
+/// One user action.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Input {
+    /// A fly-camera key went down or up.
+    Key {
+        /// The key.
+        key: Key,
+        /// True when pressed, false when released.
+        down: bool,
+    },
+    /// The pointer moved by (dx, dy) pixels of the image with a button held.
+    Drag {
+        /// Horizontal motion, pixels, to the right.
+        dx: f32,
+        /// Vertical motion, pixels, downwards.
+        dy: f32,
+        /// The button held.
+        button: Button,
+    },
+    /// The wheel turned by `delta` notches (positive: away from the user): fly speed or orbit
+    /// distance.
+    Scroll {
+        /// Notches.
+        delta: f32,
+    },
+    /// Select the object under the image point (x, y), in pixels; nothing there clears the
+    /// selection.
+    Pick {
+        /// Column.
+        x: f32,
+        /// Row.
+        y: f32,
+    },
+    /// Switch between fly and orbit.
+    Mode {
+        /// The new mode.
+        mode: CameraMode,
+    },
+    /// Replace the settings.
+    Settings {
+        /// The new settings (checked; invalid ones are refused with a message).
+        settings: ViewSettings,
+    },
+    /// Back to the scene's own camera and no object moves.
+    Reset,
+}

@@ -1,0 +1,27 @@
+//! The interaction model of igi's viewers, shared by the native window (`igi view`) and the
+//! browser viewer (`igi serve`), and tested here without either.
+//!
+//! - [`input`]: what a user can do ([`Input`]): keys, drags, scrolls, picks and settings, as
+//!   serialisable messages (the browser sends them as JSON).
+//! - [`camera_control`]: fly (WASD/QE + mouse look) and orbit (drag around a target) cameras.
+//! - [`settings`]: [`ViewSettings`], the render and display settings a viewer exposes.
+//! - [`accumulation`]: the running mean of frames of a still scene.
+//! - [`session`]: [`Session`], which owns the prepared scene, the scene clock, the selection
+//!   and the accumulation, and turns inputs into frames: while the camera and the scene are
+//!   still, frames accumulate with fresh VPL sets (progressive convergence); any change shows
+//!   the instant one-frame solution at once (paper section 1).
+//! - [`render_loop`]: [`RenderLoop`], a thread rendering the next frame while the viewer
+//!   shows the newest one; inputs go in, only the newest frame comes out.
+
+pub mod accumulation;
+pub mod camera_control;
+pub mod input;
+pub mod render_loop;
+pub mod session;
+pub mod settings;
+
+pub use camera_control::{CameraController, CameraMode};
+pub use input::{Button, Input, Key};
+pub use render_loop::{LatestFrame, RenderLoop};
+pub use session::{Frame, FrameStats, Session};
+pub use settings::ViewSettings;

@@ -1,0 +1,320 @@
+//! [`Session`]: one user's view of one scene. It turns [`Input`]s and the passing of time into
+//! frames.
+//!
+//! Every frame recomputes the whole illumination (paper section 1). What a session adds is the
+//! choice of frame: after any change (camera, settings, a moved object, the running clock) it
+//! renders the instant one-frame solution with the frame's fixed VPL sets, so a moving scene
+//! does not flicker; while nothing changes, it renders further frames with fresh VPL sets
+//! and shows their running mean, which converges (progressive refinement).
+
+use crate::accumulation::Accumulator;
+use crate::camera_control::CameraController;
+use crate::input::{Button, Input};
+use crate::settings::{MAX_ACCUMULATION, ViewSettings};
+use glam::{Affine3A, Vec3};
+use igi_render::frame::SettingsError;
+use igi_render::output::to_srgb8;
+use igi_render::tonemap::LuminanceStats;
+use igi_render::{Film, FrameRenderer, FrameState, Phase, PinholeCamera, PreparedScene, ToneMapper};
+use igi_scene::Camera;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+/// What a viewer shows beside a frame.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct FrameStats {
+    /// Frame number of the session (1 for the first).
+    pub id: u64,
+    /// Inputs handled before this frame was rendered (see [`crate::RenderLoop::send`]).
+    pub input_seq: u64,
+    /// Scene clock, seconds.
+    pub time: f32,
+    /// Frames in the image's mean (1 right after a change).
+    pub accumulated: u32,
+    /// Wall time of this frame: posing the scene and rendering, ms.
+    pub render_ms: f64,
+    /// Frames per second of the session (a running average over the last frames).
+    pub fps: f64,
+    /// Wall time per phase, ms (thread time divided by the threads).
+    pub phases_ms: Vec<(String, f64)>,
+    /// Millions of rays per second of this frame.
+    pub mrays_per_s: f64,
+    /// VPLs of the frame.
+    pub vpls: usize,
+    /// Triangles in the scene.
+    pub triangles: usize,
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// The selected instance.
+    pub selected: Option<u32>,
+}
+
+/// A frame to show.
+#[derive(Clone, Debug)]
+pub struct Frame {
+    /// Statistics.
+    pub stats: FrameStats,
+    /// The display image: 8-bit sRGB, 3 bytes per pixel, rows top to bottom.
+    pub rgb8: Vec<u8>,
+    /// Linear radiance (the mean of the accumulated frames), for EXR.
+    pub film: Film,
+}
+
+/// A scene, its camera, settings, clock and accumulation.
+#[derive(Debug)]
+pub struct Session {
+    scene: PreparedScene,
+    renderer: FrameRenderer,
+    controller: CameraController,
+    home: Camera,
+    fly_speed: f32,
+    settings: ViewSettings,
+    accumulator: Accumulator,
+    tone_mapper: ToneMapper,
+    clock: f32,
+    /// The selected instance and the distance at which it was picked (sets the drag scale).
+    selected: Option<(u32, f32)>,
+    /// World translations of instances the user moved.
+    moved: BTreeMap<u32, Vec3>,
+    /// The view changed since the last frame.
+    changed: bool,
+    /// Instances or the clock changed: the scene must be posed again.
+    repose: bool,
+    inputs: u64,
+    frames: u64,
+    last_frame_end: Option<Instant>,
+    fps: f64,
+    seed: u32,
+}
+
+impl Session {
+    /// A session on `scene`, starting at `camera`, rendering with `threads` workers (0: one
+    /// per core). The settings are checked.
+    pub fn new(
+        scene: PreparedScene,
+        camera: Camera,
+        settings: ViewSettings,
+        threads: usize,
+    ) -> Result<Self, SettingsError> {
+        settings.validate()?;
+        let diagonal = scene.bounds().diagonal();
+        let fly_speed = if diagonal.is_finite() && diagonal > 0.0 { 0.15 * diagonal } else { 1.0 };
+        Ok(Self {
+            renderer: FrameRenderer::new(threads),
+            controller: CameraController::new(&camera, fly_speed),
+            home: camera,
+            fly_speed,
+            settings,
+            accumulator: Accumulator::default(),
+            tone_mapper: ToneMapper::new(Default::default(), &Default::default()),
+            clock: 0.0,
+            selected: None,
+            moved: BTreeMap::new(),
+            changed: true,
+            repose: true,
+            inputs: 0,
+            frames: 0,
+            last_frame_end: None,
+            fps: 0.0,
+            seed: 0,
+            scene,
+        })
+    }
+
+    /// The current settings.
+    pub fn settings(&self) -> &ViewSettings {
+        &self.settings
+    }
+
+    /// The camera controller.
+    pub fn camera(&self) -> &CameraController {
+        &self.controller
+    }
+
+    /// The prepared scene.
+    pub fn scene(&self) -> &PreparedScene {
+        &self.scene
+    }
+
+    /// Scene clock, seconds.
+    pub fn clock(&self) -> f32 {
+        self.clock
+    }
+
+    /// Sets the scene clock (a viewer's time slider, or a test).
+    pub fn set_clock(&mut self, t: f32) {
+        if t.is_finite() && t >= 0.0 && t != self.clock {
+            self.clock = t;
+            self.repose = true;
+            self.changed = true;
+        }
+    }
+
+    /// Inputs handled so far.
+    pub fn inputs_handled(&self) -> u64 {
+        self.inputs
+    }
+
+    /// True if the clock runs on a scene that has an animation.
+    pub fn is_animating(&self) -> bool {
+        self.settings.playing && self.settings.speed > 0.0 && !self.scene.animation().is_empty()
+    }
+
+    /// True if the next frame would show something new: a change is pending, something moves,
+    /// or the accumulation has not reached its end.
+    pub fn needs_frame(&self) -> bool {
+        self.changed
+            || self.repose
+            || self.is_animating()
+            || self.controller.is_moving()
+            || (self.settings.accumulate && self.accumulator.frames() < MAX_ACCUMULATION)
+    }
+
+    /// Applies an input. Invalid settings are refused (the error names the field) and change
+    /// nothing.
+    pub fn handle(&mut self, input: &Input) -> Result<(), SettingsError> {
+        self.inputs += 1;
+        if self.controller.handle(input) {
+            self.changed = true;
+        }
+        match input {
+            Input::Settings { settings } => {
+                settings.validate()?;
+                if *settings != self.settings {
+                    self.settings = settings.clone();
+                    self.changed = true;
+                }
+            }
+            Input::Pick { x, y } => self.pick(*x, *y),
+            Input::Drag { dx, dy, button: Button::Secondary } => self.drag_selected(*dx, *dy),
+            Input::Reset => {
+                self.controller = CameraController::new(&self.home, self.fly_speed);
+                self.moved.clear();
+                self.selected = None;
+                self.repose = true;
+                self.changed = true;
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+
+    /// Selects the instance seen at pixel (x, y), or nothing.
+    fn pick(&mut self, x: f32, y: f32) {
+        let s = &self.settings;
+        if !(x.is_finite()
+            && y.is_finite()
+            && x >= 0.0
+            && y >= 0.0
+            && x < s.width as f32
+            && y < s.height as f32)
+        {
+            self.selected = None;
+            return;
+        }
+        let camera = PinholeCamera::new(&self.controller.camera(), s.width, s.height);
+        let ray = camera.ray_at(x as u32, y as u32, x.fract(), y.fract());
+        let hit = self.scene.accel().intersect(&ray);
+        self.selected = hit.t.is_finite().then(|| (hit.instance, hit.t * ray.dir.length()));
+    }
+
+    /// Moves the selected instance by a drag of (dx, dy) pixels in the view plane at the depth
+    /// it was picked, so it follows the pointer.
+    fn drag_selected(&mut self, dx: f32, dy: f32) {
+        let Some((instance, distance)) = self.selected else { return };
+        if !(dx.is_finite() && dy.is_finite()) {
+            return;
+        }
+        let s = &self.settings;
+        let camera = PinholeCamera::new(&self.controller.camera(), s.width, s.height);
+        // One pixel spans 2·tan(fov/2)·distance / height at that distance.
+        let per_pixel = 2.0 * camera.tan_half * distance / s.height as f32;
+        let offset = (camera.right * dx - camera.up * dy) * per_pixel;
+        if offset.is_finite() && offset != Vec3::ZERO {
+            *self.moved.entry(instance).or_insert(Vec3::ZERO) += offset;
+            self.repose = true;
+            self.changed = true;
+        }
+    }
+
+    /// Renders the next frame, `dt` seconds of wall-clock time after the previous one (the
+    /// clock and held keys advance by it).
+    pub fn render(&mut self, dt: f32) -> Result<Frame, SettingsError> {
+        let start = Instant::now();
+        let dt = if dt.is_finite() { dt.clamp(0.0, 0.25) } else { 0.0 };
+        if self.is_animating() {
+            self.clock += dt * self.settings.speed;
+            self.repose = true;
+        }
+        if self.controller.advance(dt) {
+            self.changed = true;
+        }
+        if self.repose {
+            let moved: Vec<(u32, Affine3A)> =
+                self.moved.iter().map(|(&i, &v)| (i, Affine3A::from_translation(v))).collect();
+            self.scene.place(self.clock, &moved);
+            self.repose = false;
+            self.changed = true;
+        }
+        if std::mem::take(&mut self.changed) {
+            self.accumulator.reset();
+        }
+
+        let mut settings = self.settings.igi();
+        settings.reseed_per_frame = self.settings.accumulate;
+        let frame = FrameState {
+            camera: self.controller.camera(),
+            settings,
+            tone_map: self.tone_mapper,
+            frame: self.accumulator.frames(),
+            seed: self.seed,
+        };
+        let out = self.renderer.render(&self.scene, &frame, &|_, _| {})?;
+        self.accumulator.add(&out.film);
+        let (film, rgb8, stats) = if self.accumulator.frames() == 1 {
+            (out.film, out.srgb8, out.stats)
+        } else {
+            let film = self.accumulator.mean();
+            let stats = LuminanceStats::of_pixels(film.pixels());
+            let rgb8 = to_srgb8(&film, &ToneMapper::new(self.settings.tone_map(), &stats));
+            (film, rgb8, stats)
+        };
+        // The next frame is tone-mapped with this one's statistics (paper 3.4).
+        self.tone_mapper = ToneMapper::new(self.settings.tone_map(), &stats);
+
+        let elapsed = start.elapsed().as_secs_f64();
+        let now = Instant::now();
+        if let Some(last) = self.last_frame_end.replace(now) {
+            let interval = now.duration_since(last).as_secs_f64().max(1e-6);
+            self.fps = if self.fps == 0.0 { 1.0 / interval } else { 0.9 * self.fps + 0.1 / interval };
+        }
+        self.frames += 1;
+        let threads = self.renderer.threads() as f64;
+        let phases_ms = Phase::ALL
+            .iter()
+            .map(|&p| {
+                let scale = if p == Phase::VplGeneration { 1.0 } else { 1.0 / threads };
+                (p.name().to_string(), out.times.get(p).as_secs_f64() * 1e3 * scale)
+            })
+            .collect();
+        let stats = FrameStats {
+            id: self.frames,
+            input_seq: self.inputs,
+            time: self.clock,
+            accumulated: self.accumulator.frames(),
+            render_ms: elapsed * 1e3,
+            fps: self.fps,
+            phases_ms,
+            mrays_per_s: out.rays.total() as f64 * 1e-6 / elapsed.max(1e-9),
+            vpls: out.vpls,
+            triangles: self.scene.triangle_count(),
+            width: film.width(),
+            height: film.height(),
+            selected: self.selected.map(|(i, _)| i),
+        };
+        Ok(Frame { stats, rgb8, film })
+    }
+}

@@ -1,0 +1,123 @@
+//! [`ViewSettings`]: what a viewer lets the user change, in one serialisable struct (the
+//! browser receives and sends it as JSON): the IGI settings of a frame, the tone map and the
+//! animation clock.
+
+use igi_render::ToneMap;
+use igi_render::frame::{FilterSettings, IgiSettings, SettingsError};
+use serde::{Deserialize, Serialize};
+
+/// Largest animation speed factor.
+pub const MAX_SPEED: f32 = 100.0;
+/// Largest number of frames a still view accumulates (then rendering pauses).
+pub const MAX_ACCUMULATION: u32 = 4096;
+/// Largest image of a viewer (a 4K UHD frame): a viewer keeps a few images of this size.
+pub const MAX_PIXELS: u64 = 3840 * 2160;
+
+/// Render, display and animation settings of a viewer.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ViewSettings {
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// VPLs per pixel (the size of one interleaved set).
+    pub vpls_per_pixel: u32,
+    /// Interleave pattern n × m.
+    pub interleave: [u32; 2],
+    /// Primary rays per pixel.
+    pub aa: u32,
+    /// The discontinuity filter on or off.
+    pub filter: bool,
+    /// Filter: smallest cosine between the normals of pixels averaged together.
+    pub filter_normal: f32,
+    /// Filter: largest relative depth difference of pixels averaged together.
+    pub filter_depth: f32,
+    /// d_min of the VPL clamp, in scene units (0: off).
+    pub clamp: f32,
+    /// Largest number of mirror and glass bounces from the camera.
+    pub specular_depth: u32,
+    /// Fixed exposure in stops, or `None` for Reinhard's operator from the previous frame's
+    /// statistics with [`ViewSettings::key`].
+    pub exposure: Option<f32>,
+    /// Reinhard key (middle grey), used without a fixed exposure.
+    pub key: f32,
+    /// Average frames while nothing changes (progressive convergence).
+    pub accumulate: bool,
+    /// The animation clock runs.
+    pub playing: bool,
+    /// Clock speed: scene seconds per wall-clock second.
+    pub speed: f32,
+}
+
+impl ViewSettings {
+    /// The defaults of `igi render` for a scene whose bounding box has diagonal `diagonal`.
+    pub fn for_scene(diagonal: f32) -> Self {
+        let igi = IgiSettings::default();
+        let filter = FilterSettings::default();
+        Self {
+            width: igi.width,
+            height: igi.height,
+            vpls_per_pixel: igi.vpls_per_pixel,
+            interleave: igi.interleave,
+            aa: 1,
+            filter: true,
+            filter_normal: filter.min_normal_cos,
+            filter_depth: filter.max_depth_ratio,
+            clamp: IgiSettings::clamp_for(diagonal),
+            specular_depth: igi.specular_depth,
+            exposure: None,
+            key: 0.18,
+            accumulate: true,
+            playing: true,
+            speed: 1.0,
+        }
+    }
+
+    /// The frame settings (without `reseed_per_frame`, which the session sets).
+    pub fn igi(&self) -> IgiSettings {
+        IgiSettings {
+            width: self.width,
+            height: self.height,
+            vpls_per_pixel: self.vpls_per_pixel,
+            interleave: self.interleave,
+            aa: self.aa,
+            filter: self.filter.then_some(FilterSettings {
+                min_normal_cos: self.filter_normal,
+                max_depth_ratio: self.filter_depth,
+            }),
+            clamp: self.clamp,
+            specular_depth: self.specular_depth,
+            ..IgiSettings::default()
+        }
+    }
+
+    /// The tone-map operator.
+    pub fn tone_map(&self) -> ToneMap {
+        match self.exposure {
+            Some(stops) => ToneMap::Exposure { stops },
+            None => ToneMap::Reinhard { key: self.key },
+        }
+    }
+
+    /// Checks every field; the error names it.
+    pub fn validate(&self) -> Result<(), SettingsError> {
+        self.igi().validate()?;
+        let err = |field, message: String| Err(SettingsError { field, message });
+        if u64::from(self.width) * u64::from(self.height) > MAX_PIXELS {
+            return err("width", format!("{}x{} is more than {MAX_PIXELS} pixels", self.width, self.height));
+        }
+        if let Some(stops) = self.exposure {
+            if !(stops.is_finite() && stops.abs() <= 64.0) {
+                return err("exposure", format!("{stops} is not a number of stops in [-64, 64]"));
+            }
+        }
+        if !(self.key.is_finite() && self.key > 0.0 && self.key <= 1.0) {
+            return err("key", format!("{} is not in (0, 1]", self.key));
+        }
+        if !(self.speed.is_finite() && (0.0..=MAX_SPEED).contains(&self.speed)) {
+            return err("speed", format!("{} is not between 0 and {MAX_SPEED}", self.speed));
+        }
+        Ok(())
+    }
+}

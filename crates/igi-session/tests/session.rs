@@ -1,0 +1,177 @@
+//! The interaction model on its own: progressive accumulation converges towards the path
+//! tracer and resets on a change, the clock moves the animated scene, picking and dragging
+//! move an object, and the render loop delivers the newest frame with the inputs it includes.
+
+use glam::Vec3;
+use igi_render::path_tracer::render_path_traced;
+use igi_render::{Film, FrameRenderer, FrameState, PreparedScene, ToneMapper};
+use igi_session::{Button, Input, RenderLoop, Session, ViewSettings};
+use std::time::Duration;
+
+const SIZE: u32 = 40;
+
+fn settings(scene: &PreparedScene) -> ViewSettings {
+    ViewSettings {
+        width: SIZE,
+        height: SIZE,
+        playing: false,
+        ..ViewSettings::for_scene(scene.bounds().diagonal())
+    }
+}
+
+fn session(name: &str, configure: impl FnOnce(&mut ViewSettings)) -> Session {
+    let scene = PreparedScene::new(igi_scene::builtin(name).unwrap());
+    let camera = *scene.camera().unwrap();
+    let mut s = settings(&scene);
+    configure(&mut s);
+    Session::new(scene, camera, s, 2).unwrap()
+}
+
+fn rmse(a: &Film, b: &Film) -> f64 {
+    let sum: f64 =
+        a.pixels().iter().zip(b.pixels()).map(|(p, q)| f64::from((*p - *q).length_squared())).sum();
+    (sum / a.pixels().len() as f64).sqrt()
+}
+
+#[test]
+fn a_still_view_converges_towards_the_path_tracer_and_a_change_resets_it() {
+    // Unclamped IGI is unbiased, so its mean converges to the path tracer's image.
+    let mut session = session("cornell-box", |s| s.clamp = 0.0);
+    let reference = {
+        let scene = session.scene();
+        let frame = FrameState {
+            camera: session.camera().camera(),
+            settings: session.settings().igi(),
+            tone_map: ToneMapper::LINEAR,
+            frame: 0,
+            seed: 7,
+        };
+        render_path_traced(scene, &frame, 2048, FrameRenderer::new(2).scheduler(), &|_, _| {}).0
+    };
+    let mut errors = Vec::new();
+    for n in 1..=64u32 {
+        let frame = session.render(0.01).unwrap();
+        assert_eq!(frame.stats.accumulated, n);
+        if n.is_power_of_two() {
+            errors.push(rmse(&frame.film, &reference));
+        }
+    }
+    eprintln!("RMSE against the path tracer after 1, 2, 4, .. 64 frames: {errors:?}");
+    assert!(errors.windows(2).filter(|w| w[1] < w[0]).count() >= 5, "{errors:?}");
+    assert!(errors[6] < 0.5 * errors[0], "64 frames halve the error at least: {errors:?}");
+
+    // A camera move shows the instant one-frame solution at once.
+    session.handle(&Input::Drag { dx: 12.0, dy: 0.0, button: Button::Primary }).unwrap();
+    let moved = session.render(0.01).unwrap();
+    assert_eq!(moved.stats.accumulated, 1);
+    let mut fresh = session_at(&session);
+    let first = fresh.render(0.0).unwrap();
+    // The fresh controller recomputes yaw and pitch from the camera, so rays may differ in
+    // the last bit: compare within a tolerance far below the one-frame noise.
+    let difference = rmse(&moved.film, &first.film);
+    assert!(difference < 0.05 * errors[0], "the instant frame is frame 0 of the new view: {difference}");
+}
+
+/// A new session with the same settings, at the camera of `other`.
+fn session_at(other: &Session) -> Session {
+    let scene = PreparedScene::new(igi_scene::builtin("cornell-box").unwrap());
+    Session::new(scene, other.camera().camera(), other.settings().clone(), 2).unwrap()
+}
+
+#[test]
+fn the_clock_moves_the_animation_and_every_frame_is_instant() {
+    let mut session = session("animated-room", |s| s.playing = true);
+    let a = session.render(0.1).unwrap();
+    let b = session.render(0.1).unwrap();
+    assert!((b.stats.time - 0.2).abs() < 1e-6 && a.stats.accumulated == 1 && b.stats.accumulated == 1);
+    assert_ne!(a.rgb8, b.rgb8, "the lamp swung");
+    // Paused, frames accumulate and the clock stands.
+    let mut paused = session.settings().clone();
+    paused.playing = false;
+    session.handle(&Input::Settings { settings: paused }).unwrap();
+    session.render(0.1).unwrap();
+    let c = session.render(0.1).unwrap();
+    assert_eq!((c.stats.time, c.stats.accumulated), (b.stats.time, 2));
+}
+
+#[test]
+fn picking_and_dragging_moves_the_object_under_the_pointer() {
+    let mut session = session("animated-room", |_| {});
+    let before = session.render(0.0).unwrap();
+    // The statue stands in the middle of the image.
+    let centre = SIZE as f32 / 2.0;
+    session.handle(&Input::Pick { x: centre, y: centre }).unwrap();
+    let picked = session.render(0.0).unwrap();
+    assert_eq!(picked.stats.selected, Some(1), "the statue is instance 1");
+    let statue = |s: &Session| s.scene().accel().instance_transform(1).transform_point3(Vec3::ZERO);
+    let start = statue(&session);
+    session.handle(&Input::Drag { dx: 4.0, dy: 0.0, button: Button::Secondary }).unwrap();
+    let after = session.render(0.0).unwrap();
+    let moved = statue(&session) - start;
+    let right = session.camera().forward().cross(Vec3::Y).normalize();
+    assert!(moved.dot(right) > 0.05 && moved.y.abs() < 1e-4, "moved {moved}");
+    assert_eq!(after.stats.accumulated, 1);
+    assert_ne!(after.rgb8, before.rgb8);
+    // Picking nothing (outside the image) clears the selection; a drag then moves nothing.
+    session.handle(&Input::Pick { x: -1.0, y: 0.0 }).unwrap();
+    session.handle(&Input::Drag { dx: 4.0, dy: 0.0, button: Button::Secondary }).unwrap();
+    session.render(0.0).unwrap();
+    assert!((statue(&session) - start - moved).length() < 1e-6);
+    // Reset puts it back.
+    session.handle(&Input::Reset).unwrap();
+    session.render(0.0).unwrap();
+    assert!((statue(&session) - start).length() < 1e-6);
+}
+
+#[test]
+fn invalid_settings_are_refused_and_change_nothing() {
+    let mut session = session("cornell-box", |_| {});
+    let good = session.settings().clone();
+    for bad in [
+        ViewSettings { aa: 0, ..good.clone() },
+        ViewSettings { width: 100_000, ..good.clone() },
+        ViewSettings { width: 8000, height: 8000, ..good.clone() },
+        ViewSettings { speed: f32::NAN, ..good.clone() },
+        ViewSettings { exposure: Some(f32::INFINITY), ..good.clone() },
+    ] {
+        assert!(session.handle(&Input::Settings { settings: bad }).is_err());
+    }
+    assert_eq!(session.settings(), &good);
+}
+
+#[test]
+fn inputs_serialise_as_tagged_json() {
+    let input: Input = serde_json::from_str(r#"{"type":"drag","dx":3,"dy":-1,"button":"primary"}"#).unwrap();
+    assert_eq!(input, Input::Drag { dx: 3.0, dy: -1.0, button: Button::Primary });
+    assert!(serde_json::from_str::<Input>(r#"{"type":"drag","dx":3}"#).is_err());
+    assert!(serde_json::from_str::<Input>(r#"{"type":"explode"}"#).is_err());
+}
+
+#[test]
+fn the_render_loop_delivers_newest_frames_with_their_inputs() {
+    let session = session("cornell-box", |s| s.accumulate = false);
+    let render_loop = RenderLoop::spawn(session);
+    let first = render_loop.latest().wait_newer(0, Duration::from_secs(30)).expect("a first frame");
+    let seq = render_loop.send(Input::Drag { dx: 30.0, dy: 0.0, button: Button::Primary });
+    let mut frame = first.clone();
+    while frame.stats.input_seq < seq {
+        frame =
+            render_loop.latest().wait_newer(frame.stats.id, Duration::from_secs(30)).expect("a newer frame");
+    }
+    assert_ne!(frame.rgb8, first.rgb8, "the frame with the drag shows the turned view");
+    // Without accumulation and without changes the loop idles: no newer frame comes.
+    std::thread::sleep(Duration::from_millis(100));
+    let idle = render_loop.latest().get().unwrap();
+    assert!(render_loop.latest().wait_newer(idle.stats.id, Duration::from_millis(300)).is_none());
+    // Bad settings are reported, not applied.
+    let mut bad = ViewSettings::for_scene(1.0);
+    bad.aa = 0;
+    render_loop.send(Input::Settings { settings: bad });
+    let deadline = std::time::Instant::now() + Duration::from_secs(10);
+    let mut errors = Vec::new();
+    while errors.is_empty() && std::time::Instant::now() < deadline {
+        std::thread::sleep(Duration::from_millis(10));
+        errors = render_loop.take_errors();
+    }
+    assert!(errors.iter().any(|e| e.contains("aa")), "{errors:?}");
+}
