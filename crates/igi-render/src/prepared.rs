@@ -162,7 +162,8 @@ impl PreparedScene {
         };
         prepared.shaders = ShaderTable::new(&prepared.materials, &prepared.textures).into_shaders();
         prepared.uniform = prepared.shaders.iter().map(|s| s.uniform().map(BrdfParams::conserving)).collect();
-        prepared.area_lights = AreaLights::new(prepared.collect_emissive());
+        prepared.area_lights =
+            AreaLights::new(prepared.collect_emissive(0..prepared.accel.instance_count() as u32));
         if let Err(e) =
             prepared.animation.validate(prepared.rest_transforms.len(), prepared.rest_lights.len())
         {
@@ -239,14 +240,15 @@ impl PreparedScene {
         self.accel.set_transforms(&transforms);
         self.normal_matrices = transforms.iter().map(normal_matrix).collect();
         if emitters_moved {
-            self.area_lights = AreaLights::new(self.collect_emissive());
+            // Only the instances that have emitters need a look (not every triangle).
+            self.area_lights = AreaLights::new(self.collect_emissive(self.emitter_instances.iter().copied()));
         }
     }
 
-    /// The emissive triangles of every instance, in world space.
-    fn collect_emissive(&self) -> Vec<EmissiveTriangle> {
+    /// The emissive triangles of `instances`, in world space.
+    fn collect_emissive(&self, instances: impl Iterator<Item = u32>) -> Vec<EmissiveTriangle> {
         let mut out = Vec::new();
-        for instance in 0..self.accel.instance_count() as u32 {
+        for instance in instances {
             let mesh_index = self.accel.instance_mesh(instance) as usize;
             let mesh = &self.accel.meshes()[mesh_index];
             let shading = &self.meshes[mesh_index];

@@ -78,9 +78,12 @@ pub enum ToneMap {
     },
 }
 
+/// Reinhard's key of the default tone map: middle grey.
+pub const DEFAULT_KEY: f32 = 0.18;
+
 impl Default for ToneMap {
     fn default() -> Self {
-        Self::Reinhard { key: 0.18 }
+        Self::Reinhard { key: DEFAULT_KEY }
     }
 }
 

@@ -67,7 +67,7 @@ impl ViewSettings {
             clamp: IgiSettings::clamp_for(diagonal),
             specular_depth: igi.specular_depth,
             exposure: None,
-            key: 0.18,
+            key: igi_render::tonemap::DEFAULT_KEY,
             accumulate: true,
             playing: true,
             speed: 1.0,

@@ -84,6 +84,18 @@ pub fn run(args: &InfoArgs) -> Result<()> {
         ),
         None => outln!("environment  none (rays leaving the scene see black)"),
     }
+    let animation = &scene.animation;
+    if animation.is_empty() {
+        outln!("animation    none");
+    } else {
+        outln!(
+            "animation    {} instances and {} lights move, {} nodes, longest cycle {:.3} s",
+            animation.instances.len(),
+            animation.lights.len(),
+            animation.nodes.len(),
+            animation.duration()
+        );
+    }
     if bounds.is_empty() {
         outln!("bounds       empty");
     } else {

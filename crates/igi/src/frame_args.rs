@@ -11,6 +11,9 @@ use igi_scene::Scene;
 /// Largest `--threads`.
 const MAX_THREADS: usize = 1024;
 
+/// Primary rays per pixel of offline renders and benchmarks.
+pub const DEFAULT_AA: u32 = 4;
+
 /// Options describing a frame.
 #[derive(Debug, Args)]
 pub struct FrameArgs {
@@ -28,9 +31,9 @@ pub struct FrameArgs {
     #[arg(long, default_value = "3x3", value_parser = parse_interleave)]
     pub interleave: [u32; 2],
     /// Primary rays per pixel (interleaved super-sampling: each is lit by its share of the
-    /// pixel's VPLs).
-    #[arg(long, default_value_t = 4)]
-    pub aa: u32,
+    /// pixel's VPLs). Default 4; 1 in the interactive viewers (`view`, `serve`).
+    #[arg(long)]
+    pub aa: Option<u32>,
     /// Show the raw interleaved image: no discontinuity filter.
     #[arg(long)]
     pub no_filter: bool,
@@ -95,7 +98,7 @@ impl FrameArgs {
             height: self.height,
             vpls_per_pixel: self.vpls,
             interleave: self.interleave,
-            aa: self.aa,
+            aa: self.aa.unwrap_or(DEFAULT_AA),
             filter: (!self.no_filter).then_some(FilterSettings {
                 min_normal_cos: self.filter_normal,
                 max_depth_ratio: self.filter_depth,
