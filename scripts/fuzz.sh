@@ -50,6 +50,14 @@ for target in obj ply gltf scene_file; do
             '[[shader]]' 'target = "light[0]"' 'type = "marble"' 'octaves = 4' 'turbulence = 5' \
             '[environment]' 'color = [0.3, 0.45, 0.8]' > "$corpus/shading.toml"
     fi
+    if [[ "$target" == scene_file && ! -e "$corpus/animation.toml" ]]; then
+        printf '%s\n' '[[light]]' 'type = "quad"' 'position = [0, 1, 0]' 'u = [1, 0, 0]' 'v = [0, 0, 1]' 'radiance = [1, 1, 1]' \
+            '[light.animation]' 'interpolation = "smooth"' \
+            'keys = [ { time = 0, position = [0, 1, 0] }, { time = 2, rotate = [0, 90, 0], position = [1, 1, 0] } ]' \
+            '[[light]]' 'type = "spot"' 'position = [0, 2, 0]' 'direction = [0, -1, 0]' 'angle = 40' 'intensity = [1, 1, 1]' \
+            '[light.animation]' 'loop = false' 'interpolation = "step"' \
+            'keys = [ { time = 0, intensity = [1, 0, 0] }, { time = 1, direction = [1, -1, 0] } ]' > "$corpus/animation.toml"
+    fi
     log="$(mktemp)"
     echo "== $target: ${seconds}s"
     if cargo fuzz run "$target" "$corpus" -- -max_total_time="$seconds" -jobs=1 -workers=1 \
