@@ -34,6 +34,10 @@ pub struct IgiSettings {
     pub compensate_clamp: bool,
     /// Largest number of specular bounces (mirror and glass) followed from the camera.
     pub specular_depth: u32,
+    /// Largest number of surface interactions of a light path, each leaving a VPL: 0 lights
+    /// the scene with the VPLs on the lights only (direct light), 1 adds one bounce of
+    /// indirect light, and so on up to [`MAX_BOUNCES`](crate::vpl::MAX_BOUNCES).
+    pub bounces: u32,
     /// Edge length of the square tiles; the image does not depend on it.
     pub tile_size: u32,
     /// Draw fresh VPLs and sample patterns every frame (for progressive accumulation); off,
@@ -78,6 +82,7 @@ impl Default for IgiSettings {
             clamp: 0.0,
             compensate_clamp: false,
             specular_depth: 5,
+            bounces: crate::vpl::MAX_BOUNCES,
             tile_size: 64,
             reseed_per_frame: false,
         }
@@ -162,6 +167,9 @@ impl IgiSettings {
                 "specular-depth",
                 format!("{} is more than {}", self.specular_depth, limits::MAX_SPECULAR_DEPTH),
             );
+        }
+        if self.bounces > crate::vpl::MAX_BOUNCES {
+            return err("bounces", format!("{} is more than {}", self.bounces, crate::vpl::MAX_BOUNCES));
         }
         if !(1..=limits::MAX_TILE).contains(&self.tile_size) {
             return err("tile-size", format!("{} is not between 1 and {}", self.tile_size, limits::MAX_TILE));

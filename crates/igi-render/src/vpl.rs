@@ -202,7 +202,7 @@ impl VplSets {
     pub fn generate(scene: &PreparedScene, frame: &FrameState) -> Self {
         let lights =
             if scene.has_lights() { scene.lights().to_vec() } else { vec![eye_light(scene, &frame.camera)] };
-        let Some(emitters) = Emitters::new(scene, &lights) else {
+        let Some(emitters) = Emitters::new(scene, &lights, frame.settings.bounces) else {
             let sets = vec![Vec::new(); frame.settings.set_count() as usize];
             let sky = sets.iter().map(|_| Vec::new()).collect();
             return Self { lights, sets, sky, paths: 0, expected_vpls_per_path: 0.0 };
@@ -331,11 +331,13 @@ struct Emitters<'a> {
     choice: Cdf,
     /// Centre and radius of the scene's bounding sphere (directional lights).
     sphere: (Vec3, f32),
+    /// Surface interactions a walk follows ([`IgiSettings::bounces`](crate::IgiSettings::bounces)).
+    bounces: u32,
 }
 
 impl<'a> Emitters<'a> {
     /// The sources of `scene`'s area lights and of `lights`; `None` if none emits any power.
-    fn new(scene: &'a PreparedScene, lights: &[Light]) -> Option<Self> {
+    fn new(scene: &'a PreparedScene, lights: &[Light], bounces: u32) -> Option<Self> {
         let bounds = scene.bounds();
         let sphere =
             if bounds.is_empty() { (Vec3::ZERO, 0.0) } else { (bounds.centroid(), 0.5 * bounds.diagonal()) };
@@ -373,7 +375,13 @@ impl<'a> Emitters<'a> {
             let w = luminance(*power);
             if w.is_finite() { w } else { 0.0 }
         }));
-        (!choice.is_empty()).then_some(Self { scene, sources, choice, sphere })
+        (!choice.is_empty()).then_some(Self {
+            scene,
+            sources,
+            choice,
+            sphere,
+            bounces: bounces.min(MAX_BOUNCES),
+        })
     }
 
     /// The mean number of VPLs of [`PILOT_PATHS`] paths under the fixed pilot seed.
@@ -438,10 +446,11 @@ impl<'a> Emitters<'a> {
     }
 
     /// Follows a particle of power `power` leaving `origin` along `dir` through at most
-    /// [`MAX_BOUNCES`] surface interactions, appending a VPL at every diffuse one.
+    /// `bounces` ([`MAX_BOUNCES`] or fewer) surface interactions, appending a VPL at every
+    /// diffuse one.
     fn walk(&self, mut origin: Vec3, mut dir: Vec3, mut power: Vec3, k: u32, seed: u32, vpls: &mut Vec<Vpl>) {
         let scene = self.scene;
-        for bounce in 0..MAX_BOUNCES {
+        for bounce in 0..self.bounces {
             if !(origin.is_finite() && dir.is_finite() && power.is_finite()) {
                 return;
             }

@@ -431,3 +431,25 @@ fn cornell_box_sets_hold_about_v_vpls() {
         );
     }
 }
+
+#[test]
+fn the_bounce_limit_truncates_light_paths() {
+    let scene = PreparedScene::new(igi_scene::builtin("cornell-box").unwrap());
+    let vpls_per_path = |bounces: u32| {
+        let mut f = frame(0, 12);
+        f.settings.bounces = bounces;
+        let sets = VplSets::generate(&scene, &f);
+        let total: usize = (0..sets.set_count()).map(|s| sets.set(s).len()).sum();
+        let power: Vec3 = (0..sets.set_count()).map(|s| total_power(sets.set(s))).sum();
+        (total as f64 / f64::from(sets.paths()), power)
+    };
+    // Without bounces a path leaves exactly its VPL on the light: direct light only.
+    let (direct, direct_power) = vpls_per_path(0);
+    assert_eq!(direct, 1.0);
+    let (one, one_power) = vpls_per_path(1);
+    assert!(one > 1.5 && one <= 2.0, "{one}");
+    let (all, all_power) = vpls_per_path(MAX_BOUNCES);
+    assert!(all > one, "{all} vs {one}");
+    // Each bounce adds the power of the light it reflects.
+    assert!(direct_power.x < one_power.x && one_power.x < all_power.x);
+}

@@ -37,6 +37,8 @@ pub struct ViewSettings {
     pub clamp: f32,
     /// Largest number of mirror and glass bounces from the camera.
     pub specular_depth: u32,
+    /// Largest number of bounces of a light path (0: direct light only).
+    pub bounces: u32,
     /// Fixed exposure in stops, or `None` for Reinhard's operator from the previous frame's
     /// statistics with [`ViewSettings::key`].
     pub exposure: Option<f32>,
@@ -66,6 +68,7 @@ impl ViewSettings {
             filter_depth: filter.max_depth_ratio,
             clamp: IgiSettings::clamp_for(diagonal),
             specular_depth: igi.specular_depth,
+            bounces: igi.bounces,
             exposure: None,
             key: igi_render::tonemap::DEFAULT_KEY,
             accumulate: true,
@@ -88,6 +91,7 @@ impl ViewSettings {
             }),
             clamp: self.clamp,
             specular_depth: self.specular_depth,
+            bounces: self.bounces,
             ..IgiSettings::default()
         }
     }

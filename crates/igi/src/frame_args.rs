@@ -56,6 +56,10 @@ pub struct FrameArgs {
     /// Largest number of mirror and glass bounces followed from the camera.
     #[arg(long, default_value_t = 5)]
     pub specular_depth: u32,
+    /// Largest number of bounces of a light path (each leaves a VPL): 0 is direct light only,
+    /// 1 adds one bounce of indirect light.
+    #[arg(long, default_value_t = igi_render::vpl::MAX_BOUNCES)]
+    pub bounces: u32,
     /// Seed of the VPLs and sample patterns (same seed, same image).
     #[arg(long, default_value_t = 0)]
     pub seed: u32,
@@ -106,6 +110,7 @@ impl FrameArgs {
             clamp: self.clamp.unwrap_or_else(|| IgiSettings::clamp_for(diagonal)),
             compensate_clamp: self.compensate,
             specular_depth: self.specular_depth,
+            bounces: self.bounces,
             tile_size: self.tile_size,
             reseed_per_frame: false,
         };
