@@ -8,7 +8,7 @@
 //! and shows their running mean, which converges (progressive refinement).
 
 use crate::accumulation::Accumulator;
-use crate::camera_control::CameraController;
+use crate::camera_control::{CameraController, CameraMode};
 use crate::input::{Button, Input};
 use crate::settings::{MAX_ACCUMULATION, ViewSettings};
 use glam::{Affine3A, Vec3};
@@ -22,7 +22,7 @@ use std::collections::BTreeMap;
 use std::time::Instant;
 
 /// What a viewer shows beside a frame.
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct FrameStats {
     /// Frame number of the session (1 for the first).
     pub id: u64,
@@ -50,6 +50,10 @@ pub struct FrameStats {
     pub height: u32,
     /// The selected instance.
     pub selected: Option<u32>,
+    /// The settings the frame was rendered with.
+    pub settings: ViewSettings,
+    /// The camera mode.
+    pub mode: CameraMode,
 }
 
 /// A frame to show.
@@ -314,6 +318,8 @@ impl Session {
             width: film.width(),
             height: film.height(),
             selected: self.selected.map(|(i, _)| i),
+            settings: self.settings.clone(),
+            mode: self.controller.mode(),
         };
         Ok(Frame { stats, rgb8, film })
     }

@@ -15,8 +15,10 @@ mod bench;
 mod cli;
 mod cmd_info;
 mod cmd_render;
+mod cmd_serve;
 mod cpu_check;
 mod frame_args;
+mod viewer_args;
 
 use std::process::ExitCode;
 

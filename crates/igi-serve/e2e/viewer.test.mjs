@@ -1,0 +1,108 @@
+// End-to-end test of igi's browser viewer in real headless Chromium (Debian's /usr/bin/chromium,
+// driven by playwright-core; no browser download). Usage: node viewer.test.mjs URL
+// The server (started by crates/igi-serve/tests/browser.rs) shows the animated room paused,
+// without accumulation, so a frame changes only when an input changes it.
+//
+// Checks: a non-blank frame arrives; a mouse drag over the image turns the view (the next
+// frame differs); a setting changed in the side panel comes back in the frames' settings and
+// changes the image; and, with the animation playing, the latency from an input event to the
+// first frame drawn with it is at most 2 frame times + 20 ms (median of 12 drags).
+
+import { chromium } from "playwright-core";
+import { strict as assert } from "node:assert";
+
+const url = process.argv[2];
+if (!url) throw new Error("usage: node viewer.test.mjs URL");
+
+// As the machine notes say for Chromium as root in a closed network.
+const browser = await chromium.launch({
+  executablePath: "/usr/bin/chromium",
+  args: ["--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run", "--disable-background-networking",
+         "--disable-component-update", "--disable-sync"],
+});
+const fail = async (e) => { console.error(e); await browser.close(); process.exit(1); };
+process.on("unhandledRejection", fail);
+
+const page = await browser.newPage();
+page.on("console", (m) => console.log(`page: ${m.text()}`));
+await page.goto(url);
+
+const frames = () => page.evaluate(() => window.__igi.frames);
+const header = () => page.evaluate(() => window.__igi.header);
+// A digest of the canvas: the sum and spread of its pixels.
+const pixels = () => page.evaluate(() => {
+  const c = document.getElementById("image");
+  const d = c.getContext("2d").getImageData(0, 0, c.width, c.height).data;
+  let sum = 0, sq = 0;
+  for (let i = 0; i < d.length; i += 4) { const v = d[i] + d[i + 1] + d[i + 2]; sum += v; sq += v * v; }
+  const n = d.length / 4;
+  return { sum, spread: Math.sqrt(sq / n - (sum / n) ** 2), width: c.width, height: c.height };
+});
+const waitFor = (predicate, arg) => page.waitForFunction(predicate, arg, { timeout: 30000 });
+
+// 1. A non-blank frame.
+await waitFor(() => window.__igi.frames > 0);
+const first = await pixels();
+assert.ok(first.spread > 5, `the first frame is not blank (spread ${first.spread})`);
+console.log(`first frame ${first.width}x${first.height}, spread ${first.spread.toFixed(1)}`);
+
+// 2. A drag turns the view: wait for the frame that acknowledges the drag's last input.
+const box = await page.locator("#image").boundingBox();
+const cx = box.x + box.width / 2, cy = box.y + box.height / 2;
+const ackedBefore = (await header()).acked ?? 0;
+await page.mouse.move(cx, cy);
+await page.mouse.down();
+for (let i = 1; i <= 6; i++) await page.mouse.move(cx + 15 * i, cy);
+await page.mouse.up();
+await waitFor((n) => window.__igi.header.acked !== null && window.__igi.header.acked >= n, ackedBefore + 1);
+await page.waitForTimeout(200);
+const turned = await pixels();
+assert.notEqual(turned.sum, first.sum, "the frame after the drag differs");
+console.log(`after the drag: pixel sum ${first.sum} -> ${turned.sum}`);
+
+// 3. A setting: switch the discontinuity filter off in the side panel.
+assert.equal((await header()).stats.settings.filter, true);
+await page.locator("#filter").click();
+await waitFor(() => window.__igi.header.stats.settings.filter === false);
+await page.waitForTimeout(200);
+const unfiltered = await pixels();
+assert.notEqual(unfiltered.sum, turned.sum, "the unfiltered frame differs");
+console.log(`filter off: the frames say filter = false, pixel sum ${turned.sum} -> ${unfiltered.sum}`);
+
+// Once still, the frame comes losslessly.
+await waitFor(() => window.__igi.kind === "png");
+console.log("still view: lossless PNG frame received");
+
+// 4. Latency with the animation playing (the renderer is always busy with a frame).
+await page.locator("#playing").click();
+await waitFor(() => window.__igi.header.stats.settings.playing === true);
+await page.waitForTimeout(500);
+await page.evaluate(() => { window.__igi.latencies = []; });
+for (let i = 0; i < 12; i++) {
+  const before = await page.evaluate(() => window.__igi.latencies.length);
+  await page.mouse.move(cx, cy);
+  await page.mouse.down();
+  await page.mouse.move(cx + 8, cy);
+  await page.mouse.move(cx + 16, cy);
+  await page.mouse.up();
+  await waitFor((n) => window.__igi.latencies.length > n, before);
+  await page.waitForTimeout(30 + 37 * (i % 4)); // drags at different phases of the frame
+}
+const latencies = (await page.evaluate(() => window.__igi.latencies)).sort((a, b) => a - b);
+const median = latencies[Math.floor(latencies.length / 2)];
+const stats = (await header()).stats;
+const frameMs = 1000 / stats.fps;
+console.log(`input-to-photon latency: median ${median.toFixed(1)} ms over ${latencies.length} drags ` +
+  `(min ${latencies[0].toFixed(1)}, max ${latencies.at(-1).toFixed(1)}); frame time ${frameMs.toFixed(1)} ms ` +
+  `(${stats.fps.toFixed(1)} fps, render ${stats.render_ms.toFixed(1)} ms); bound ${(2 * frameMs + 20).toFixed(1)} ms`);
+// Frames drawn per second against the session's own frame rate over the same seconds.
+const [f0, id0, t0] = await page.evaluate(() => [window.__igi.frames, window.__igi.header.stats.id, performance.now()]);
+await page.waitForTimeout(3000);
+const [f1, id1, t1] = await page.evaluate(() => [window.__igi.frames, window.__igi.header.stats.id, performance.now()]);
+const drawnFps = (f1 - f0) * 1000 / (t1 - t0), renderedFps = (id1 - id0) * 1000 / (t1 - t0);
+console.log(`browser: ${drawnFps.toFixed(2)} frames drawn per second, session: ${renderedFps.toFixed(2)} rendered`);
+assert.ok(drawnFps >= 0.9 * renderedFps, "the browser shows at least 90 % of the rendered frames");
+assert.ok(median <= 2 * frameMs + 20, `latency ${median} ms exceeds 2 frame times + 20 ms`);
+
+await browser.close();
+console.log("ok");

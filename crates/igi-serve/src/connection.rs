@@ -1,0 +1,149 @@
+//! One WebSocket connection: its input messages go to the shared render loop, the newest
+//! encoded frame goes out whenever the previous send has completed (see the crate doc for the
+//! wire format). A bad message closes this connection only.
+
+use crate::encoder::EncodedFrame;
+use axum::extract::ws::{CloseFrame, Message, WebSocket, close_code};
+use futures_util::{SinkExt, StreamExt};
+use igi_session::{FrameStats, Input, RenderLoop};
+use serde::{Deserialize, Serialize};
+use std::collections::VecDeque;
+use std::sync::{Arc, Mutex};
+use tokio::sync::watch;
+
+/// Longest message a client may send; input messages are a few hundred bytes.
+pub const MAX_MESSAGE_BYTES: usize = 16 * 1024;
+/// Inputs of one connection waiting for the frame that includes them; a client that sends
+/// faster than frames come loses the oldest acknowledgements, not memory.
+const MAX_PENDING: usize = 1024;
+
+/// A message from the page.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ClientMessage {
+    /// The client's number for this input, acknowledged in the first frame that includes it.
+    #[serde(default)]
+    pub id: Option<u64>,
+    /// The input.
+    pub input: Input,
+}
+
+/// The JSON part of a frame message.
+#[derive(Debug, Serialize)]
+pub struct FrameHeader<'a> {
+    /// Statistics and settings of the frame.
+    pub stats: &'a FrameStats,
+    /// The highest `id` of this connection's inputs that the frame includes, if a new one.
+    pub acked: Option<u64>,
+    /// Settings this connection sent that were refused, with the reason.
+    pub errors: Vec<String>,
+}
+
+/// What this connection has sent and not yet seen acknowledged.
+#[derive(Debug, Default)]
+struct Pending {
+    /// (render-loop sequence number, client id) in sending order.
+    inputs: VecDeque<(u64, u64)>,
+    errors: Vec<String>,
+}
+
+/// Why a connection ends.
+struct Closing {
+    code: u16,
+    reason: String,
+}
+
+/// Serves one WebSocket until it closes or misbehaves.
+pub async fn handle(
+    socket: WebSocket,
+    render_loop: Arc<RenderLoop>,
+    mut frames: watch::Receiver<Option<Arc<EncodedFrame>>>,
+) {
+    let (mut sink, mut stream) = socket.split();
+    let pending = Arc::new(Mutex::new(Pending::default()));
+    // The newest frame goes out at once to a new viewer.
+    frames.mark_changed();
+
+    let receive = {
+        let pending = pending.clone();
+        async move {
+            while let Some(message) = stream.next().await {
+                let text = match message {
+                    Ok(Message::Text(text)) => text,
+                    Ok(Message::Binary(_)) => {
+                        return Closing {
+                            code: close_code::UNSUPPORTED,
+                            reason: "binary messages are not accepted".into(),
+                        };
+                    }
+                    Ok(Message::Ping(_) | Message::Pong(_)) => continue,
+                    Ok(Message::Close(_)) => break,
+                    Err(e) => return Closing { code: close_code::SIZE, reason: format!("bad message: {e}") },
+                };
+                let message: ClientMessage = match serde_json::from_str(&text) {
+                    Ok(m) => m,
+                    Err(e) => {
+                        return Closing { code: close_code::INVALID, reason: format!("malformed input: {e}") };
+                    }
+                };
+                if let Input::Settings { settings } = &message.input {
+                    // Refused here, so the error reaches the connection that sent them.
+                    if let Err(e) = settings.validate() {
+                        lock(&pending).errors.push(e.to_string());
+                        continue;
+                    }
+                }
+                let seq = render_loop.send(message.input);
+                if let Some(id) = message.id {
+                    let mut p = lock(&pending);
+                    if p.inputs.len() == MAX_PENDING {
+                        p.inputs.pop_front();
+                    }
+                    p.inputs.push_back((seq, id));
+                }
+            }
+            Closing { code: close_code::NORMAL, reason: String::new() }
+        }
+    };
+
+    let send = async {
+        while frames.changed().await.is_ok() {
+            let Some(frame) = frames.borrow_and_update().clone() else { continue };
+            let (acked, errors) = {
+                let mut p = lock(&pending);
+                let mut acked = None;
+                while p.inputs.front().is_some_and(|&(seq, _)| seq <= frame.stats.input_seq) {
+                    acked = p.inputs.pop_front().map(|(_, id)| id);
+                }
+                (acked, std::mem::take(&mut p.errors))
+            };
+            let header = FrameHeader { stats: &frame.stats, acked, errors };
+            let Ok(json) = serde_json::to_vec(&header) else { return };
+            let mut bytes = Vec::with_capacity(5 + json.len() + frame.bytes.len());
+            bytes.push(frame.kind as u8);
+            bytes.extend_from_slice(&u32::try_from(json.len()).unwrap_or(u32::MAX).to_le_bytes());
+            bytes.extend_from_slice(&json);
+            bytes.extend_from_slice(&frame.bytes);
+            if sink.send(Message::Binary(bytes.into())).await.is_err() {
+                return;
+            }
+        }
+    };
+
+    let closing = tokio::select! {
+        closing = receive => Some(closing),
+        () = send => None,
+    };
+    if let Some(Closing { code, reason }) = closing {
+        if code != close_code::NORMAL {
+            tracing::info!("closing a viewer connection: {reason}");
+        }
+        // The reason of a close frame is limited to 123 bytes.
+        let reason: String = reason.chars().take(100).collect();
+        let _ = sink.send(Message::Close(Some(CloseFrame { code, reason: reason.into() }))).await;
+    }
+}
+
+fn lock(pending: &Mutex<Pending>) -> std::sync::MutexGuard<'_, Pending> {
+    pending.lock().unwrap_or_else(|e| e.into_inner())
+}

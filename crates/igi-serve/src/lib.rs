@@ -1,0 +1,28 @@
+//! `igi serve`: a browser viewer of an [`igi_session::Session`]. An axum server serves one
+//! page (embedded in the binary, no build step) and one WebSocket; the page draws the frames
+//! on a canvas and sends the user's input back. Nothing else is served.
+//!
+//! # Wire protocol (`GET /ws`)
+//!
+//! Client → server: text messages of JSON, one [`ClientMessage`] each:
+//! `{"id": 17, "input": {"type": "drag", "dx": 4, "dy": 0, "button": "primary"}}`, where
+//! `input` is an [`igi_session::Input`] and `id` an optional number of the client's choosing.
+//! A message that is not such JSON, a binary message, or one longer than
+//! [`MAX_MESSAGE_BYTES`] closes that connection (and nothing else).
+//!
+//! Server → client: binary messages, one per frame: one byte of image kind (0 JPEG, 1 PNG),
+//! a little-endian `u32` length n, n bytes of JSON ([`FrameHeader`]: the frame's statistics
+//! and settings, the highest input `id` of this connection the frame includes, refused
+//! settings), then the image file. Frames are JPEG while things change and PNG (lossless)
+//! once the view is still. Newest frame wins: a connection is sent the newest frame when its
+//! previous send has completed, so a slow client gets fewer frames and nothing queues up.
+//!
+//! Modules: [`encoder`] (frames to JPEG/PNG once for all connections), [`connection`] (one
+//! WebSocket), [`server`] (routes, start and shutdown).
+
+pub mod connection;
+pub mod encoder;
+pub mod server;
+
+pub use connection::{ClientMessage, FrameHeader, MAX_MESSAGE_BYTES};
+pub use server::{run, serve};

@@ -1,0 +1,57 @@
+//! A server on a free localhost port with a small session of the animated room.
+
+use igi_render::PreparedScene;
+use igi_session::{RenderLoop, Session, ViewSettings};
+use std::net::SocketAddr;
+use std::sync::Arc;
+use tokio::sync::oneshot;
+
+/// A running server; dropping it stops the server.
+pub struct TestServer {
+    pub address: SocketAddr,
+    stop: Option<oneshot::Sender<()>>,
+    thread: Option<std::thread::JoinHandle<()>>,
+}
+
+impl Drop for TestServer {
+    fn drop(&mut self) {
+        if let Some(stop) = self.stop.take() {
+            let _ = stop.send(());
+        }
+        if let Some(thread) = self.thread.take() {
+            let _ = thread.join();
+        }
+    }
+}
+
+/// Serves the animated room, `width` × `height`, paused and without accumulation (a frame
+/// changes only when an input changes it), on its own runtime thread.
+pub fn start(width: u32, height: u32) -> TestServer {
+    let scene = PreparedScene::new(igi_scene::builtin("animated-room").unwrap());
+    let camera = *scene.camera().unwrap();
+    let settings = ViewSettings {
+        width,
+        height,
+        playing: false,
+        accumulate: false,
+        ..ViewSettings::for_scene(scene.bounds().diagonal())
+    };
+    let session = Session::new(scene, camera, settings, 1).unwrap();
+    let (stop, stopped) = oneshot::channel::<()>();
+    let (ready, address) = std::sync::mpsc::channel();
+    let thread = std::thread::spawn(move || {
+        let runtime =
+            tokio::runtime::Builder::new_multi_thread().worker_threads(1).enable_all().build().unwrap();
+        runtime.block_on(async move {
+            let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
+            ready.send(listener.local_addr().unwrap()).unwrap();
+            let render_loop = Arc::new(RenderLoop::spawn(session));
+            igi_serve::serve(render_loop, listener, async {
+                let _ = stopped.await;
+            })
+            .await
+            .unwrap();
+        });
+    });
+    TestServer { address: address.recv().unwrap(), stop: Some(stop), thread: Some(thread) }
+}

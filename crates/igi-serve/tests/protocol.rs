@@ -1,0 +1,163 @@
+//! The WebSocket protocol spoken by a Rust client: frames arrive as documented and decode to
+//! the session's image, inputs are acknowledged by the frame that includes them, settings
+//! round-trip, and malformed, oversized and binary messages close only their own connection.
+//! The HTTP side serves the page and nothing else.
+
+mod common;
+
+use futures_util::{SinkExt, StreamExt};
+use serde_json::{Value, json};
+use std::io::{Read, Write};
+use std::time::Duration;
+use tokio_tungstenite::tungstenite::Message;
+
+type Socket = tokio_tungstenite::WebSocketStream<tokio_tungstenite::MaybeTlsStream<tokio::net::TcpStream>>;
+
+/// A decoded frame message.
+struct Frame {
+    kind: u8,
+    header: Value,
+    image: image::RgbImage,
+}
+
+async fn connect(server: &common::TestServer) -> Socket {
+    let url = format!("ws://{}/ws", server.address);
+    tokio_tungstenite::connect_async(url).await.expect("websocket connects").0
+}
+
+/// The next frame message (skipping pings), within 30 s.
+async fn next_frame(socket: &mut Socket) -> Frame {
+    loop {
+        let message = tokio::time::timeout(Duration::from_secs(30), socket.next())
+            .await
+            .expect("a frame within 30 s")
+            .expect("the connection stays open")
+            .expect("a valid message");
+        let Message::Binary(bytes) = message else { continue };
+        let kind = bytes[0];
+        let length = u32::from_le_bytes(bytes[1..5].try_into().unwrap()) as usize;
+        let header: Value = serde_json::from_slice(&bytes[5..5 + length]).unwrap();
+        let format = if kind == 0 { image::ImageFormat::Jpeg } else { image::ImageFormat::Png };
+        let image = image::load_from_memory_with_format(&bytes[5 + length..], format).unwrap().to_rgb8();
+        return Frame { kind, header, image };
+    }
+}
+
+/// Frames until one satisfies `done`.
+async fn frame_where(socket: &mut Socket, mut done: impl FnMut(&Frame) -> bool) -> Frame {
+    for _ in 0..200 {
+        let frame = next_frame(socket).await;
+        if done(&frame) {
+            return frame;
+        }
+    }
+    panic!("no frame satisfied the condition");
+}
+
+/// Sends a raw message and expects the server to close the connection (with a close frame or
+/// by ending the stream) within 10 s.
+async fn expect_closed(socket: &mut Socket, message: Message) -> Option<u16> {
+    socket.send(message).await.ok();
+    let deadline = tokio::time::Instant::now() + Duration::from_secs(10);
+    loop {
+        match tokio::time::timeout_at(deadline, socket.next()).await.expect("the server closes within 10 s") {
+            Some(Ok(Message::Close(frame))) => return frame.map(|f| u16::from(f.code)),
+            Some(Ok(_)) => continue,
+            Some(Err(_)) | None => return None,
+        }
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn frames_inputs_settings_and_bad_messages() {
+    let server = common::start(160, 120);
+    let mut viewer = connect(&server).await;
+
+    // A frame of the session's size that is not blank.
+    let first = next_frame(&mut viewer).await;
+    assert_eq!(first.image.dimensions(), (160, 120));
+    let (lo, hi) = first.image.pixels().fold((255u8, 0u8), |(lo, hi), p| (lo.min(p[1]), hi.max(p[1])));
+    assert!(hi > lo + 20, "the image has content ({lo}..{hi})");
+    assert_eq!(first.header["stats"]["width"], 160);
+    assert!(first.header["stats"]["settings"]["vpls_per_pixel"].as_u64().unwrap() > 0);
+
+    // A drag with an id: the frame that includes it says so, and shows the turned view.
+    let drag = json!({"id": 7, "input": {"type": "drag", "dx": 40, "dy": 0, "button": "primary"}});
+    viewer.send(Message::Text(drag.to_string().into())).await.unwrap();
+    let turned = frame_where(&mut viewer, |f| f.header["acked"] == 7).await;
+    assert_ne!(turned.image.as_raw(), first.image.as_raw());
+
+    // Settings round-trip: the frames carry the new value.
+    let mut settings = turned.header["stats"]["settings"].clone();
+    settings["filter"] = json!(false);
+    let message = json!({"id": 8, "input": {"type": "settings", "settings": settings}});
+    viewer.send(Message::Text(message.to_string().into())).await.unwrap();
+    let unfiltered = frame_where(&mut viewer, |f| f.header["acked"] == 8).await;
+    assert_eq!(unfiltered.header["stats"]["settings"]["filter"], false);
+
+    // Invalid settings are refused with the reason, to this connection, and change nothing.
+    settings["aa"] = json!(0);
+    let message = json!({"id": 9, "input": {"type": "settings", "settings": settings}});
+    viewer.send(Message::Text(message.to_string().into())).await.unwrap();
+    let nudge = json!({"id": 10, "input": {"type": "drag", "dx": 5, "dy": 0, "button": "primary"}});
+    viewer.send(Message::Text(nudge.to_string().into())).await.unwrap();
+    let mut errors = Vec::new();
+    let after = frame_where(&mut viewer, |f| {
+        errors.extend(f.header["errors"].as_array().into_iter().flatten().map(|e| e.to_string()));
+        f.header["acked"] == 10
+    })
+    .await;
+    assert!(errors.iter().any(|e| e.contains("aa")), "{errors:?}");
+    assert_eq!(after.header["stats"]["settings"]["aa"], 1);
+
+    // Once nothing changes, the newest frame comes losslessly.
+    let still = frame_where(&mut viewer, |f| f.kind == 1).await;
+    assert_eq!(still.image.dimensions(), (160, 120));
+
+    // Bad messages close their own connection only.
+    let bad: [(Message, Option<u16>); 5] = [
+        (Message::Text("{not json".into()), Some(1007)),
+        (Message::Text(json!({"input": {"type": "explode"}}).to_string().into()), Some(1007)),
+        (Message::Text(json!({"input": {"type": "reset"}, "extra": 1}).to_string().into()), Some(1007)),
+        (Message::Binary(vec![0xde, 0xad, 0xbe, 0xef].into()), Some(1003)),
+        (Message::Text("x".repeat(1 << 20).into()), None),
+    ];
+    for (message, code) in bad {
+        let mut other = connect(&server).await;
+        next_frame(&mut other).await;
+        let closed = expect_closed(&mut other, message).await;
+        if code.is_some() {
+            assert_eq!(closed, code);
+        }
+    }
+    // The first viewer still gets frames for its input.
+    let alive = json!({"id": 11, "input": {"type": "drag", "dx": -30, "dy": 0, "button": "primary"}});
+    viewer.send(Message::Text(alive.to_string().into())).await.unwrap();
+    frame_where(&mut viewer, |f| f.header["acked"] == 11).await;
+}
+
+/// A raw HTTP GET; returns the status line and the body.
+fn get(address: std::net::SocketAddr, path: &str) -> (String, String) {
+    let mut stream = std::net::TcpStream::connect(address).unwrap();
+    write!(stream, "GET {path} HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n").unwrap();
+    let mut response = String::new();
+    stream.read_to_string(&mut response).unwrap();
+    let status = response.lines().next().unwrap_or_default().to_string();
+    let body = response.split_once("\r\n\r\n").map(|(_, b)| b.to_string()).unwrap_or_default();
+    (status, body)
+}
+
+#[test]
+fn only_the_page_and_the_stream_are_served() {
+    let server = common::start(32, 24);
+    let (status, body) = get(server.address, "/");
+    assert!(status.contains("200"), "{status}");
+    assert!(body.contains("<canvas") && body.contains("/ws"));
+    for path in ["/etc/passwd", "/../Cargo.toml", "/index.html", "/page/index.html", "/src/lib.rs"] {
+        let (status, _) = get(server.address, path);
+        assert!(status.contains("404"), "{path}: {status}");
+    }
+    // The stream needs a WebSocket upgrade.
+    let (status, _) = get(server.address, "/ws");
+    assert!(!status.contains("200"), "{status}");
+}

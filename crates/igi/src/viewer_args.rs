@@ -1,0 +1,68 @@
+//! The options shared by the interactive viewers, `igi view` and `igi serve`: the scene, the
+//! frame options of `igi render` and the clock, turned into an [`igi_session::Session`].
+
+use crate::frame_args::FrameArgs;
+use anyhow::{Context, Result};
+use clap::Args;
+use igi_render::PreparedScene;
+use igi_render::tonemap::DEFAULT_KEY;
+use igi_session::{Session, ViewSettings};
+
+/// Primary rays per pixel of the viewers: an interactive frame first.
+const VIEWER_AA: u32 = 1;
+
+/// Options of `igi view` and `igi serve`.
+#[derive(Debug, Args)]
+pub struct ViewerArgs {
+    /// Built-in scene name or scene file.
+    pub scene: String,
+    /// Fixed exposure in stops instead of Reinhard's operator.
+    #[arg(long, allow_hyphen_values = true)]
+    pub exposure: Option<f32>,
+    /// Start with the animation clock stopped.
+    #[arg(long)]
+    pub paused: bool,
+    /// Animation speed: scene seconds per second.
+    #[arg(long, default_value_t = 1.0)]
+    pub speed: f32,
+    /// Show single frames only (no progressive accumulation while the view is still).
+    #[arg(long)]
+    pub no_accumulate: bool,
+    /// Frame options (as for `igi render`; `--aa` defaults to 1 here).
+    #[command(flatten)]
+    pub frame: FrameArgs,
+}
+
+impl ViewerArgs {
+    /// Loads the scene and starts a session with these options (errors name the flag).
+    pub fn session(&self) -> Result<Session> {
+        let scene = igi_scene::load_named(&self.scene).context("cannot load scene")?;
+        let mut frame = self.frame.frame_state(&scene)?;
+        frame.settings.aa = self.frame.aa.unwrap_or(VIEWER_AA);
+        let mut prepared = PreparedScene::new(scene);
+        prepared.set_time(self.frame.time);
+        let s = &frame.settings;
+        let filter = s.filter.unwrap_or_default();
+        let settings = ViewSettings {
+            width: s.width,
+            height: s.height,
+            vpls_per_pixel: s.vpls_per_pixel,
+            interleave: s.interleave,
+            aa: s.aa,
+            filter: s.filter.is_some(),
+            filter_normal: filter.min_normal_cos,
+            filter_depth: filter.max_depth_ratio,
+            clamp: s.clamp,
+            specular_depth: s.specular_depth,
+            bounces: s.bounces,
+            exposure: self.exposure,
+            key: DEFAULT_KEY,
+            accumulate: !self.no_accumulate,
+            playing: !self.paused,
+            speed: self.speed,
+        };
+        let mut session = Session::new(prepared, frame.camera, settings, self.frame.threads)?;
+        session.set_clock(self.frame.time);
+        Ok(session)
+    }
+}
