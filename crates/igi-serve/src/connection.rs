@@ -83,7 +83,10 @@ pub async fn handle(
                 let message: ClientMessage = match serde_json::from_str(&text) {
                     Ok(m) => m,
                     Err(e) => {
-                        return Closing { code: close_code::INVALID, reason: format!("malformed input: {e}") };
+                        return Closing {
+                            code: close_code::INVALID,
+                            reason: format!("malformed input: {e}"),
+                        };
                     }
                 };
                 if let Input::Settings { settings } = &message.input {

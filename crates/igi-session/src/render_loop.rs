@@ -48,6 +48,7 @@ pub struct RenderLoop {
     latest: Arc<LatestFrame>,
     errors: Arc<Mutex<Vec<String>>>,
     stop: Arc<AtomicBool>,
+    idle: Arc<AtomicBool>,
     thread: Option<JoinHandle<()>>,
 }
 
@@ -58,14 +59,15 @@ impl RenderLoop {
         let latest = Arc::new(LatestFrame::default());
         let errors = Arc::new(Mutex::new(Vec::new()));
         let stop = Arc::new(AtomicBool::new(false));
+        let idle = Arc::new(AtomicBool::new(false));
         let thread = {
-            let (latest, errors, stop) = (latest.clone(), errors.clone(), stop.clone());
+            let (latest, errors, stop, idle) = (latest.clone(), errors.clone(), stop.clone(), idle.clone());
             std::thread::Builder::new()
                 .name("igi-render-loop".into())
-                .spawn(move || run(session, &receiver, &latest, &errors, &stop))
+                .spawn(move || run(session, &receiver, &latest, &errors, &stop, &idle))
                 .expect("spawning the render thread")
         };
-        Self { inputs, sent: AtomicU64::new(0), latest, errors, stop, thread: Some(thread) }
+        Self { inputs, sent: AtomicU64::new(0), latest, errors, stop, idle, thread: Some(thread) }
     }
 
     /// Posts an input; returns its sequence number: the first frame whose
@@ -81,6 +83,12 @@ impl RenderLoop {
     /// The newest frame and its waiting.
     pub fn latest(&self) -> &Arc<LatestFrame> {
         &self.latest
+    }
+
+    /// True while the loop waits for input with nothing to render (a still view whose
+    /// accumulation is off or complete): no newer frame comes until an input arrives.
+    pub fn is_idle(&self) -> bool {
+        self.idle.load(Ordering::SeqCst)
     }
 
     /// Messages of refused inputs (invalid settings) since the last call.
@@ -107,6 +115,7 @@ fn run(
     latest: &LatestFrame,
     errors: &Mutex<Vec<String>>,
     stop: &AtomicBool,
+    idle: &AtomicBool,
 ) {
     let mut last = Instant::now();
     while !stop.load(Ordering::SeqCst) {
@@ -119,7 +128,10 @@ fn run(
                     Err(TryRecvError::Disconnected) => return,
                 }
             } else {
-                match inputs.recv() {
+                idle.store(true, Ordering::SeqCst);
+                let received = inputs.recv();
+                idle.store(false, Ordering::SeqCst);
+                match received {
                     Ok(input) => {
                         // Idle time is not animation time.
                         last = Instant::now();

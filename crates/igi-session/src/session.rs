@@ -104,6 +104,7 @@ impl Session {
         threads: usize,
     ) -> Result<Self, SettingsError> {
         settings.validate()?;
+        let tone_map = settings.tone_map();
         let diagonal = scene.bounds().diagonal();
         let fly_speed = if diagonal.is_finite() && diagonal > 0.0 { 0.15 * diagonal } else { 1.0 };
         Ok(Self {
@@ -113,7 +114,8 @@ impl Session {
             fly_speed,
             settings,
             accumulator: Accumulator::default(),
-            tone_mapper: ToneMapper::new(Default::default(), &Default::default()),
+            // Before any statistics exist: exact for a fixed exposure, a guess for Reinhard.
+            tone_mapper: ToneMapper::new(tone_map, &Default::default()),
             clock: 0.0,
             selected: None,
             moved: BTreeMap::new(),

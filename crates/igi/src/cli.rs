@@ -1,7 +1,7 @@
 //! The command line: argument types (clap derive), logging set-up, subcommand dispatch, and
 //! helpers the subcommands share (vector arguments, camera overrides).
 
-use crate::{bench, cmd_info, cmd_render, cmd_serve};
+use crate::{bench, cmd_info, cmd_render, cmd_serve, cmd_view};
 use anyhow::Result;
 use clap::{Parser, Subcommand};
 use glam::Vec3;
@@ -25,6 +25,8 @@ pub enum Command {
     Render(cmd_render::RenderArgs),
     /// Print what a scene contains: geometry, materials, lights, bounds, camera.
     Info(cmd_info::InfoArgs),
+    /// Explore a scene in a window: fly or orbit, move objects, change settings.
+    View(cmd_view::ViewArgs),
     /// Explore a scene in a browser: serve a viewer page and stream the frames to it.
     Serve(cmd_serve::ServeArgs),
     /// Measure throughput (`igi bench frame`, `igi bench rays`).
@@ -37,6 +39,7 @@ pub fn dispatch(command: Command) -> Result<()> {
     match command {
         Command::Render(args) => cmd_render::run(&args),
         Command::Info(args) => cmd_info::run(&args),
+        Command::View(args) => cmd_view::run(&args),
         Command::Serve(args) => cmd_serve::run(&args),
         Command::Bench(cmd) => bench::run(cmd),
     }

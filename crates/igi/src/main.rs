@@ -16,6 +16,7 @@ mod cli;
 mod cmd_info;
 mod cmd_render;
 mod cmd_serve;
+mod cmd_view;
 mod cpu_check;
 mod frame_args;
 mod viewer_args;

@@ -1,0 +1,257 @@
+//! [`ViewerApp`]: the eframe application. The UI thread never renders: a small waker thread
+//! waits for the render loop's next frame and asks egui to repaint, and a repaint uploads the
+//! newest frame into one texture. So the window shows every frame it can and the renderer
+//! never waits for the display.
+
+use crate::ViewOptions;
+use crate::panel::{self, Panel};
+use eframe::egui::{self, ColorImage, Key, PointerButton, Sense, TextureHandle, TextureOptions};
+use igi_session::{Button, Frame, Input, RenderLoop};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+/// Wheel points per scroll notch (egui reports a notch of a line as 50 points).
+const POINTS_PER_NOTCH: f32 = 50.0;
+
+/// The window.
+pub struct ViewerApp {
+    render_loop: Arc<RenderLoop>,
+    options: ViewOptions,
+    texture: Option<TextureHandle>,
+    shown: Option<Arc<Frame>>,
+    frames_shown: u32,
+    screenshot_requested: bool,
+    panel: Panel,
+    waker_stop: Arc<AtomicBool>,
+}
+
+impl ViewerApp {
+    /// Sets up the window's state and starts the thread that wakes it for new frames.
+    pub fn new(cc: &eframe::CreationContext<'_>, render_loop: Arc<RenderLoop>, options: ViewOptions) -> Self {
+        // Physical pixels = points: the image shows 1:1 and screenshots are comparable.
+        cc.egui_ctx.set_pixels_per_point(1.0);
+        let waker_stop = Arc::new(AtomicBool::new(false));
+        {
+            let (ctx, render_loop, stop) = (cc.egui_ctx.clone(), render_loop.clone(), waker_stop.clone());
+            std::thread::Builder::new()
+                .name("igi-view-waker".into())
+                .spawn(move || {
+                    let mut last = 0;
+                    while !stop.load(Ordering::SeqCst) {
+                        if let Some(frame) = render_loop.latest().wait_newer(last, Duration::from_millis(100))
+                        {
+                            last = frame.stats.id;
+                            ctx.request_repaint();
+                        }
+                    }
+                })
+                .expect("spawning the waker thread");
+        }
+        Self {
+            render_loop,
+            options,
+            texture: None,
+            shown: None,
+            frames_shown: 0,
+            screenshot_requested: false,
+            panel: Panel::default(),
+            waker_stop,
+        }
+    }
+
+    /// Uploads the newest frame if it is new.
+    fn take_newest_frame(&mut self, ctx: &egui::Context) {
+        let Some(frame) = self.render_loop.latest().get() else { return };
+        if self.shown.as_ref().is_some_and(|s| s.stats.id == frame.stats.id) {
+            return;
+        }
+        let size = [frame.stats.width as usize, frame.stats.height as usize];
+        let image = ColorImage::from_rgb(size, &frame.rgb8);
+        match &mut self.texture {
+            Some(texture) => texture.set(image, TextureOptions::NEAREST),
+            None => self.texture = Some(ctx.load_texture("frame", image, TextureOptions::NEAREST)),
+        }
+        self.frames_shown += 1;
+        self.panel.frame_shown(&frame.stats);
+        self.shown = Some(frame);
+    }
+
+    /// Mouse and wheel over the image, keys anywhere outside text fields.
+    fn handle_input(&self, ctx: &egui::Context, response: &egui::Response) {
+        let send = |input| {
+            self.render_loop.send(input);
+        };
+        for (button, which) in
+            [(PointerButton::Primary, Button::Primary), (PointerButton::Secondary, Button::Secondary)]
+        {
+            if response.dragged_by(button) {
+                let delta = response.drag_delta();
+                if delta != egui::Vec2::ZERO {
+                    send(Input::Drag { dx: delta.x, dy: delta.y, button: which });
+                }
+            }
+        }
+        if response.clicked() {
+            if let Some(pos) = response.interact_pointer_pos() {
+                let p = pos - response.rect.min;
+                send(Input::Pick { x: p.x, y: p.y });
+            }
+        }
+        if response.hovered() {
+            let scroll = ctx.input(|i| i.raw_scroll_delta.y);
+            if scroll != 0.0 {
+                send(Input::Scroll { delta: scroll / POINTS_PER_NOTCH });
+            }
+        }
+        if !ctx.wants_keyboard_input() {
+            let keys: Vec<(igi_session::Key, bool)> = ctx.input(|i| {
+                i.events
+                    .iter()
+                    .filter_map(|e| match e {
+                        egui::Event::Key { key, pressed, repeat: false, .. } => {
+                            Some((fly_key(*key)?, *pressed))
+                        }
+                        _ => None,
+                    })
+                    .collect()
+            });
+            for (key, down) in keys {
+                send(Input::Key { key, down });
+            }
+        }
+    }
+
+    /// F12: the displayed image as PNG and its linear radiance as EXR.
+    fn snapshot(&mut self) {
+        let Some(frame) = &self.shown else { return };
+        let stamp =
+            std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).unwrap_or_default().as_secs();
+        let base = PathBuf::from(format!("igi-{stamp}"));
+        let png = base.with_extension("png");
+        let exr = base.with_extension("exr");
+        let result = save_png(&png, &frame.rgb8, frame.stats.width, frame.stats.height)
+            .and_then(|()| igi_render::write_exr(&frame.film, &exr).map_err(|e| e.to_string()));
+        self.panel.message = match result {
+            Ok(()) => format!("saved {} and {}", png.display(), exr.display()),
+            Err(e) => format!("cannot save the snapshot: {e}"),
+        };
+    }
+
+    /// True once `--exit-after-frames` frames were shown, or fewer if the renderer has
+    /// nothing more to render (a still view without accumulation renders one frame).
+    fn enough_frames(&self, ctx: &egui::Context) -> bool {
+        let wanted = self.options.exit_after_frames.unwrap_or(1);
+        if self.frames_shown >= wanted {
+            return true;
+        }
+        let newest = self.render_loop.latest().get().map(|f| f.stats.id);
+        let caught_up = newest.is_some() && newest == self.shown.as_ref().map(|f| f.stats.id);
+        if caught_up && self.render_loop.is_idle() {
+            return true;
+        }
+        // An idle renderer wakes nobody: look again shortly.
+        ctx.request_repaint_after(Duration::from_millis(50));
+        false
+    }
+
+    /// In `--screenshot` mode: asks for the window's framebuffer after enough frames and
+    /// writes it when it comes.
+    fn screenshot(&mut self, ctx: &egui::Context, image_rect: egui::Rect) {
+        let Some(path) = self.options.screenshot.clone() else { return };
+        if !self.screenshot_requested && self.enough_frames(ctx) {
+            self.screenshot_requested = true;
+            ctx.send_viewport_cmd(egui::ViewportCommand::Screenshot(Default::default()));
+        }
+        let shot = ctx.input(|i| {
+            i.events.iter().find_map(|e| match e {
+                egui::Event::Screenshot { image, .. } => Some(image.clone()),
+                _ => None,
+            })
+        });
+        let Some(shot) = shot else {
+            if self.screenshot_requested {
+                ctx.request_repaint();
+            }
+            return;
+        };
+        let rgb: Vec<u8> = shot.pixels.iter().flat_map(|c| [c.r(), c.g(), c.b()]).collect();
+        match save_png(&path, &rgb, shot.size[0] as u32, shot.size[1] as u32) {
+            Ok(()) => println!(
+                "image at {},{} size {}x{} in window screenshot {}x{} -> {}",
+                image_rect.min.x.round(),
+                image_rect.min.y.round(),
+                image_rect.width().round(),
+                image_rect.height().round(),
+                shot.size[0],
+                shot.size[1],
+                path.display()
+            ),
+            Err(e) => eprintln!("igi: error: cannot write the screenshot {}: {e}", path.display()),
+        }
+        ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+    }
+}
+
+impl eframe::App for ViewerApp {
+    fn update(&mut self, ctx: &egui::Context, _frame: &mut eframe::Frame) {
+        self.take_newest_frame(ctx);
+        if ctx.input(|i| i.key_pressed(Key::F12)) {
+            self.snapshot();
+        }
+        for error in self.render_loop.take_errors() {
+            self.panel.message = error;
+        }
+        egui::SidePanel::right("panel").exact_width(panel::WIDTH).resizable(false).show(ctx, |ui| {
+            if let Some(input) = self.panel.show(ui, self.shown.as_deref()) {
+                self.render_loop.send(input);
+            }
+        });
+        let mut image_rect = egui::Rect::NOTHING;
+        egui::CentralPanel::default().frame(egui::Frame::NONE).show(ctx, |ui| {
+            if let Some(texture) = &self.texture {
+                let response = ui.add(egui::Image::new(texture).sense(Sense::click_and_drag()));
+                image_rect = response.rect;
+                self.handle_input(ctx, &response);
+            }
+        });
+        self.screenshot(ctx, image_rect);
+        if self.options.screenshot.is_none()
+            && self.options.exit_after_frames.is_some()
+            && self.enough_frames(ctx)
+        {
+            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+        }
+    }
+
+    fn on_exit(&mut self, _gl: Option<&eframe::glow::Context>) {
+        self.waker_stop.store(true, Ordering::SeqCst);
+    }
+}
+
+/// The fly-camera key of a keyboard key.
+fn fly_key(key: Key) -> Option<igi_session::Key> {
+    use igi_session::Key as K;
+    Some(match key {
+        Key::W => K::W,
+        Key::A => K::A,
+        Key::S => K::S,
+        Key::D => K::D,
+        Key::Q => K::Q,
+        Key::E => K::E,
+        _ => return None,
+    })
+}
+
+fn save_png(path: &Path, rgb: &[u8], width: u32, height: u32) -> Result<(), String> {
+    image::save_buffer_with_format(
+        path,
+        rgb,
+        width,
+        height,
+        image::ExtendedColorType::Rgb8,
+        image::ImageFormat::Png,
+    )
+    .map_err(|e| e.to_string())
+}

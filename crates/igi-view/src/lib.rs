@@ -1,0 +1,57 @@
+//! `igi view`: a native window on an [`igi_session::Session`], with eframe/egui on OpenGL
+//! (glow). The session renders on its own thread ([`igi_session::RenderLoop`]); the window
+//! shows the newest frame 1:1 at its top-left corner, turns mouse and keys into
+//! [`igi_session::Input`]s, and has a side panel with the settings, the statistics and a
+//! frame-time plot.
+//!
+//! - [`app`]: the eframe application (image, input, screenshots, F12 snapshots).
+//! - [`panel`]: the side panel (settings widgets, statistics, plot).
+
+pub mod app;
+pub mod panel;
+
+use anyhow::{Result, bail};
+use igi_session::{RenderLoop, Session};
+use std::path::PathBuf;
+use std::sync::Arc;
+
+/// How `igi view` runs.
+#[derive(Clone, Debug, Default)]
+pub struct ViewOptions {
+    /// After [`ViewOptions::exit_after_frames`] frames, write a screenshot of the whole window
+    /// (PNG) here before closing.
+    pub screenshot: Option<PathBuf>,
+    /// Close the window after this many frames were shown.
+    pub exit_after_frames: Option<u32>,
+    /// The window title.
+    pub title: String,
+}
+
+/// Opens the window on `session` and runs until it is closed.
+pub fn run(session: Session, options: ViewOptions) -> Result<()> {
+    if cfg!(target_os = "linux")
+        && std::env::var_os("DISPLAY").is_none()
+        && std::env::var_os("WAYLAND_DISPLAY").is_none()
+    {
+        bail!(
+            "igi view needs a display (DISPLAY or WAYLAND_DISPLAY is not set); run it under \
+             `xvfb-run`, or use `igi serve` for a viewer in the browser"
+        );
+    }
+    let settings = session.settings();
+    let size =
+        [(settings.width + panel::WIDTH as u32) as f32, settings.height.max(panel::MIN_HEIGHT as u32) as f32];
+    let render_loop = Arc::new(RenderLoop::spawn(session));
+    let native = eframe::NativeOptions {
+        viewport: eframe::egui::ViewportBuilder::default().with_inner_size(size).with_title(&options.title),
+        renderer: eframe::Renderer::Glow,
+        ..Default::default()
+    };
+    let title = options.title.clone();
+    eframe::run_native(
+        &title,
+        native,
+        Box::new(move |cc| Ok(Box::new(app::ViewerApp::new(cc, render_loop, options)))),
+    )
+    .map_err(|e| anyhow::anyhow!("cannot open the window: {e} (is there a display with OpenGL?)"))
+}

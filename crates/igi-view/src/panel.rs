@@ -1,0 +1,172 @@
+//! [`Panel`]: the window's side panel: the settings of the session (edited on a copy; a
+//! change goes out as one [`Input::Settings`]), the camera mode, the statistics of the shown
+//! frame and a plot of the last frame times.
+
+use eframe::egui::{self, DragValue, Ui};
+use igi_session::{CameraMode, Frame, FrameStats, Input};
+use std::collections::VecDeque;
+use std::time::Instant;
+
+/// Width of the panel, points.
+pub const WIDTH: f32 = 280.0;
+/// Smallest window height that shows the whole panel.
+pub const MIN_HEIGHT: f32 = 640.0;
+/// Frame times kept for the plot.
+const HISTORY: usize = 120;
+
+/// The panel's state.
+#[derive(Debug, Default)]
+pub struct Panel {
+    /// A line for the user (a saved snapshot, a refused setting).
+    pub message: String,
+    frame_ms: VecDeque<f32>,
+    shown_at: VecDeque<Instant>,
+}
+
+impl Panel {
+    /// Records a newly shown frame (for the plot and the window's frame rate).
+    pub fn frame_shown(&mut self, stats: &FrameStats) {
+        if self.frame_ms.len() == HISTORY {
+            self.frame_ms.pop_front();
+            self.shown_at.pop_front();
+        }
+        self.frame_ms.push_back(stats.render_ms as f32);
+        self.shown_at.push_back(Instant::now());
+    }
+
+    /// Frames shown per second over the recorded ones.
+    fn shown_fps(&self) -> f64 {
+        match (self.shown_at.front(), self.shown_at.back()) {
+            (Some(a), Some(b)) if self.shown_at.len() > 1 => {
+                (self.shown_at.len() - 1) as f64 / b.duration_since(*a).as_secs_f64().max(1e-9)
+            }
+            _ => 0.0,
+        }
+    }
+
+    /// Draws the panel for the shown frame; returns the input a widget produced.
+    pub fn show(&mut self, ui: &mut Ui, frame: Option<&Frame>) -> Option<Input> {
+        let Some(frame) = frame else {
+            ui.label("rendering the first frame…");
+            return None;
+        };
+        let stats = &frame.stats;
+        let mut input = None;
+        egui::ScrollArea::vertical().show(ui, |ui| {
+            ui.heading("Camera");
+            let mut mode = stats.mode;
+            ui.horizontal(|ui| {
+                ui.selectable_value(&mut mode, CameraMode::Fly, "fly");
+                ui.selectable_value(&mut mode, CameraMode::Orbit, "orbit");
+            });
+            if mode != stats.mode {
+                input = Some(Input::Mode { mode });
+            }
+            if ui.button("reset camera and objects").clicked() {
+                input = Some(Input::Reset);
+            }
+            ui.small(
+                "fly: WASD/QE, drag to look; orbit: drag, scroll; click selects, right-drag moves; F12 saves",
+            );
+
+            let mut s = stats.settings.clone();
+            ui.heading("Lighting");
+            let row = |ui: &mut Ui, label: &str, widget: DragValue| {
+                ui.horizontal(|ui| {
+                    ui.label(label);
+                    ui.add(widget);
+                });
+            };
+            row(ui, "VPLs per pixel", DragValue::new(&mut s.vpls_per_pixel).range(1..=4096));
+            ui.horizontal(|ui| {
+                ui.label("interleave");
+                ui.add(DragValue::new(&mut s.interleave[0]).range(1..=16));
+                ui.label("×");
+                ui.add(DragValue::new(&mut s.interleave[1]).range(1..=16));
+            });
+            row(ui, "light bounces", DragValue::new(&mut s.bounces).range(0..=igi_render::vpl::MAX_BOUNCES));
+            row(ui, "clamp d_min", DragValue::new(&mut s.clamp).range(0.0..=f32::MAX).speed(0.01));
+            row(ui, "AA samples", DragValue::new(&mut s.aa).range(1..=64));
+            row(ui, "specular depth", DragValue::new(&mut s.specular_depth).range(0..=16));
+            ui.heading("Filter");
+            ui.checkbox(&mut s.filter, "discontinuity filter");
+            row(ui, "normal cosine ≥", DragValue::new(&mut s.filter_normal).range(-1.0..=1.0).speed(0.01));
+            row(ui, "depth ratio ≤", DragValue::new(&mut s.filter_depth).range(0.0..=10.0).speed(0.01));
+            ui.heading("Display");
+            let mut fixed = s.exposure.is_some();
+            ui.checkbox(&mut fixed, "fixed exposure");
+            let mut stops = s.exposure.unwrap_or(0.0);
+            if fixed {
+                row(ui, "exposure (stops)", DragValue::new(&mut stops).range(-64.0..=64.0).speed(0.1));
+            } else {
+                row(ui, "Reinhard key", DragValue::new(&mut s.key).range(0.01..=1.0).speed(0.01));
+            }
+            s.exposure = fixed.then_some(stops);
+            ui.checkbox(&mut s.accumulate, "accumulate while still");
+            ui.heading("Animation");
+            ui.checkbox(&mut s.playing, "play");
+            row(
+                ui,
+                "speed",
+                DragValue::new(&mut s.speed).range(0.0..=igi_session::settings::MAX_SPEED).speed(0.05),
+            );
+            if s != stats.settings && input.is_none() {
+                input = Some(Input::Settings { settings: s });
+            }
+
+            ui.heading("Statistics");
+            let mut text = format!(
+                "render fps   {:.1}\nwindow fps   {:.1}\nframe        {:.1} ms\nMrays/s      {:.1}\n\
+                 VPLs         {}\ntriangles    {}\naccumulated  {}\ntime         {:.2} s\nselected     {}\n\
+                 image        {}x{}\n",
+                stats.fps,
+                self.shown_fps(),
+                stats.render_ms,
+                stats.mrays_per_s,
+                stats.vpls,
+                stats.triangles,
+                stats.accumulated,
+                stats.time,
+                stats.selected.map_or("none".to_string(), |i| i.to_string()),
+                stats.width,
+                stats.height,
+            );
+            for (name, ms) in &stats.phases_ms {
+                text.push_str(&format!("  {name:<15} {ms:.2} ms\n"));
+            }
+            ui.monospace(text);
+            self.plot(ui);
+            if !self.message.is_empty() {
+                ui.colored_label(egui::Color32::LIGHT_RED, &self.message);
+            }
+        });
+        input
+    }
+
+    /// The frame times as a line, scaled to the largest.
+    fn plot(&self, ui: &mut Ui) {
+        let (rect, _) = ui.allocate_exact_size(egui::vec2(WIDTH - 20.0, 70.0), egui::Sense::hover());
+        let painter = ui.painter_at(rect);
+        painter.rect_filled(rect, 0.0, egui::Color32::from_gray(20));
+        let top = self.frame_ms.iter().copied().fold(1.0f32, f32::max) * 1.1;
+        let points: Vec<egui::Pos2> = self
+            .frame_ms
+            .iter()
+            .enumerate()
+            .map(|(i, ms)| {
+                egui::pos2(
+                    rect.left() + rect.width() * i as f32 / HISTORY as f32,
+                    rect.bottom() - rect.height() * ms / top,
+                )
+            })
+            .collect();
+        painter.add(egui::Shape::line(points, egui::Stroke::new(1.5, egui::Color32::LIGHT_GREEN)));
+        painter.text(
+            rect.left_top() + egui::vec2(4.0, 2.0),
+            egui::Align2::LEFT_TOP,
+            format!("frame time, max {top:.0} ms"),
+            egui::FontId::monospace(10.0),
+            egui::Color32::GRAY,
+        );
+    }
+}
