@@ -22,7 +22,11 @@ pub struct ViewerApp {
     texture: Option<TextureHandle>,
     shown: Option<Arc<Frame>>,
     frames_shown: u32,
+    /// When the first frame was shown (for the summary of `--exit-after-frames` runs).
+    first_shown: Option<std::time::Instant>,
     screenshot_requested: bool,
+    /// The window was asked to close.
+    closing: bool,
     panel: Panel,
     waker_stop: Arc<AtomicBool>,
 }
@@ -55,7 +59,9 @@ impl ViewerApp {
             texture: None,
             shown: None,
             frames_shown: 0,
+            first_shown: None,
             screenshot_requested: false,
+            closing: false,
             panel: Panel::default(),
             waker_stop,
         }
@@ -74,6 +80,7 @@ impl ViewerApp {
             None => self.texture = Some(ctx.load_texture("frame", image, TextureOptions::NEAREST)),
         }
         self.frames_shown += 1;
+        self.first_shown.get_or_insert_with(std::time::Instant::now);
         self.panel.frame_shown(&frame.stats);
         self.shown = Some(frame);
     }
@@ -137,6 +144,20 @@ impl ViewerApp {
             Ok(()) => format!("saved {} and {}", png.display(), exr.display()),
             Err(e) => format!("cannot save the snapshot: {e}"),
         };
+    }
+
+    /// One line for runs that exit by themselves: the frames the window showed per second
+    /// against the renderer's own rate (the display must not slow the renderer).
+    fn print_summary(&self) {
+        let (Some(first), Some(frame)) = (self.first_shown, &self.shown) else { return };
+        let seconds = first.elapsed().as_secs_f64();
+        let shown = f64::from(self.frames_shown.saturating_sub(1));
+        println!(
+            "window: {} frames shown, {:.2} frames per second after the first; renderer {:.2} fps",
+            self.frames_shown,
+            shown / seconds.max(1e-9),
+            frame.stats.fps
+        );
     }
 
     /// True once `--exit-after-frames` frames were shown, or fewer if the renderer has
@@ -219,8 +240,11 @@ impl eframe::App for ViewerApp {
         self.screenshot(ctx, image_rect);
         if self.options.screenshot.is_none()
             && self.options.exit_after_frames.is_some()
+            && !self.closing
             && self.enough_frames(ctx)
         {
+            self.closing = true;
+            self.print_summary();
             ctx.send_viewport_cmd(egui::ViewportCommand::Close);
         }
     }
