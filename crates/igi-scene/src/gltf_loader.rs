@@ -720,24 +720,11 @@ impl Loader<'_> {
         mean
     }
 
+    /// Adds a KHR_lights_punctual light at the node's world transform.
     fn light(&mut self, node: &gltf::Node, light: gltf::khr_lights_punctual::Light, world: Mat4) {
-        let power = Vec3::from(light.color()) * light.intensity();
-        let position = world.transform_point3(Vec3::ZERO);
-        let direction = world.transform_vector3(Vec3::NEG_Z).try_normalize();
-        let converted = match (light.kind(), direction) {
-            (Kind::Point, _) => Some(Light::Point { position, intensity: power }),
-            (Kind::Spot { outer_cone_angle, .. }, Some(direction)) => Some(Light::Spot {
-                position,
-                direction,
-                angle_deg: 2.0 * outer_cone_angle.clamp(0.0, std::f32::consts::FRAC_PI_2).to_degrees(),
-                intensity: power,
-            }),
-            (Kind::Directional, Some(direction)) => Some(Light::Directional { direction, irradiance: power }),
-            _ => None,
-        };
-        match converted {
-            Some(light) if power.is_finite() => self.scene.lights.push(light),
-            _ => self.report.warn(
+        match punctual(&light, world) {
+            Some(light) => self.scene.lights.push(light),
+            None => self.report.warn(
                 self.file,
                 format!("nodes[{}]: light with a degenerate transform or intensity skipped", node.index()),
             ),
@@ -762,5 +749,27 @@ impl Loader<'_> {
             }
             _ => self.report.warn(self.file, format!("nodes[{}]: degenerate camera skipped", node.index())),
         }
+    }
+}
+
+/// A KHR_lights_punctual light placed by `transform`: it sits at the origin of its node and
+/// shines down the node's −Z. `None` if the transform or the intensity is degenerate.
+fn punctual(light: &gltf::khr_lights_punctual::Light, transform: Mat4) -> Option<Light> {
+    let power = Vec3::from(light.color()) * light.intensity();
+    if !power.is_finite() {
+        return None;
+    }
+    let position = transform.transform_point3(Vec3::ZERO);
+    let direction = transform.transform_vector3(Vec3::NEG_Z).try_normalize();
+    match (light.kind(), direction) {
+        (Kind::Point, _) => Some(Light::Point { position, intensity: power }),
+        (Kind::Spot { outer_cone_angle, .. }, Some(direction)) => Some(Light::Spot {
+            position,
+            direction,
+            angle_deg: 2.0 * outer_cone_angle.clamp(0.0, std::f32::consts::FRAC_PI_2).to_degrees(),
+            intensity: power,
+        }),
+        (Kind::Directional, Some(direction)) => Some(Light::Directional { direction, irradiance: power }),
+        _ => None,
     }
 }
