@@ -28,6 +28,14 @@
 //!   point down their node's −Z.
 //! - The first perspective camera met in the node hierarchy: position from its node, target
 //!   one unit down the node's −Z, up the node's +Y, `yfov` converted to degrees.
+//! - Animations (glTF 3.11) of node translation, rotation and scale, STEP, LINEAR and
+//!   CUBICSPLINE, all playing at once, each looping with its own period (`channels.rs` reads
+//!   them). Every animated node, and every node under one, becomes an [`AnimationNode`] with
+//!   its local transform at rest, after its parent; the instances and lights on those nodes are
+//!   listed in [`Scene::animation`], and stand in [`Scene::instances`] and [`Scene::lights`]
+//!   at rest. Nodes that neither move nor sit under a moving node stay baked into world
+//!   transforms, as in a still file. A camera does not follow its node's animation, and
+//!   morph-target weights and skins are not animated (with warnings).
 //!
 //! Robustness: the `gltf` crate panics on some malformed files (a GLB length shorter than its
 //! header, an out-of-range POSITION accessor index in its own validation, images without a
@@ -44,12 +52,15 @@ use gltf::accessor::{DataType, Dimensions};
 use gltf::khr_lights_punctual::Kind;
 use gltf::mesh::Mode;
 
+use crate::animation::{AnimatedInstance, AnimatedLight, AnimationNode, RotationTrack, Track};
 use crate::error::{Location, SceneError};
 use crate::model::{Camera, Instance, Light, Material, MaterialKind, Scene, Wrap};
 use crate::report::LoadReport;
 use crate::resources;
 use crate::texture::{self, ColorSpace, TextureSet};
 use crate::validate::{MeshBuilder, Part};
+
+mod channels;
 
 /// Extensions that only change appearance in ways the model cannot express anyway: a file
 /// that *requires* one of them still loads, with a warning. Any other required extension we
@@ -108,6 +119,7 @@ fn parse_file(
     check_extensions(&mut root, file, report)?;
     let document = gltf::Document::from_json(root).map_err(|e| validation_error(e, file))?;
     let buffers = load_buffers(&document, blob, file, base_dir)?;
+    let tracks = channels::read(&document, &buffers, file, report);
     let mut loader = Loader {
         file,
         base_dir,
@@ -118,6 +130,7 @@ fn parse_file(
         meshes: HashMap::new(),
         materials: HashMap::new(),
         emissive_means: HashMap::new(),
+        tracks,
     };
     loader.walk(&document)?;
     let mut scene = loader.scene;
@@ -393,6 +406,8 @@ struct Loader<'a> {
     materials: HashMap<Option<usize>, u32>,
     /// glTF image index → average linear colour.
     emissive_means: HashMap<usize, Option<Vec3>>,
+    /// glTF node index → its animation tracks (taken when the node is visited).
+    tracks: HashMap<usize, channels::NodeTracks>,
 }
 
 impl Loader<'_> {
@@ -412,9 +427,10 @@ impl Loader<'_> {
             }
         };
         let mut visited = vec![false; document.nodes().count()];
-        let mut stack: Vec<(gltf::Node, Mat4)> =
-            roots.into_iter().rev().map(|n| (n, Mat4::IDENTITY)).collect();
-        while let Some((node, parent)) = stack.pop() {
+        // (node, its parent's world transform at rest, its parent's animation node if it moves)
+        let mut stack: Vec<(gltf::Node, Mat4, Option<u32>)> =
+            roots.into_iter().rev().map(|n| (n, Mat4::IDENTITY, None)).collect();
+        while let Some((node, parent, parent_node)) = stack.pop() {
             let at = || Location::Json(format!("nodes[{}]", node.index()));
             if std::mem::replace(&mut visited[node.index()], true) {
                 return Err(SceneError::invalid(
@@ -429,21 +445,119 @@ impl Loader<'_> {
             if !world.is_finite() {
                 return Err(SceneError::invalid(self.file, at(), "transform is not finite"));
             }
+            let moving = self.animation_node(&node, local, parent, parent_node);
             if let Some(mesh) = node.mesh() {
-                self.instance(&node, mesh, world)?;
+                self.instance(&node, mesh, world, moving)?;
             }
             if let Some(light) = node.light() {
-                self.light(&node, light, world);
+                self.light(&node, light, world, moving);
             }
             if let Some(camera) = node.camera() {
-                self.camera(&node, camera, world);
+                self.camera(&node, camera, world, moving);
             }
-            stack.extend(node.children().collect::<Vec<_>>().into_iter().rev().map(|c| (c, world)));
+            stack.extend(node.children().collect::<Vec<_>>().into_iter().rev().map(|c| (c, world, moving)));
         }
         Ok(())
     }
 
-    fn instance(&mut self, node: &gltf::Node, mesh: gltf::Mesh, world: Mat4) -> Result<(), SceneError> {
+    /// The node's index in the scene's [`Animation`](crate::Animation) if it moves: if it has
+    /// tracks or its parent moves (`parent_node`). A still node under still nodes has none
+    /// and keeps its baked world transform. `local` is the node's transform relative to its
+    /// parent, `parent` the parent's world transform at rest.
+    fn animation_node(
+        &mut self,
+        node: &gltf::Node,
+        local: Mat4,
+        parent: Mat4,
+        parent_node: Option<u32>,
+    ) -> Option<u32> {
+        let animation_node = match self.tracks.remove(&node.index()) {
+            Some(tracks) => {
+                // The still ancestors of the topmost moving node of a branch become one fixed
+                // node above it: the tracks replace parts of the node's own transform only.
+                let parent_node = parent_node.or_else(|| {
+                    (parent != Mat4::IDENTITY)
+                        .then(|| self.push_node(AnimationNode::fixed(None, Affine3A::from_mat4(parent))))
+                });
+                self.animated_node(node, local, parent_node, tracks)
+            }
+            None => AnimationNode::fixed(Some(parent_node?), Affine3A::from_mat4(local)),
+        };
+        Some(self.push_node(animation_node))
+    }
+
+    /// The [`AnimationNode`] of a node with tracks: its rest transform is the node's own,
+    /// which [`AnimationNode::local`] decomposes into translation, rotation and scale for the
+    /// tracks to replace.
+    fn animated_node(
+        &mut self,
+        node: &gltf::Node,
+        local: Mat4,
+        parent: Option<u32>,
+        mut tracks: channels::NodeTracks,
+    ) -> AnimationNode {
+        let rest = Affine3A::from_mat4(local);
+        let (scale, rotation, translation) = match node.transform() {
+            gltf::scene::Transform::Decomposed { translation, rotation, scale } => (
+                Vec3::from(scale),
+                // `local_transform` has checked that it is not zero.
+                Quat::from_vec4(Vec4::from(rotation).normalize()),
+                Vec3::from(translation),
+            ),
+            gltf::scene::Transform::Matrix { .. } => {
+                self.report.warn(
+                    self.file,
+                    format!(
+                        "nodes[{}]: an animated node must not have a matrix (glTF 3.5.3); it is decomposed \
+                         into translation, rotation and scale",
+                        node.index()
+                    ),
+                );
+                rest.to_scale_rotation_translation()
+            }
+        };
+        if !(scale.is_finite() && rotation.is_finite()) {
+            self.report.warn(
+                self.file,
+                format!("nodes[{}]: its matrix is singular; its animation is not shown", node.index()),
+            );
+            return AnimationNode::fixed(parent, rest);
+        }
+        // Decomposing the rest transform does not give back every TRS: glam moves the sign of
+        // a negative scale onto X and the rotation with it, and a zero scale has no rotation.
+        // Then a track would be combined with the wrong parts, so the parts without a track
+        // are held by one-key tracks of the node's own values instead.
+        let (decomposed_scale, decomposed_rotation, _) = rest.to_scale_rotation_translation();
+        let tolerance = 1e-5 * scale.abs().max_element().max(1.0);
+        if !(decomposed_rotation.is_finite() && decomposed_scale.abs_diff_eq(scale, tolerance)) {
+            tracks.translation =
+                tracks.translation.or_else(|| Track::step(vec![0.0], vec![translation]).ok());
+            tracks.rotation = tracks.rotation.or_else(|| Track::step(vec![0.0], vec![rotation]).ok());
+            tracks.scale = tracks.scale.or_else(|| Track::step(vec![0.0], vec![scale]).ok());
+        }
+        AnimationNode {
+            parent,
+            rest,
+            translation: tracks.translation,
+            rotation: tracks.rotation.map(RotationTrack::Quaternion),
+            scale: tracks.scale,
+        }
+    }
+
+    /// Appends a node to the scene's animation and returns its index.
+    fn push_node(&mut self, node: AnimationNode) -> u32 {
+        self.scene.animation.nodes.push(node);
+        (self.scene.animation.nodes.len() - 1) as u32
+    }
+
+    /// Places `mesh` at the node's world transform; a node that moves (`moving`) carries it.
+    fn instance(
+        &mut self,
+        node: &gltf::Node,
+        mesh: gltf::Mesh,
+        world: Mat4,
+        moving: Option<u32>,
+    ) -> Result<(), SceneError> {
         let index = match self.meshes.get(&mesh.index()) {
             Some(&index) => index,
             None => {
@@ -460,6 +574,18 @@ impl Loader<'_> {
             return Ok(());
         }
         self.scene.instances.push(Instance { mesh: index, transform });
+        // A skinned mesh ignores its node's transform and follows its joints (glTF 3.7.3),
+        // which are not animated here: it stays in its bind pose.
+        if let Some(carrier) = moving
+            && node.skin().is_none()
+        {
+            let instance = (self.scene.instances.len() - 1) as u32;
+            self.scene.animation.instances.push(AnimatedInstance {
+                instance,
+                node: carrier,
+                local: Affine3A::IDENTITY,
+            });
+        }
         Ok(())
     }
 
@@ -720,31 +846,40 @@ impl Loader<'_> {
         mean
     }
 
-    fn light(&mut self, node: &gltf::Node, light: gltf::khr_lights_punctual::Light, world: Mat4) {
-        let power = Vec3::from(light.color()) * light.intensity();
-        let position = world.transform_point3(Vec3::ZERO);
-        let direction = world.transform_vector3(Vec3::NEG_Z).try_normalize();
-        let converted = match (light.kind(), direction) {
-            (Kind::Point, _) => Some(Light::Point { position, intensity: power }),
-            (Kind::Spot { outer_cone_angle, .. }, Some(direction)) => Some(Light::Spot {
-                position,
-                direction,
-                angle_deg: 2.0 * outer_cone_angle.clamp(0.0, std::f32::consts::FRAC_PI_2).to_degrees(),
-                intensity: power,
-            }),
-            (Kind::Directional, Some(direction)) => Some(Light::Directional { direction, irradiance: power }),
-            _ => None,
-        };
-        match converted {
-            Some(light) if power.is_finite() => self.scene.lights.push(light),
-            _ => self.report.warn(
+    /// Adds a KHR_lights_punctual light at the node's world transform; a node that moves
+    /// (`moving`) carries it.
+    fn light(
+        &mut self,
+        node: &gltf::Node,
+        light: gltf::khr_lights_punctual::Light,
+        world: Mat4,
+        moving: Option<u32>,
+    ) {
+        let Some(converted) = punctual(&light, world) else {
+            self.report.warn(
                 self.file,
                 format!("nodes[{}]: light with a degenerate transform or intensity skipped", node.index()),
-            ),
+            );
+            return;
+        };
+        self.scene.lights.push(converted);
+        if let Some(carrier) = moving
+            && let Some(rest) = punctual(&light, Mat4::IDENTITY)
+        {
+            self.scene.animation.lights.push(AnimatedLight {
+                light: (self.scene.lights.len() - 1) as u32,
+                rest,
+                node: Some(carrier),
+                position: None,
+                direction: None,
+                power: None,
+            });
         }
     }
 
-    fn camera(&mut self, node: &gltf::Node, camera: gltf::Camera, world: Mat4) {
+    /// Takes the node's camera as the scene's if it is the first perspective one. The scene's
+    /// camera does not move, so a camera on a moving node (`moving`) stays at rest.
+    fn camera(&mut self, node: &gltf::Node, camera: gltf::Camera, world: Mat4, moving: Option<u32>) {
         if self.scene.camera.is_some() {
             return;
         }
@@ -759,8 +894,39 @@ impl Loader<'_> {
         match (forward, up) {
             (Some(forward), Some(up)) if fov_y_deg > 0.0 && fov_y_deg < 180.0 => {
                 self.scene.camera = Some(Camera { position, target: position + forward, up, fov_y_deg });
+                if moving.is_some() {
+                    self.report.warn(
+                        self.file,
+                        format!(
+                            "nodes[{}]: the camera does not follow the animation; it stays at rest",
+                            node.index()
+                        ),
+                    );
+                }
             }
             _ => self.report.warn(self.file, format!("nodes[{}]: degenerate camera skipped", node.index())),
         }
+    }
+}
+
+/// A KHR_lights_punctual light placed by `transform`: it sits at the origin of its node and
+/// shines down the node's −Z. `None` if the transform or the intensity is degenerate.
+fn punctual(light: &gltf::khr_lights_punctual::Light, transform: Mat4) -> Option<Light> {
+    let power = Vec3::from(light.color()) * light.intensity();
+    if !power.is_finite() {
+        return None;
+    }
+    let position = transform.transform_point3(Vec3::ZERO);
+    let direction = transform.transform_vector3(Vec3::NEG_Z).try_normalize();
+    match (light.kind(), direction) {
+        (Kind::Point, _) => Some(Light::Point { position, intensity: power }),
+        (Kind::Spot { outer_cone_angle, .. }, Some(direction)) => Some(Light::Spot {
+            position,
+            direction,
+            angle_deg: 2.0 * outer_cone_angle.clamp(0.0, std::f32::consts::FRAC_PI_2).to_degrees(),
+            intensity: power,
+        }),
+        (Kind::Directional, Some(direction)) => Some(Light::Directional { direction, irradiance: power }),
+        _ => None,
     }
 }

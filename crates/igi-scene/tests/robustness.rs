@@ -55,6 +55,14 @@ fn seeds() -> &'static [Vec<u8>] {
             b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty uchar flags\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 3 0 1 2\n".to_vec(),
             json.into_bytes(),
             common::glb(&glb_json, &bin),
+            // A CUBICSPLINE rotation: (in-tangent, value, out-tangent) per key.
+            common::animated_gltf(
+                &[0.0, 1.0],
+                &common::Output::floats(&[[0.0; 4], [0.0, 0.0, 0.0, 1.0], [0.0; 4], [0.0; 4], [0.0, 1.0, 0.0, 0.0], [0.0; 4]]),
+                "rotation",
+                "CUBICSPLINE",
+            )
+            .into_bytes(),
             br#"[camera]
 position = [0, 1, 3.5]
 target = [0, 1, 0]

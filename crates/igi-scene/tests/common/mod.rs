@@ -98,3 +98,80 @@ pub fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
     out.extend(bin);
     out
 }
+
+/// The output of a hand-written animation sampler: raw little-endian bytes and their glTF
+/// `componentType`, `type` and element count.
+pub struct Output {
+    pub bytes: Vec<u8>,
+    pub component_type: u32,
+    pub kind: &'static str,
+    pub count: usize,
+}
+
+impl Output {
+    /// Float vectors (`VEC3` for translation and scale, `VEC4` for rotation).
+    pub fn floats<const N: usize>(values: &[[f32; N]]) -> Self {
+        let kind = match N {
+            1 => "SCALAR",
+            3 => "VEC3",
+            4 => "VEC4",
+            _ => panic!("no glTF type of {N} components here"),
+        };
+        let bytes = values.iter().flatten().flat_map(|c| c.to_le_bytes()).collect();
+        Self { bytes, component_type: 5126, kind, count: values.len() }
+    }
+}
+
+/// A one-triangle glTF document (embedded buffer) whose node 0 is animated by one channel:
+/// key `times`, `output` values, the target `path` and the sampler's `interpolation`.
+pub fn animated_gltf(times: &[f32], output: &Output, path: &str, interpolation: &str) -> String {
+    let mut bin: Vec<u8> = [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+        .iter()
+        .flatten()
+        .flat_map(|c| c.to_le_bytes())
+        .collect();
+    bin.extend([0u16, 1, 2, 0].iter().flat_map(|i| i.to_le_bytes()));
+    let times_offset = bin.len();
+    bin.extend(times.iter().flat_map(|t| t.to_le_bytes()));
+    let output_offset = bin.len();
+    bin.extend(&output.bytes);
+    while !bin.len().is_multiple_of(4) {
+        bin.push(0);
+    }
+    format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"indices":1}}]}}],
+"buffers":[{{"byteLength":{len},"uri":"data:application/octet-stream;base64,{data}"}}],
+"bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":36}},{{"buffer":0,"byteOffset":36,"byteLength":6}},
+{{"buffer":0,"byteOffset":{times_offset},"byteLength":{times_len}}},{{"buffer":0,"byteOffset":{output_offset},"byteLength":{output_len}}}],
+"accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}},
+{{"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}},
+{{"bufferView":2,"componentType":5126,"count":{times_count},"type":"SCALAR"}},
+{{"bufferView":3,"componentType":{component_type},"normalized":{normalized},"count":{output_count},"type":"{kind}"}}],
+"animations":[{{"samplers":[{{"input":2,"output":3,"interpolation":"{interpolation}"}}],
+"channels":[{{"sampler":0,"target":{{"node":0,"path":"{path}"}}}}]}}]}}"#,
+        len = bin.len(),
+        data = base64(&bin),
+        times_len = times.len() * 4,
+        times_count = times.len(),
+        output_len = output.bytes.len(),
+        output_count = output.count,
+        component_type = output.component_type,
+        normalized = output.component_type != 5126,
+        kind = output.kind,
+    )
+}
+
+/// An animated document (see [`animated_gltf`]) whose key times are a sparse accessor without
+/// a buffer view that claims a billion keys: zeros but for one sparse value, so the times
+/// cannot increase, and no bytes back the count.
+pub fn lying_key_times() -> String {
+    let output = Output::floats(&[[0.0; 3], [0.0, 1.0, 0.0]]);
+    animated_gltf(&[0.0, 1.0], &output, "translation", "LINEAR").replace(
+        r#"{"bufferView":2,"componentType":5126,"count":2,"type":"SCALAR"}"#,
+        concat!(
+            r#"{"componentType":5126,"count":1000000000,"type":"SCALAR","sparse":{"count":1,"#,
+            r#""indices":{"bufferView":2,"componentType":5125},"values":{"bufferView":2}}}"#
+        ),
+    )
+}
