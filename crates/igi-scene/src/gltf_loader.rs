@@ -863,9 +863,7 @@ impl Loader<'_> {
             return;
         };
         self.scene.lights.push(converted);
-        if let Some(carrier) = moving
-            && let Some(rest) = punctual(&light, Mat4::IDENTITY)
-        {
+        if let (Some(carrier), Some(rest)) = (moving, punctual(&light, Mat4::IDENTITY)) {
             self.scene.animation.lights.push(AnimatedLight {
                 light: (self.scene.lights.len() - 1) as u32,
                 rest,

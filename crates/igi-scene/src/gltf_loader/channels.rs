@@ -103,9 +103,7 @@ pub(super) fn read(
             let times = read_times(&sampler, &reader, buffers);
             // Every channel with usable times counts toward the period, including those not
             // shown, so the shown ones loop when a viewer playing the whole animation would.
-            if let Ok(times) = &times
-                && let Some(last) = last_key(times)
-            {
+            if let Some(last) = times.as_ref().ok().and_then(|times| last_key(times)) {
                 period = period.max(last);
             }
             if property == Property::MorphTargetWeights {
