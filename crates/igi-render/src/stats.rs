@@ -5,7 +5,7 @@ use std::ops::AddAssign;
 use std::time::{Duration, Instant};
 
 /// Rays traced, by kind.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct RayCounts {
     /// Camera rays (closest hit).
     pub primary: u64,
@@ -83,7 +83,7 @@ impl Phase {
 }
 
 /// Time spent in each phase (summed over threads for the tile phases).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct PhaseTimes([Duration; 8]);
 
 impl PhaseTimes {

@@ -21,7 +21,7 @@ use glam::Vec3;
 const LOG_DELTA: f32 = 1e-6;
 
 /// Luminance statistics of a set of pixels.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct LuminanceStats {
     /// Σ ln(δ + L) over the counted pixels.
     pub log_sum: f64,

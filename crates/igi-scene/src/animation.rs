@@ -77,8 +77,10 @@ impl Keyable for Quat {
         let v = terms.iter().fold(glam::Vec4::ZERO, |acc, &(w, q)| acc + w * glam::Vec4::from(q));
         Quat::from_vec4(v)
     }
+    /// A cubic blend of opposite keys can pass through zero; that pose has no rotation to
+    /// normalise, and identity keeps it finite rather than NaN.
     fn finish(self) -> Self {
-        self.normalize()
+        glam::Vec4::from(self).try_normalize().map_or(Quat::IDENTITY, Quat::from_vec4)
     }
     fn slope(a: Self, b: Self, dt: f32) -> Self {
         Quat::from_vec4((glam::Vec4::from(b) - glam::Vec4::from(a)) / dt)
@@ -611,6 +613,16 @@ mod tests {
         let mid = track.sample(0.5);
         let expected = Quat::from_rotation_y(std::f32::consts::FRAC_PI_4);
         assert!(mid.dot(expected).abs() > 1.0 - 1e-5, "{mid:?}");
+    }
+
+    #[test]
+    fn a_cubic_through_the_zero_quaternion_poses_as_identity() {
+        // Keys q and -q with zero tangents: the Hermite blend at s = 1/2 is exactly zero.
+        let q = Quat::from_rotation_x(1.0);
+        let zero = Quat::from_xyzw(0.0, 0.0, 0.0, 0.0);
+        let track = Track::cubic(vec![0.0, 1.0], vec![q, -q], vec![(zero, zero), (zero, zero)]).unwrap();
+        assert_eq!(track.sample(0.5), Quat::IDENTITY);
+        assert!(track.sample(0.25).is_normalized());
     }
 
     #[test]

@@ -23,6 +23,7 @@
 
 pub mod animation;
 mod builtin;
+mod digest;
 mod environment;
 mod error;
 pub mod gltf_loader;

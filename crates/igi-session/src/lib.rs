@@ -10,17 +10,21 @@
 //!   and the accumulation, and turns inputs into frames: while the camera and the scene are
 //!   still, frames accumulate with fresh VPL sets (progressive convergence); any change shows
 //!   the instant one-frame solution at once (paper section 1).
+//! - [`frame_source`]: [`FrameSource`], where frames are rendered: this machine's threads or
+//!   a cluster.
 //! - [`render_loop`]: [`RenderLoop`], a thread rendering the next frame while the viewer
 //!   shows the newest one; inputs go in, only the newest frame comes out.
 
 pub mod accumulation;
 pub mod camera_control;
+pub mod frame_source;
 pub mod input;
 pub mod render_loop;
 pub mod session;
 pub mod settings;
 
 pub use camera_control::{CameraController, CameraMode};
+pub use frame_source::{FrameSource, ScenePose, SourceError, SourceFrame};
 pub use input::{Button, Input, Key};
 pub use render_loop::{LatestFrame, RenderLoop};
 pub use session::{Frame, FrameStats, Session};

@@ -9,6 +9,7 @@
 
 use crate::accumulation::Accumulator;
 use crate::camera_control::{CameraController, CameraMode};
+use crate::frame_source::{FrameSource, ScenePose, SourceError};
 use crate::input::{Button, Input};
 use crate::settings::{MAX_ACCUMULATION, ViewSettings};
 use glam::{Affine3A, Vec3};
@@ -63,15 +64,16 @@ pub struct Frame {
     pub stats: FrameStats,
     /// The display image: 8-bit sRGB, 3 bytes per pixel, rows top to bottom.
     pub rgb8: Vec<u8>,
-    /// Linear radiance (the mean of the accumulated frames), for EXR.
-    pub film: Film,
+    /// Linear radiance (the mean of the accumulated frames), for EXR; `None` for a frame a
+    /// cluster sent as 8-bit pixels.
+    pub film: Option<Film>,
 }
 
 /// A scene, its camera, settings, clock and accumulation.
 #[derive(Debug)]
 pub struct Session {
     scene: PreparedScene,
-    renderer: FrameRenderer,
+    renderer: Box<dyn FrameSource>,
     controller: CameraController,
     home: Camera,
     fly_speed: f32,
@@ -103,12 +105,22 @@ impl Session {
         settings: ViewSettings,
         threads: usize,
     ) -> Result<Self, SettingsError> {
+        Self::with_source(scene, camera, settings, Box::new(FrameRenderer::new(threads)))
+    }
+
+    /// A session whose frames `source` renders (a cluster, say). The settings are checked.
+    pub fn with_source(
+        scene: PreparedScene,
+        camera: Camera,
+        settings: ViewSettings,
+        source: Box<dyn FrameSource>,
+    ) -> Result<Self, SettingsError> {
         settings.validate()?;
         let tone_map = settings.tone_map();
         let diagonal = scene.bounds().diagonal();
         let fly_speed = if diagonal.is_finite() && diagonal > 0.0 { 0.15 * diagonal } else { 1.0 };
         Ok(Self {
-            renderer: FrameRenderer::new(threads),
+            renderer: source,
             controller: CameraController::new(&camera, fly_speed),
             home: camera,
             fly_speed,
@@ -248,7 +260,7 @@ impl Session {
 
     /// Renders the next frame, `dt` seconds of wall-clock time after the previous one (the
     /// clock and held keys advance by it).
-    pub fn render(&mut self, dt: f32) -> Result<Frame, SettingsError> {
+    pub fn render(&mut self, dt: f32) -> Result<Frame, SourceError> {
         let start = Instant::now();
         let dt = if dt.is_finite() { dt.clamp(0.0, 0.25) } else { 0.0 };
         if self.is_animating() {
@@ -258,14 +270,17 @@ impl Session {
         if self.controller.advance(dt) {
             self.changed = true;
         }
+        let pose = ScenePose {
+            time: self.clock,
+            moved: self.moved.iter().map(|(&i, &v)| (i, Affine3A::from_translation(v))).collect(),
+        };
         if self.repose {
-            let moved: Vec<(u32, Affine3A)> =
-                self.moved.iter().map(|(&i, &v)| (i, Affine3A::from_translation(v))).collect();
-            self.scene.place(self.clock, &moved);
+            self.scene.place(pose.time, &pose.moved);
             self.repose = false;
             self.changed = true;
         }
-        if std::mem::take(&mut self.changed) {
+        let changed = std::mem::take(&mut self.changed);
+        if changed {
             self.accumulator.reset();
         }
 
@@ -278,15 +293,20 @@ impl Session {
             frame: self.accumulator.frames(),
             seed: self.seed,
         };
-        let out = self.renderer.render(&self.scene, &frame, &|_, _| {})?;
-        self.accumulator.add(&out.film);
-        let (film, rgb8, stats) = if self.accumulator.frames() == 1 {
+        // Linear radiance only where it is averaged: a cluster sends 8-bit pixels otherwise.
+        let linear = self.settings.accumulate && !changed;
+        let out = self.renderer.render(&self.scene, &pose, &frame, linear)?;
+        match &out.film {
+            Some(film) => self.accumulator.add(film),
+            None => self.accumulator.reset(),
+        }
+        let (film, rgb8, stats) = if self.accumulator.frames() <= 1 {
             (out.film, out.srgb8, out.stats)
         } else {
             let film = self.accumulator.mean();
             let stats = LuminanceStats::of_pixels(film.pixels());
             let rgb8 = to_srgb8(&film, &ToneMapper::new(self.settings.tone_map(), &stats));
-            (film, rgb8, stats)
+            (Some(film), rgb8, stats)
         };
         // The next frame is tone-mapped with this one's statistics (paper 3.4).
         self.tone_mapper = ToneMapper::new(self.settings.tone_map(), &stats);
@@ -317,8 +337,8 @@ impl Session {
             mrays_per_s: out.rays.total() as f64 * 1e-6 / elapsed.max(1e-9),
             vpls: out.vpls,
             triangles: self.scene.triangle_count(),
-            width: film.width(),
-            height: film.height(),
+            width: settings.width,
+            height: settings.height,
             selected: self.selected.map(|(i, _)| i),
             settings: self.settings.clone(),
             mode: self.controller.mode(),

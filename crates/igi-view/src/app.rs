@@ -138,10 +138,17 @@ impl ViewerApp {
         let base = PathBuf::from(format!("igi-{stamp}"));
         let png = base.with_extension("png");
         let exr = base.with_extension("exr");
-        let result = save_png(&png, &frame.rgb8, frame.stats.width, frame.stats.height)
-            .and_then(|()| igi_render::write_exr(&frame.film, &exr).map_err(|e| e.to_string()));
+        let result = save_png(&png, &frame.rgb8, frame.stats.width, frame.stats.height).and_then(|()| {
+            frame
+                .film
+                .as_ref()
+                .map(|film| igi_render::write_exr(film, &exr).map_err(|e| e.to_string()))
+                .transpose()
+        });
         self.panel.message = match result {
-            Ok(()) => format!("saved {} and {}", png.display(), exr.display()),
+            Ok(Some(())) => format!("saved {} and {}", png.display(), exr.display()),
+            // A cluster sends 8-bit pixels while the view moves; linear ones once it is still.
+            Ok(None) => format!("saved {} (no EXR: this frame came as 8-bit pixels)", png.display()),
             Err(e) => format!("cannot save the snapshot: {e}"),
         };
     }

@@ -1,0 +1,212 @@
+//! The messages between rank 0 and the render nodes, and their encoding (postcard: compact,
+//! and a malformed message is an error, never a panic or an unbounded allocation).
+//!
+//! One exchange per frame (paper sections 2.1 and 3.4): rank 0 sends every node the
+//! [`FrameJob`] (camera, pose, settings, tone map, seed), then tile numbers on demand; each node
+//! derives the frame's VPLs itself, renders, filters and tone-maps its tiles, and sends back
+//! [`TileResult`]s: 8-bit pixels and the tile's luminance statistics, from which rank 0 combines
+//! the next frame's tone map in tile order.
+
+use glam::{Affine3A, Vec3};
+use igi_render::FrameState;
+use igi_render::stats::{PhaseTimes, RayCounts};
+use igi_render::tonemap::LuminanceStats;
+use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
+
+/// The version of this protocol; a node of another build refuses to take part.
+pub const PROTOCOL_VERSION: u32 = 1;
+
+/// What rank 0 tells a node before the first frame: which scene to load.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Setup {
+    /// [`PROTOCOL_VERSION`] of rank 0.
+    pub version: u32,
+    /// The scene as the user named it (a built-in name or a path).
+    pub scene: String,
+    /// The scene's files sent along (`--broadcast-scene`): each path as rank 0 read it and
+    /// its bytes. Empty: the node loads `scene` from its own file system.
+    pub files: Vec<(PathBuf, Vec<u8>)>,
+    /// Rank 0's [`igi_scene::Scene::digest`] of the loaded scene.
+    pub digest: u64,
+}
+
+/// A node's answer to [`Setup`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Ready {
+    /// The scene is loaded and prepared.
+    Loaded {
+        /// The node's digest of what it loaded.
+        digest: u64,
+        /// Its render threads.
+        threads: u32,
+    },
+    /// The node could not load the scene; the message says why.
+    Failed(String),
+}
+
+/// How a node returns a tile's pixels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum PixelFormat {
+    /// Tone-mapped, sRGB-encoded 8-bit RGB: what a display shows (paper 3.4).
+    Srgb8,
+    /// Linear radiance, 32-bit float RGB: for EXR files, accumulation, and tone mapping from
+    /// a frame's own statistics.
+    Linear,
+}
+
+/// One frame as every node renders it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FrameJob {
+    /// Number of the job, counting up from 1; tiles name the job they belong to.
+    pub id: u64,
+    /// Camera, settings, tone map, frame number and seed.
+    pub state: FrameState,
+    /// Scene clock, seconds.
+    pub time: f32,
+    /// Instances a user moved, with their extra world transforms.
+    pub moved: Vec<(u32, Affine3A)>,
+    /// What the tiles send back.
+    pub pixels: PixelFormat,
+}
+
+/// A tile's pixels.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum TilePixels {
+    /// 3 bytes per pixel, row-major within the tile.
+    Srgb8(Vec<u8>),
+    /// Linear RGB per pixel, row-major within the tile.
+    Linear(Vec<Vec3>),
+}
+
+impl TilePixels {
+    /// Number of pixels.
+    pub fn len(&self) -> usize {
+        match self {
+            Self::Srgb8(bytes) => bytes.len() / 3,
+            Self::Linear(pixels) => pixels.len(),
+        }
+    }
+
+    /// True if there are no pixels.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// A finished tile.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TileResult {
+    /// The job it belongs to.
+    pub job: u64,
+    /// Tile index in the frame's [`igi_render::TileGrid`].
+    pub tile: u32,
+    /// Its pixels.
+    pub pixels: TilePixels,
+    /// Luminance statistics of its linear pixels.
+    pub stats: LuminanceStats,
+    /// Rays traced for it.
+    pub rays: RayCounts,
+    /// Its render time per phase.
+    pub times: PhaseTimes,
+    /// VPLs of the frame (the node generated them).
+    pub vpls: u32,
+}
+
+/// Every message, in either direction.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Message {
+    /// Rank 0 → node: load this scene.
+    Setup(Setup),
+    /// Node → rank 0: the scene is ready (or not).
+    Ready(Ready),
+    /// Rank 0 → node: the next frame.
+    Frame(Box<FrameJob>),
+    /// Rank 0 → node: render these tiles of `job`.
+    Tiles {
+        /// The job.
+        job: u64,
+        /// Tile indices.
+        tiles: Vec<u32>,
+    },
+    /// Node → rank 0: a finished tile; it also asks for the next one.
+    Tile(Box<TileResult>),
+    /// Node → rank 0: still alive (sent twice a second, also while a long tile renders).
+    Heartbeat,
+    /// Node → rank 0: the node cannot go on; the message says why.
+    Fatal(String),
+    /// Rank 0 → node: stop.
+    Shutdown,
+}
+
+/// A message that does not decode.
+#[derive(Debug, thiserror::Error)]
+#[error("malformed cluster message ({len} bytes): {error}")]
+pub struct DecodeError {
+    len: usize,
+    error: postcard::Error,
+}
+
+impl Message {
+    /// The wire form.
+    pub fn encode(&self) -> Vec<u8> {
+        // Every field is a plain value: serialising into a Vec cannot fail.
+        postcard::to_allocvec(self).unwrap_or_else(|e| unreachable!("cluster message encodes: {e}"))
+    }
+
+    /// Reads a wire form.
+    pub fn decode(bytes: &[u8]) -> Result<Self, DecodeError> {
+        postcard::from_bytes(bytes).map_err(|error| DecodeError { len: bytes.len(), error })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use igi_render::{IgiSettings, ToneMapper};
+
+    #[test]
+    fn messages_round_trip() {
+        let job = FrameJob {
+            id: 7,
+            state: FrameState {
+                camera: igi_scene::builtin("cornell-box").and_then(|s| s.camera).unwrap(),
+                settings: IgiSettings::default(),
+                tone_map: ToneMapper::LINEAR,
+                frame: 3,
+                seed: 9,
+            },
+            time: 1.5,
+            moved: vec![(2, Affine3A::from_translation(Vec3::X))],
+            pixels: PixelFormat::Srgb8,
+        };
+        for m in [
+            Message::Frame(Box::new(job)),
+            Message::Tiles { job: 7, tiles: vec![0, 5] },
+            Message::Heartbeat,
+            Message::Tile(Box::new(TileResult {
+                job: 7,
+                tile: 5,
+                pixels: TilePixels::Srgb8(vec![1, 2, 3]),
+                stats: LuminanceStats { log_sum: -1.0, count: 1, max: 2.0 },
+                rays: RayCounts::default(),
+                times: PhaseTimes::default(),
+                vpls: 100,
+            })),
+        ] {
+            assert_eq!(Message::decode(&m.encode()).unwrap(), m);
+        }
+    }
+
+    #[test]
+    fn garbage_is_an_error_not_a_panic_or_a_huge_allocation() {
+        // A Tiles message claiming 2^62 tile numbers in 12 bytes.
+        let mut lying = Message::Tiles { job: 1, tiles: vec![] }.encode();
+        lying.pop();
+        lying.extend_from_slice(&[0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0x3f]);
+        assert!(Message::decode(&lying).is_err());
+        for bytes in [&[][..], &[0xff; 7][..], &[3, 0xff, 0xff][..]] {
+            assert!(Message::decode(bytes).is_err());
+        }
+    }
+}

@@ -1,0 +1,267 @@
+//! The render node (ranks 1..N): loads the scene rank 0 names, then for every frame poses it,
+//! derives the VPLs from the [`FrameJob`] itself, and renders, filters and tone-maps the tiles
+//! rank 0 hands it, sending each back as soon as it is done (paper sections 2.1 and 3.4).
+//!
+//! Render threads take tiles from a local queue that rank 0 keeps k tiles deep per thread, so
+//! a thread never waits for the network between tiles. The calling thread alone talks to the
+//! transport (MPI's "funneled" threading): it forwards finished tiles, queues new tile numbers
+//! and sends a heartbeat twice a second, also while a long tile renders.
+
+use crate::error::ClusterError;
+use crate::protocol::{
+    FrameJob, Message, PROTOCOL_VERSION, PixelFormat, Ready, Setup, TilePixels, TileResult,
+};
+use crate::transport::Transport;
+use igi_render::scheduler::TileScheduler;
+use igi_render::tile_pipeline::{TileOutput, TilePipeline, TileScratch};
+use igi_render::vpl::VplSets;
+use igi_render::{PreparedScene, TileGrid};
+use igi_scene::Scene;
+use std::collections::VecDeque;
+use std::sync::mpsc::{TryRecvError, channel};
+use std::sync::{Condvar, Mutex};
+use std::time::{Duration, Instant};
+
+/// How often a node tells rank 0 it is alive.
+pub const HEARTBEAT: Duration = Duration::from_millis(500);
+
+/// How long the transport thread waits for a message before it looks at finished tiles.
+const POLL: Duration = Duration::from_micros(200);
+
+/// What a node did, for its log line.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WorkerSummary {
+    /// Frames it took part in.
+    pub frames: u64,
+    /// Tiles it rendered.
+    pub tiles: u64,
+}
+
+/// Runs a render node until rank 0 says stop. `load` turns rank 0's [`Setup`] into the scene
+/// (from the node's own files or the ones sent along); `threads` render threads (0: one per
+/// core).
+pub fn run_worker<T: Transport>(
+    transport: &mut T,
+    threads: usize,
+    load: impl FnOnce(&Setup) -> Result<Scene, String>,
+) -> Result<WorkerSummary, ClusterError> {
+    let setup = loop {
+        match next_from_root(transport, HEARTBEAT)? {
+            Some(Message::Setup(setup)) => break setup,
+            Some(Message::Shutdown) => return Ok(WorkerSummary::default()),
+            Some(other) => return Err(unexpected(0, &other, "the scene setup")),
+            None => {}
+        }
+    };
+    let scheduler = TileScheduler::new(threads);
+    let loaded = if setup.version != PROTOCOL_VERSION {
+        Err(format!(
+            "rank 0 speaks protocol {}, this node {PROTOCOL_VERSION}: run the same igi on every rank",
+            setup.version
+        ))
+    } else {
+        load(&setup)
+    };
+    let mut scene = match loaded {
+        Ok(scene) => {
+            let digest = scene.digest();
+            let prepared = PreparedScene::new(scene);
+            let ready = Ready::Loaded { digest, threads: scheduler.threads() as u32 };
+            transport.send(0, &Message::Ready(ready).encode())?;
+            prepared
+        }
+        Err(message) => {
+            transport.send(0, &Message::Ready(Ready::Failed(message.clone())).encode())?;
+            return Err(ClusterError::NodeFailed { rank: transport.rank(), message });
+        }
+    };
+
+    let mut summary = WorkerSummary::default();
+    let mut next = None;
+    let mut last_beat = Instant::now();
+    loop {
+        let message = match next.take() {
+            Some(m) => m,
+            None => match next_from_root(transport, HEARTBEAT)? {
+                Some(m) => m,
+                None => {
+                    transport.send(0, &Message::Heartbeat.encode())?;
+                    last_beat = Instant::now();
+                    continue;
+                }
+            },
+        };
+        match message {
+            Message::Frame(job) => {
+                summary.frames += 1;
+                let (tiles, after) = render_job(transport, &scheduler, &mut scene, &job, &mut last_beat)?;
+                summary.tiles += tiles;
+                match after {
+                    Some(Message::Shutdown) => return Ok(summary),
+                    other => next = other,
+                }
+            }
+            Message::Shutdown => return Ok(summary),
+            // Tile numbers of a job this node has left behind: rank 0 has moved on.
+            Message::Tiles { .. } => {}
+            other => return Err(unexpected(0, &other, "a frame")),
+        }
+    }
+}
+
+/// The next message from rank 0 within `timeout` (messages from other ranks are a protocol
+/// error: nodes do not talk to each other).
+fn next_from_root<T: Transport>(
+    transport: &mut T,
+    timeout: Duration,
+) -> Result<Option<Message>, ClusterError> {
+    let Some((rank, bytes)) = transport.recv(timeout)? else { return Ok(None) };
+    let message = Message::decode(&bytes).map_err(|error| ClusterError::Decode { rank, error })?;
+    if rank != 0 {
+        return Err(unexpected(rank, &message, "nothing from another node"));
+    }
+    Ok(Some(message))
+}
+
+fn unexpected(rank: usize, message: &Message, expected: &str) -> ClusterError {
+    let name = format!("{message:?}");
+    let name = name.split(['(', ' ', '{']).next().unwrap_or_default().to_string();
+    ClusterError::Protocol { rank, message: format!("sent {name} where {expected} was expected") }
+}
+
+/// The tile queue the render threads share with the transport thread.
+struct LocalQueue {
+    tiles: Mutex<(VecDeque<u32>, bool)>,
+    ready: Condvar,
+}
+
+impl LocalQueue {
+    /// The next tile, waiting for one; `None` once closed.
+    fn pop(&self) -> Option<u32> {
+        let mut guard = self.tiles.lock().unwrap_or_else(|e| e.into_inner());
+        loop {
+            if guard.1 {
+                return None;
+            }
+            if let Some(tile) = guard.0.pop_front() {
+                return Some(tile);
+            }
+            guard = self.ready.wait(guard).unwrap_or_else(|e| e.into_inner());
+        }
+    }
+
+    fn push(&self, tiles: &[u32]) {
+        self.tiles.lock().unwrap_or_else(|e| e.into_inner()).0.extend(tiles);
+        self.ready.notify_all();
+    }
+
+    fn close(&self) {
+        self.tiles.lock().unwrap_or_else(|e| e.into_inner()).1 = true;
+        self.ready.notify_all();
+    }
+}
+
+/// Renders the tiles rank 0 hands out for `job` until it moves on. Returns the tiles rendered
+/// and the message that ended the job (the next frame or a shutdown).
+fn render_job<T: Transport>(
+    transport: &mut T,
+    scheduler: &TileScheduler,
+    scene: &mut PreparedScene,
+    job: &FrameJob,
+    last_beat: &mut Instant,
+) -> Result<(u64, Option<Message>), ClusterError> {
+    let rank = transport.rank();
+    if let Err(e) = job.state.settings.validate() {
+        let message = format!("frame {} has invalid settings: {e}", job.id);
+        transport.send(0, &Message::Fatal(message.clone()).encode())?;
+        return Err(ClusterError::NodeFailed { rank, message });
+    }
+    scene.place(job.time, &job.moved);
+    let scene = &*scene;
+    let vpls = scheduler.install(|| VplSets::generate(scene, &job.state));
+    let vpl_count = u32::try_from(vpls.total_vpls()).unwrap_or(u32::MAX);
+    let s = &job.state.settings;
+    let grid = TileGrid::new(s.width, s.height, s.tile_size);
+    let pipeline = TilePipeline::new(scene, &job.state, &vpls);
+    let queue = LocalQueue { tiles: Mutex::new((VecDeque::new(), false)), ready: Condvar::new() };
+    let (done_tx, done_rx) = channel::<TileOutput>();
+    let mut rendered = 0;
+
+    std::thread::scope(|threads| -> Result<(u64, Option<Message>), ClusterError> {
+        for _ in 0..scheduler.threads() {
+            let done_tx = done_tx.clone();
+            let (queue, pipeline) = (&queue, &pipeline);
+            threads.spawn(move || {
+                let mut scratch = TileScratch::default();
+                while let Some(index) = queue.pop() {
+                    if done_tx.send(pipeline.render_tile(grid.tile(index), &mut scratch)).is_err() {
+                        break;
+                    }
+                }
+            });
+        }
+        drop(done_tx);
+        // Closes the queue however this thread leaves, so the render threads end.
+        struct CloseOnExit<'q>(&'q LocalQueue);
+        impl Drop for CloseOnExit<'_> {
+            fn drop(&mut self) {
+                self.0.close();
+            }
+        }
+        let _close = CloseOnExit(&queue);
+        loop {
+            loop {
+                match done_rx.try_recv() {
+                    Ok(out) => {
+                        let result = tile_result(job, out, vpl_count);
+                        transport.send(0, &Message::Tile(Box::new(result)).encode())?;
+                        rendered += 1;
+                    }
+                    Err(TryRecvError::Empty) => break,
+                    Err(TryRecvError::Disconnected) => {
+                        return Err(ClusterError::NodeFailed {
+                            rank,
+                            message: "a render thread died".into(),
+                        });
+                    }
+                }
+            }
+            if last_beat.elapsed() >= HEARTBEAT {
+                transport.send(0, &Message::Heartbeat.encode())?;
+                *last_beat = Instant::now();
+            }
+            match next_from_root(transport, POLL)? {
+                None => {}
+                Some(Message::Tiles { job: id, tiles }) if id == job.id => {
+                    if let Some(&bad) = tiles.iter().find(|&&t| t >= grid.len()) {
+                        let message = format!("tile {bad} of frame {id}, which has {} tiles", grid.len());
+                        transport.send(0, &Message::Fatal(message.clone()).encode())?;
+                        return Err(ClusterError::Protocol { rank: 0, message });
+                    }
+                    queue.push(&tiles);
+                }
+                Some(Message::Tiles { .. }) => {}
+                // Rank 0 moves on only once every tile of this job is back: whatever this
+                // node still holds is a late copy.
+                Some(m @ (Message::Frame(_) | Message::Shutdown)) => return Ok((rendered, Some(m))),
+                Some(other) => return Err(unexpected(0, &other, "tiles or a frame")),
+            }
+        }
+    })
+}
+
+/// The message for a finished tile: its pixels in the job's format, its statistics and costs.
+fn tile_result(job: &FrameJob, out: TileOutput, vpls: u32) -> TileResult {
+    TileResult {
+        job: job.id,
+        tile: out.tile.index,
+        pixels: match job.pixels {
+            PixelFormat::Srgb8 => TilePixels::Srgb8(out.srgb8),
+            PixelFormat::Linear => TilePixels::Linear(out.pixels),
+        },
+        stats: out.stats,
+        rays: out.rays,
+        times: out.times,
+        vpls,
+    }
+}
