@@ -25,7 +25,7 @@ pub use cluster_source::ClusterSource;
 pub use error::ClusterError;
 pub use master::{ClusterFrame, Master, MasterConfig};
 #[cfg(feature = "mpi")]
-pub use mpi_transport::MpiTransport;
+pub use mpi_transport::{MpiTransport, abort_job};
 pub use protocol::{FrameJob, PixelFormat, Setup};
 pub use transport::{InProcess, Transport, in_process};
 pub use worker::{WorkerSummary, run_worker};

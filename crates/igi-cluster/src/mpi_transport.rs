@@ -47,12 +47,12 @@ impl MpiTransport {
         let world = universe.world();
         Ok(Self { world, _universe: universe })
     }
+}
 
-    /// Ends every rank of the job at once (`MPI_Abort`): what a failed job does, so no rank
-    /// is left waiting for a message that will not come.
-    pub fn abort(&self, code: i32) -> ! {
-        self.world.abort(code)
-    }
+/// Ends every rank of the job at once (`MPI_Abort` on the world): what a failed job does, so
+/// no rank is left waiting for a message that will not come. MPI must be initialised.
+pub fn abort_job(code: i32) -> ! {
+    SimpleCommunicator::world().abort(code)
 }
 
 // SAFETY: MPI runs with MPI_THREAD_SERIALIZED (checked in `init`), so the communicator may be

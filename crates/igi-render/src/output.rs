@@ -67,12 +67,17 @@ pub fn to_srgb8(film: &Film, tone_map: &ToneMapper) -> Vec<u8> {
 
 /// Writes `film` as a tone-mapped sRGB PNG.
 pub fn write_png(film: &Film, path: &Path, tone_map: &ToneMapper) -> Result<(), OutputError> {
-    let bytes = to_srgb8(film, tone_map);
+    write_png_rgb8(&to_srgb8(film, tone_map), film.width(), film.height(), path)
+}
+
+/// Writes 8-bit sRGB pixels (3 bytes each, row-major, row 0 at the top) as a PNG: a display
+/// image as the tiles delivered it.
+pub fn write_png_rgb8(rgb8: &[u8], width: u32, height: u32, path: &Path) -> Result<(), OutputError> {
     image::save_buffer_with_format(
         path,
-        &bytes,
-        film.width(),
-        film.height(),
+        rgb8,
+        width,
+        height,
         image::ExtendedColorType::Rgb8,
         image::ImageFormat::Png,
     )

@@ -89,7 +89,7 @@ const SUPPORTED_EXTENSIONS: &[&str] = &[
 
 /// Loads a `.gltf` or `.glb` file and the buffers and images it references.
 pub fn load(path: &Path, report: &mut LoadReport) -> Result<Scene, SceneError> {
-    let bytes = resources::read(path)?;
+    let bytes = resources::read(path, report)?;
     parse_file(&bytes, path, Some(&resources::base_dir(path)), report)
 }
 
@@ -118,7 +118,7 @@ fn parse_file(
     check_unchecked_fields(&root, file)?;
     check_extensions(&mut root, file, report)?;
     let document = gltf::Document::from_json(root).map_err(|e| validation_error(e, file))?;
-    let buffers = load_buffers(&document, blob, file, base_dir)?;
+    let buffers = load_buffers(&document, blob, file, base_dir, report)?;
     let tracks = channels::read(&document, &buffers, file, report);
     let mut loader = Loader {
         file,
@@ -282,6 +282,7 @@ fn load_buffers(
     mut blob: Option<Vec<u8>>,
     file: &Path,
     base_dir: Option<&Path>,
+    report: &mut LoadReport,
 ) -> Result<Vec<Vec<u8>>, SceneError> {
     let mut buffers = Vec::new();
     for buffer in document.buffers() {
@@ -309,7 +310,7 @@ fn load_buffers(
                                 at: at(),
                                 missing: dir.join(&relative),
                             })?;
-                        resources::read(&path)?
+                        resources::read(&path, report)?
                     }
                 }
             }
@@ -832,7 +833,7 @@ impl Loader<'_> {
             Err(relative) => self
                 .base_dir
                 .and_then(|dir| resources::resolve(dir, &relative.to_string_lossy()))
-                .and_then(|path| resources::read(&path).ok()),
+                .and_then(|path| resources::read(&path, self.report).ok()),
         };
         let name = format!("images[{}]", image.index());
         let mean = bytes.and_then(|bytes| match texture::mean_rgb(&bytes, &name, ColorSpace::Srgb) {

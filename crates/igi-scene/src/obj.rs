@@ -43,7 +43,7 @@ const HOISTED_LIBRARY: &str = "materials";
 
 /// Loads an OBJ file and the material libraries and textures it references.
 pub fn load(path: &Path, report: &mut LoadReport) -> Result<Scene, SceneError> {
-    let bytes = resources::read(path)?;
+    let bytes = resources::read(path, report)?;
     parse_file(&bytes, path, Some(&resources::base_dir(path)), report)
 }
 
@@ -153,7 +153,7 @@ fn load_library(
         );
         return Ok(Vec::new());
     };
-    let bytes = resources::read(&path)?;
+    let bytes = resources::read(&path, report)?;
     let texture_dir = resources::base_dir(&path);
     mtl::parse_library(&bytes, &path, Some(&texture_dir), textures, report)
 }

@@ -29,7 +29,7 @@ use crate::validate::{MeshBuilder, Part};
 
 /// Loads a PLY file.
 pub fn load(path: &Path, report: &mut LoadReport) -> Result<Scene, SceneError> {
-    let bytes = resources::read(path)?;
+    let bytes = resources::read(path, report)?;
     parse_file(&bytes, path, report)
 }
 

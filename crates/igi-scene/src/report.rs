@@ -14,6 +14,9 @@ pub struct LoadReport {
     /// Every warning of the load, each naming its file (missing textures, fallback materials,
     /// skipped glTF primitives, dropped normals, ...).
     pub warnings: Vec<String>,
+    /// Every file the load read, in the order it read them (what a cluster's rank 0 sends
+    /// its nodes with `--broadcast-scene`).
+    pub files: Vec<std::path::PathBuf>,
 }
 
 impl LoadReport {

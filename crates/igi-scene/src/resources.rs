@@ -8,16 +8,19 @@ use std::fs;
 use std::io;
 use std::path::{Component, Path, PathBuf};
 
-use crate::SceneError;
+use crate::{LoadReport, SceneError};
 
-/// Reads a whole regular file. Devices, FIFOs and directories are refused, so a reference to
-/// `/dev/zero` in a fuzzed or malicious file cannot make a load read forever.
-pub(crate) fn read(path: &Path) -> Result<Vec<u8>, SceneError> {
+/// Reads a whole regular file and lists it in the report's files. Devices, FIFOs and
+/// directories are refused, so a reference to `/dev/zero` in a fuzzed or malicious file cannot
+/// make a load read forever.
+pub(crate) fn read(path: &Path, report: &mut LoadReport) -> Result<Vec<u8>, SceneError> {
     let metadata = fs::metadata(path).map_err(|e| SceneError::io(path, e))?;
     if !metadata.is_file() {
         return Err(SceneError::io(path, io::Error::new(io::ErrorKind::InvalidInput, "not a regular file")));
     }
-    fs::read(path).map_err(|e| SceneError::io(path, e))
+    let bytes = fs::read(path).map_err(|e| SceneError::io(path, e))?;
+    report.files.push(path.to_path_buf());
+    Ok(bytes)
 }
 
 /// Finds the file a scene refers to as `reference`, relative to `dir`.
@@ -92,7 +95,7 @@ mod tests {
 
     #[test]
     fn refuses_devices() {
-        let err = read(Path::new("/dev/zero")).unwrap_err();
+        let err = read(Path::new("/dev/zero"), &mut LoadReport::default()).unwrap_err();
         assert!(err.to_string().contains("not a regular file"), "{err}");
     }
 }

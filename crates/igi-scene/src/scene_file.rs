@@ -113,7 +113,7 @@ use crate::texture::{self, ColorSpace};
 
 /// Loads a scene file and every mesh file it names.
 pub fn load(path: &Path, report: &mut LoadReport) -> Result<Scene, SceneError> {
-    let bytes = resources::read(path)?;
+    let bytes = resources::read(path, report)?;
     let text = std::str::from_utf8(&bytes)
         .map_err(|e| SceneError::parse(path, Location::File, format!("not UTF-8 text: {e}")))?;
     parse_file(text, path, Some(&resources::base_dir(path)), report)
@@ -690,8 +690,8 @@ fn environment_from(
         at: at(),
         missing: dir.join(name),
     })?;
-    let bytes =
-        resources::read(&image_path).map_err(|e| SceneError::invalid(check.file, at(), e.to_string()))?;
+    let bytes = resources::read(&image_path, report)
+        .map_err(|e| SceneError::invalid(check.file, at(), e.to_string()))?;
     // Float images (.hdr, .exr) are linear whatever the colour space; 8- and 16-bit images
     // are sRGB-encoded pictures.
     let image = texture::decode(&bytes, &image_path.display().to_string(), ColorSpace::Srgb)

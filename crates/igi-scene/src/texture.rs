@@ -157,7 +157,7 @@ impl TextureSet {
         if let Some(&outcome) = self.loaded.get(&key) {
             return outcome;
         }
-        let outcome = match resources::read(&path) {
+        let outcome = match resources::read(&path, report) {
             Ok(bytes) => self.insert_decoded(&bytes, &key.0, space, referrer, report),
             Err(err) => {
                 report.warn(referrer, format!("texture skipped: {err}"));

@@ -1,7 +1,7 @@
 //! The command line: argument types (clap derive), logging set-up, subcommand dispatch, and
 //! helpers the subcommands share (vector arguments, camera overrides).
 
-use crate::{bench, cmd_info, cmd_render, cmd_serve, cmd_view};
+use crate::{bench, cmd_info, cmd_render, cmd_serve, cmd_view, cmd_worker};
 use anyhow::Result;
 use clap::{Parser, Subcommand};
 use glam::Vec3;
@@ -29,7 +29,9 @@ pub enum Command {
     View(cmd_view::ViewArgs),
     /// Explore a scene in a browser: serve a viewer page and stream the frames to it.
     Serve(cmd_serve::ServeArgs),
-    /// Measure throughput (`igi bench frame`, `igi bench rays`).
+    /// Render tiles for rank 0 of an MPI job (the split launch of a cluster viewer).
+    Worker(cmd_worker::WorkerArgs),
+    /// Measure throughput (`igi bench frame`, `igi bench rays`, `igi bench cluster`).
     #[command(subcommand)]
     Bench(bench::BenchCommand),
 }
@@ -41,6 +43,7 @@ pub fn dispatch(command: Command) -> Result<()> {
         Command::Info(args) => cmd_info::run(&args),
         Command::View(args) => cmd_view::run(&args),
         Command::Serve(args) => cmd_serve::run(&args),
+        Command::Worker(args) => cmd_worker::run(&args),
         Command::Bench(cmd) => bench::run(cmd),
     }
 }

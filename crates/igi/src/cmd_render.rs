@@ -1,15 +1,21 @@
 //! `igi render`: load a scene, render it with instant global illumination (or the reference
 //! path tracer) and write a PNG or EXR file, then print one summary line.
 
+use crate::cluster::{ClusterArgs, Rank};
 use crate::frame_args::FrameArgs;
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
 use igi_render::frame_renderer::{FrameOutput, FrameRenderer};
 use igi_render::output::ImageFormat;
+use igi_render::output::write_png_rgb8;
 use igi_render::path_tracer::render_path_traced;
 use igi_render::sampling::MAX_SAMPLES;
-use igi_render::{IgiSettings, PreparedScene, ToneMap, ToneMapper, write_image};
+use igi_render::tonemap::LuminanceStats;
+use igi_render::{Film, FrameState, IgiSettings, PreparedScene, ToneMap, ToneMapper, write_exr, write_image};
+use igi_session::accumulation::Accumulator;
+use igi_session::{FrameSource, ScenePose};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::path::Path;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
@@ -44,9 +50,20 @@ pub struct RenderArgs {
     /// Fixed exposure in stops for PNG output (default: automatic, Reinhard key 0.18).
     #[arg(long, allow_hyphen_values = true)]
     pub exposure: Option<f32>,
+    /// IGI: render this many frames of the scene's animation, `--fps` apart from `--time` on,
+    /// into OUTPUT-0000.png, OUTPUT-0001.png, … Each PNG after the first is tone-mapped with
+    /// the previous frame's statistics, as the viewers do (paper 3.4).
+    #[arg(long, default_value_t = 1)]
+    pub sequence: u32,
+    /// Frames per second of scene time for `--sequence`.
+    #[arg(long, default_value_t = 24.0)]
+    pub fps: f32,
     /// Frame options.
     #[command(flatten)]
     pub frame: FrameArgs,
+    /// Cluster options.
+    #[command(flatten)]
+    pub cluster: ClusterArgs,
 }
 
 /// Runs `igi render`.
@@ -60,10 +77,26 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if !(1..=1_000_000).contains(&args.frames) {
         bail!("--frames must be between 1 and 1000000");
     }
+    if !(1..=1_000_000).contains(&args.sequence) {
+        bail!("--sequence must be between 1 and 1000000");
+    }
+    if !(args.fps.is_finite() && args.fps > 0.0) {
+        bail!("--fps must be a positive number");
+    }
     ImageFormat::from_path(&args.output)?;
+    if args.cluster.cluster && args.mode == Mode::Path {
+        bail!("--cluster renders with --mode igi only");
+    }
 
     let t_load = Instant::now();
-    let scene = igi_scene::load_named(&args.scene).context("cannot load scene")?;
+    let (scene, source): (_, Option<Box<dyn FrameSource>>) = if args.cluster.cluster {
+        match crate::cluster::start(&args.cluster, &args.scene, args.frame.threads)? {
+            Rank::Root(root) => (root.scene, Some(crate::cluster::source(root.master))),
+            Rank::NodeDone => return Ok(()),
+        }
+    } else {
+        (igi_scene::load_named(&args.scene).context("cannot load scene")?, None)
+    };
     let load = t_load.elapsed();
     let mut frame = args.frame.frame_state(&scene)?;
     if args.frames > 1 && frame.settings.clamp > 0.0 {
@@ -80,6 +113,31 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let mut prepared = PreparedScene::new(scene);
     prepared.set_time(args.frame.time);
     let build = t_build.elapsed();
+
+    if source.is_some() || args.sequence > 1 {
+        let mut source = source.unwrap_or_else(|| Box::new(FrameRenderer::new(args.frame.threads)));
+        let start = Instant::now();
+        let rays = render_frames(args, source.as_mut(), &mut prepared, frame)?;
+        let elapsed = start.elapsed().as_secs_f64();
+        outln!(
+            "{}: {}x{}, {} triangles, {} thread(s){}: {} frame(s) of {} accumulated in {:.3} s ({:.2} fps, {:.1} Mrays/s; load {:.3} s, build {:.3} s) -> {}",
+            args.scene,
+            frame.settings.width,
+            frame.settings.height,
+            prepared.triangle_count(),
+            source.threads(),
+            if args.cluster.cluster { " on the cluster" } else { "" },
+            args.sequence,
+            args.frames,
+            elapsed,
+            f64::from(args.sequence) / elapsed.max(1e-9),
+            rays as f64 * 1e-6 / elapsed.max(1e-9),
+            load.as_secs_f64(),
+            build.as_secs_f64(),
+            args.output.display()
+        );
+        return Ok(());
+    }
 
     let renderer = FrameRenderer::new(args.frame.threads);
     let bar = LateProgress::new();
@@ -125,6 +183,66 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         args.output.display()
     );
     Ok(())
+}
+
+/// Renders `--sequence` frames (each the mean of `--frames`) through `source` and writes
+/// them; returns the rays traced. The first frame, every accumulated frame and EXR output
+/// come back as linear radiance (a PNG is then tone-mapped from the frame's own statistics, as
+/// a single `igi render` does); later PNG frames come back as 8-bit pixels tone-mapped with
+/// the previous frame's statistics, which is what a cluster sends (paper 3.4). The local
+/// renderer and a cluster therefore write the same bytes.
+fn render_frames(
+    args: &RenderArgs,
+    source: &mut dyn FrameSource,
+    scene: &mut PreparedScene,
+    first: FrameState,
+) -> Result<u64> {
+    let tone_map = ToneMap::from_exposure(args.exposure);
+    let exr = ImageFormat::from_path(&args.output)? == ImageFormat::Exr;
+    let mut previous: Option<LuminanceStats> = None;
+    let mut rays = 0;
+    for k in 0..args.sequence {
+        let pose = ScenePose { time: args.frame.time + k as f32 / args.fps, moved: Vec::new() };
+        scene.set_time(pose.time);
+        let path = sequence_path(&args.output, k, args.sequence);
+        let mut frame = first;
+        frame.tone_map = ToneMapper::new(tone_map, &previous.unwrap_or_default());
+        let linear = exr || args.frames > 1 || previous.is_none();
+        if !linear {
+            let out = source.render(scene, &pose, &frame, false)?;
+            rays += out.rays.total();
+            write_png_rgb8(&out.srgb8, frame.settings.width, frame.settings.height, &path)?;
+            previous = Some(out.stats);
+            continue;
+        }
+        let mut sum = Accumulator::default();
+        frame.settings.reseed_per_frame |= args.frames > 1;
+        for i in 0..args.frames {
+            frame.frame = first.frame.wrapping_add(i);
+            let out = source.render(scene, &pose, &frame, true)?;
+            rays += out.rays.total();
+            sum.add(out.film.as_ref().context("a linear frame came without its film")?);
+        }
+        let film: Film = sum.mean();
+        let stats = LuminanceStats::of_pixels(film.pixels());
+        if exr {
+            write_exr(&film, &path)?;
+        } else {
+            write_image(&film, &path, &ToneMapper::new(tone_map, &stats))?;
+        }
+        previous = Some(stats);
+    }
+    Ok(rays)
+}
+
+/// `out.png` for a single frame, `out-0007.png` for frame 7 of a sequence.
+fn sequence_path(output: &Path, k: u32, frames: u32) -> std::path::PathBuf {
+    if frames == 1 {
+        return output.to_path_buf();
+    }
+    let stem = output.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let ext = output.extension().map(|e| e.to_string_lossy().into_owned()).unwrap_or_default();
+    output.with_file_name(format!("{stem}-{k:04}.{ext}"))
 }
 
 /// The summary of an IGI render: frames, VPLs, rays.

@@ -20,6 +20,6 @@ pub struct ServeArgs {
 
 /// Runs `igi serve` until Ctrl-C.
 pub fn run(args: &ServeArgs) -> Result<()> {
-    let session = args.viewer.session()?;
+    let Some(session) = args.viewer.session()? else { return Ok(()) };
     igi_serve::run(session, args.listen)
 }

@@ -21,7 +21,7 @@ pub struct ViewArgs {
 
 /// Runs `igi view`.
 pub fn run(args: &ViewArgs) -> Result<()> {
-    let session = args.viewer.session()?;
+    let Some(session) = args.viewer.session()? else { return Ok(()) };
     let options = igi_view::ViewOptions {
         screenshot: args.screenshot.clone(),
         exit_after_frames: args.exit_after_frames,

@@ -13,10 +13,12 @@ macro_rules! outln {
 
 mod bench;
 mod cli;
+mod cluster;
 mod cmd_info;
 mod cmd_render;
 mod cmd_serve;
 mod cmd_view;
+mod cmd_worker;
 mod cpu_check;
 mod frame_args;
 mod viewer_args;

@@ -1,6 +1,7 @@
 //! The options shared by the interactive viewers, `igi view` and `igi serve`: the scene, the
 //! frame options of `igi render` and the clock, turned into an [`igi_session::Session`].
 
+use crate::cluster::{ClusterArgs, Rank};
 use crate::frame_args::FrameArgs;
 use anyhow::{Context, Result};
 use clap::Args;
@@ -31,12 +32,23 @@ pub struct ViewerArgs {
     /// Frame options (as for `igi render`; `--aa` defaults to 1 here).
     #[command(flatten)]
     pub frame: FrameArgs,
+    /// Cluster options.
+    #[command(flatten)]
+    pub cluster: ClusterArgs,
 }
 
 impl ViewerArgs {
     /// Loads the scene and starts a session with these options (errors name the flag).
-    pub fn session(&self) -> Result<Session> {
-        let scene = igi_scene::load_named(&self.scene).context("cannot load scene")?;
+    /// `None` on a render node of a cluster job, once the job is over.
+    pub fn session(&self) -> Result<Option<Session>> {
+        let (scene, source) = if self.cluster.cluster {
+            match crate::cluster::start(&self.cluster, &self.scene, self.frame.threads)? {
+                Rank::Root(root) => (root.scene, Some(crate::cluster::source(root.master))),
+                Rank::NodeDone => return Ok(None),
+            }
+        } else {
+            (igi_scene::load_named(&self.scene).context("cannot load scene")?, None)
+        };
         let mut frame = self.frame.frame_state(&scene)?;
         frame.settings.aa = self.frame.aa.unwrap_or(VIEWER_AA);
         let mut prepared = PreparedScene::new(scene);
@@ -61,8 +73,11 @@ impl ViewerArgs {
             playing: !self.paused,
             speed: self.speed,
         };
-        let mut session = Session::new(prepared, frame.camera, settings, self.frame.threads)?;
+        let mut session = match source {
+            Some(source) => Session::with_source(prepared, frame.camera, settings, source)?,
+            None => Session::new(prepared, frame.camera, settings, self.frame.threads)?,
+        };
         session.set_clock(self.frame.time);
-        Ok(session)
+        Ok(Some(session))
     }
 }
