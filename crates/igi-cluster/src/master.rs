@@ -202,6 +202,9 @@ impl<T: Transport> Master<T> {
     /// Waits for the last tile of the frame in flight and puts the frame together.
     pub fn finish(&mut self) -> Result<ClusterFrame, ClusterError> {
         let waiting = Instant::now();
+        // Silence counts only while rank 0 listens: whatever nodes sent while it was busy
+        // elsewhere (building its scene, writing the last frame) is still queued.
+        self.nodes.iter_mut().for_each(|n| n.last_heard = waiting);
         loop {
             let Some(active) = &self.active else {
                 return Err(ClusterError::Protocol {

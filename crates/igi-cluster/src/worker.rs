@@ -178,7 +178,20 @@ fn render_job<T: Transport>(
     }
     scene.place(job.time, &job.moved);
     let scene = &*scene;
-    let vpls = scheduler.install(|| VplSets::generate(scene, &job.state));
+    // The walks of a large scene can take longer than rank 0's patience: keep beating.
+    let vpls = std::thread::scope(|s| -> Result<VplSets, ClusterError> {
+        let walks = s.spawn(|| scheduler.install(|| VplSets::generate(scene, &job.state)));
+        while !walks.is_finished() {
+            if last_beat.elapsed() >= HEARTBEAT {
+                transport.send(0, &Message::Heartbeat.encode())?;
+                *last_beat = Instant::now();
+            }
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        walks
+            .join()
+            .map_err(|_| ClusterError::NodeFailed { rank, message: "the VPL generation panicked".into() })
+    })?;
     let vpl_count = u32::try_from(vpls.total_vpls()).unwrap_or(u32::MAX);
     let s = &job.state.settings;
     let grid = TileGrid::new(s.width, s.height, s.tile_size);

@@ -36,8 +36,8 @@ pub enum Rank {
 pub struct Root {
     /// The scene as rank 0 loaded it (for the camera, bounds and picking).
     pub scene: Scene,
-    /// Rank 0's side of the job.
-    pub master: Master<Box<dyn Transport>>,
+    /// Rank 0's side of the job; `None` in a job of one rank, which renders by itself.
+    pub master: Option<Master<Box<dyn Transport>>>,
 }
 
 /// Starts this process's part of a cluster job on `spec` (a built-in name or a scene file):
@@ -51,13 +51,17 @@ pub fn start(args: &ClusterArgs, spec: &str, threads: usize) -> Result<Rank> {
     }
     let (scene, report) =
         igi_scene::load_named_with_report(spec).unwrap_or_else(|e| fail(&format!("cannot load scene: {e}")));
+    if transport.size() == 1 {
+        tracing::warn!("the MPI job has one rank: rank 0 renders by itself");
+        return Ok(Rank::Root(Box::new(Root { scene, master: None })));
+    }
     let broadcast = args.broadcast_scene && !report.files.is_empty();
     let files = if broadcast { read_files(&report.files) } else { Vec::new() };
     let name = if broadcast { canonical(Path::new(spec)).display().to_string() } else { spec.to_string() };
     let setup = Setup { version: PROTOCOL_VERSION, scene: name, files, digest: scene.digest() };
     let master =
         Master::connect(transport, &setup, MasterConfig::default()).unwrap_or_else(|e| fail(&e.to_string()));
-    Ok(Rank::Root(Box::new(Root { scene, master })))
+    Ok(Rank::Root(Box::new(Root { scene, master: Some(master) })))
 }
 
 /// `igi worker`: a render node of a split launch.
@@ -72,9 +76,15 @@ pub fn work(threads: usize) -> Result<()> {
     Ok(())
 }
 
-/// A session's frame source on rank 0's nodes; a failure ends the whole job.
-pub fn source(master: Master<Box<dyn Transport>>) -> Box<dyn FrameSource> {
-    Box::new(ClusterSource::new(master, Box::new(|e: &ClusterError| fail(&e.to_string()))))
+/// A session's frame source: rank 0's nodes (a failure ends the whole job), or this
+/// process's `threads` in a job of one rank.
+pub fn source(master: Option<Master<Box<dyn Transport>>>, threads: usize) -> Box<dyn FrameSource> {
+    match master {
+        Some(master) => {
+            Box::new(ClusterSource::new(master, Box::new(|e: &ClusterError| fail(&e.to_string()))))
+        }
+        None => Box::new(igi_render::FrameRenderer::new(threads)),
+    }
 }
 
 #[cfg(feature = "mpi")]

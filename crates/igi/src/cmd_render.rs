@@ -91,7 +91,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let t_load = Instant::now();
     let (scene, source): (_, Option<Box<dyn FrameSource>>) = if args.cluster.cluster {
         match crate::cluster::start(&args.cluster, &args.scene, args.frame.threads)? {
-            Rank::Root(root) => (root.scene, Some(crate::cluster::source(root.master))),
+            Rank::Root(root) => (root.scene, Some(crate::cluster::source(root.master, args.frame.threads))),
             Rank::NodeDone => return Ok(()),
         }
     } else {

@@ -43,7 +43,9 @@ impl ViewerArgs {
     pub fn session(&self) -> Result<Option<Session>> {
         let (scene, source) = if self.cluster.cluster {
             match crate::cluster::start(&self.cluster, &self.scene, self.frame.threads)? {
-                Rank::Root(root) => (root.scene, Some(crate::cluster::source(root.master))),
+                Rank::Root(root) => {
+                    (root.scene, Some(crate::cluster::source(root.master, self.frame.threads)))
+                }
                 Rank::NodeDone => return Ok(None),
             }
         } else {
