@@ -66,6 +66,8 @@ struct Active {
     started: Instant,
     bytes_in: u64,
     bytes_out: u64,
+    /// Rank 0's time handling the frame's messages (decoding, checking, handing out).
+    busy: Duration,
 }
 
 /// A frame gathered from the nodes.
@@ -95,6 +97,9 @@ pub struct ClusterFrame {
     pub elapsed: Duration,
     /// Time rank 0 spent in [`Master::finish`] waiting for tiles.
     pub wait: Duration,
+    /// Rank 0's own work on the frame: handling its messages and putting the image together.
+    /// Rank 0 saturates when this reaches the frame time.
+    pub busy: Duration,
 }
 
 /// Rank 0 of a cluster job.
@@ -106,6 +111,8 @@ pub struct Master<T: Transport> {
     next_id: u64,
     active: Option<Active>,
     last_frame: Duration,
+    /// Nodes that take part in frames: the first `in_use` (for scaling measurements).
+    in_use: usize,
 }
 
 impl<T: Transport> Master<T> {
@@ -120,6 +127,7 @@ impl<T: Transport> Master<T> {
             next_id: 1,
             active: None,
             last_frame: Duration::ZERO,
+            in_use: 0,
         };
         if size < 2 {
             return Err(ClusterError::NoWorkers);
@@ -154,12 +162,19 @@ impl<T: Transport> Master<T> {
         master.nodes = (1..size)
             .map(|rank| Node { rank, threads: threads[rank].unwrap_or(1), last_heard: now })
             .collect();
+        master.in_use = master.nodes.len();
         Ok(master)
     }
 
-    /// Render threads over all nodes.
+    /// Render threads over the nodes in use.
     pub fn threads(&self) -> usize {
-        self.nodes.iter().map(|n| n.threads as usize).sum()
+        self.nodes[..self.in_use].iter().map(|n| n.threads as usize).sum()
+    }
+
+    /// Renders the next frames on the first `count` nodes only (at least one); the others
+    /// idle. For measuring how the frame rate scales with the nodes.
+    pub fn use_nodes(&mut self, count: usize) {
+        self.in_use = count.clamp(1, self.nodes.len());
     }
 
     /// Number of render nodes.
@@ -180,7 +195,7 @@ impl<T: Transport> Master<T> {
         let grid = TileGrid::new(s.width, s.height, s.tile_size);
         let bytes = Message::Frame(Box::new(job.clone())).encode();
         let mut bytes_out = 0;
-        for node in &self.nodes {
+        for node in &self.nodes[..self.in_use] {
             self.transport.send(node.rank, &bytes)?;
             bytes_out += bytes.len() as u64;
         }
@@ -192,8 +207,9 @@ impl<T: Transport> Master<T> {
             started: Instant::now(),
             bytes_in: 0,
             bytes_out,
+            busy: Duration::ZERO,
         });
-        for i in 0..self.nodes.len() {
+        for i in 0..self.in_use {
             self.hand_out(i)?;
         }
         Ok(())
@@ -217,6 +233,7 @@ impl<T: Transport> Master<T> {
             }
             self.check_silence()?;
             if let Some((rank, message, len)) = self.receive_sized()? {
+                let handling = Instant::now();
                 let active = self.active.as_mut().unwrap_or_else(|| unreachable!("checked above"));
                 active.bytes_in += len as u64;
                 match message {
@@ -240,9 +257,12 @@ impl<T: Transport> Master<T> {
                     Message::Fatal(message) => return Err(ClusterError::NodeFailed { rank, message }),
                     other => return Err(protocol(rank, &other)),
                 }
+                if let Some(active) = &mut self.active {
+                    active.busy += handling.elapsed();
+                }
             }
             // Copies of overdue tiles go to nodes with room.
-            for i in 0..self.nodes.len() {
+            for i in 0..self.in_use {
                 self.hand_out(i)?;
             }
         }
@@ -284,7 +304,7 @@ impl<T: Transport> Master<T> {
     fn check_silence(&self) -> Result<(), ClusterError> {
         let Some(active) = &self.active else { return Ok(()) };
         let now = Instant::now();
-        for node in &self.nodes {
+        for node in &self.nodes[..self.in_use] {
             let silent = now.saturating_duration_since(node.last_heard);
             if silent > self.config.silence_limit && active.queue.held_by(node.rank) > 0 {
                 return Err(ClusterError::NodeLost { rank: node.rank, silent });
@@ -348,6 +368,7 @@ fn check_tile(rank: usize, job: &FrameJob, grid: &TileGrid, result: &TileResult)
 
 /// The frame from its tiles, in tile order.
 fn assemble(active: Active, nodes: usize, wait: Duration) -> ClusterFrame {
+    let assembling = Instant::now();
     let s = &active.job.state.settings;
     let (width, height) = (s.width as usize, s.height as usize);
     let mut srgb8 = (active.job.pixels == PixelFormat::Srgb8).then(|| vec![0u8; 3 * width * height]);
@@ -389,6 +410,7 @@ fn assemble(active: Active, nodes: usize, wait: Duration) -> ClusterFrame {
         bytes_out: active.bytes_out,
         elapsed: active.started.elapsed(),
         wait,
+        busy: active.busy + assembling.elapsed(),
         job: active.job,
     }
 }

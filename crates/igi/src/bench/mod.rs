@@ -2,7 +2,9 @@
 //! instant-global-illumination pipeline. `igi bench rays` times the two ray kinds of an
 //! instant-radiosity frame (primary rays, shadow rays to virtual point lights) on exactly the
 //! workload of `../shared/tools/embree-bench`, so the two can be compared ray for ray.
+//! `igi bench cluster` measures frames of a cluster job as its render nodes grow.
 
+pub mod cluster;
 pub mod frame;
 pub mod rays;
 mod workload;
@@ -16,6 +18,8 @@ pub enum BenchCommand {
     Frame(frame::FrameBenchArgs),
     /// Ray throughput of the traversal kernels on the instant-radiosity workload.
     Rays(rays::RaysArgs),
+    /// Cluster frame rate, traffic and scaling from 1 to N render nodes (under mpirun).
+    Cluster(cluster::ClusterBenchArgs),
 }
 
 /// Runs one benchmark.
@@ -23,5 +27,6 @@ pub fn run(cmd: BenchCommand) -> anyhow::Result<()> {
     match cmd {
         BenchCommand::Frame(args) => frame::run(&args),
         BenchCommand::Rays(args) => rays::run(&args),
+        BenchCommand::Cluster(args) => cluster::run(&args),
     }
 }
