@@ -37,7 +37,7 @@ pub struct MasterConfig {
 impl Default for MasterConfig {
     fn default() -> Self {
         Self {
-            tiles_ahead: 2,
+            tiles_ahead: 4,
             silence_limit: 6 * HEARTBEAT,
             min_deadline: Duration::from_secs(1),
             setup_limit: Duration::from_secs(600),

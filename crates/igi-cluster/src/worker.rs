@@ -18,15 +18,15 @@ use igi_render::vpl::VplSets;
 use igi_render::{PreparedScene, TileGrid};
 use igi_scene::Scene;
 use std::collections::VecDeque;
-use std::sync::mpsc::{TryRecvError, channel};
+use std::sync::mpsc::{RecvTimeoutError, channel};
 use std::sync::{Condvar, Mutex};
 use std::time::{Duration, Instant};
 
 /// How often a node tells rank 0 it is alive.
 pub const HEARTBEAT: Duration = Duration::from_millis(500);
 
-/// How long the transport thread waits for a message before it looks at finished tiles.
-const POLL: Duration = Duration::from_micros(200);
+/// How long the transport thread waits for a finished tile before it looks for messages.
+const POLL: Duration = Duration::from_millis(1);
 
 /// What a node did, for its log line.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -223,27 +223,26 @@ fn render_job<T: Transport>(
         }
         let _close = CloseOnExit(&queue);
         loop {
-            loop {
-                match done_rx.try_recv() {
-                    Ok(out) => {
-                        let result = tile_result(job, out, vpl_count);
-                        transport.send(0, &Message::Tile(Box::new(result)).encode())?;
-                        rendered += 1;
-                    }
-                    Err(TryRecvError::Empty) => break,
-                    Err(TryRecvError::Disconnected) => {
-                        return Err(ClusterError::NodeFailed {
-                            rank,
-                            message: "a render thread died".into(),
-                        });
-                    }
+            // Wait on the render threads, and look at the transport in between: one probe
+            // per wait, so this thread takes next to no CPU from the render threads.
+            let mut finished = match done_rx.recv_timeout(POLL) {
+                Ok(out) => Some(out),
+                Err(RecvTimeoutError::Timeout) => None,
+                Err(RecvTimeoutError::Disconnected) => {
+                    return Err(ClusterError::NodeFailed { rank, message: "a render thread died".into() });
                 }
+            };
+            while let Some(out) = finished {
+                let result = tile_result(job, out, vpl_count);
+                transport.send(0, &Message::Tile(Box::new(result)).encode())?;
+                rendered += 1;
+                finished = done_rx.try_recv().ok();
             }
             if last_beat.elapsed() >= HEARTBEAT {
                 transport.send(0, &Message::Heartbeat.encode())?;
                 *last_beat = Instant::now();
             }
-            match next_from_root(transport, POLL)? {
+            match next_from_root(transport, Duration::ZERO)? {
                 None => {}
                 Some(Message::Tiles { job: id, tiles }) if id == job.id => {
                     if let Some(&bad) = tiles.iter().find(|&&t| t >= grid.len()) {
