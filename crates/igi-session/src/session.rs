@@ -330,7 +330,7 @@ impl Session {
             id: self.frames,
             input_seq: self.inputs,
             time: self.clock,
-            accumulated: self.accumulator.frames(),
+            accumulated: self.accumulator.frames().max(1),
             render_ms: elapsed * 1e3,
             fps: self.fps,
             phases_ms,

@@ -48,10 +48,30 @@ pub fn run(session: Session, options: ViewOptions) -> Result<()> {
         ..Default::default()
     };
     let title = options.title.clone();
-    eframe::run_native(
+    let app_loop = render_loop.clone();
+    let result = eframe::run_native(
         &title,
         native,
-        Box::new(move |cc| Ok(Box::new(app::ViewerApp::new(cc, render_loop, options)))),
+        Box::new(move |cc| Ok(Box::new(app::ViewerApp::new(cc, app_loop, options)))),
     )
-    .map_err(|e| anyhow::anyhow!("cannot open the window: {e} (is there a display with OpenGL?)"))
+    .map_err(|e| anyhow::anyhow!("cannot open the window: {e} (is there a display with OpenGL?)"));
+    end_session(render_loop);
+    result
+}
+
+/// Stops the render loop and drops the session once the window and its waker thread have let
+/// go of it (the waker looks ten times a second), so whatever the session holds ends cleanly:
+/// a cluster session tells its nodes to stop and finalises MPI.
+fn end_session(mut render_loop: Arc<RenderLoop>) {
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(2);
+    loop {
+        match Arc::try_unwrap(render_loop) {
+            Ok(only) => return drop(only),
+            Err(_) if std::time::Instant::now() > deadline => return,
+            Err(shared) => {
+                render_loop = shared;
+                std::thread::sleep(std::time::Duration::from_millis(10));
+            }
+        }
+    }
 }
