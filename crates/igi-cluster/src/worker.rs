@@ -180,17 +180,25 @@ fn render_job<T: Transport>(
     let scene = &*scene;
     // The walks of a large scene can take longer than rank 0's patience: keep beating.
     let vpls = std::thread::scope(|s| -> Result<VplSets, ClusterError> {
-        let walks = s.spawn(|| scheduler.install(|| VplSets::generate(scene, &job.state)));
-        while !walks.is_finished() {
-            if last_beat.elapsed() >= HEARTBEAT {
-                transport.send(0, &Message::Heartbeat.encode())?;
-                *last_beat = Instant::now();
+        let (walked_tx, walked) = channel();
+        s.spawn(move || {
+            let _ = walked_tx.send(scheduler.install(|| VplSets::generate(scene, &job.state)));
+        });
+        loop {
+            match walked.recv_timeout(HEARTBEAT) {
+                Ok(vpls) => return Ok(vpls),
+                Err(RecvTimeoutError::Timeout) => {
+                    transport.send(0, &Message::Heartbeat.encode())?;
+                    *last_beat = Instant::now();
+                }
+                Err(RecvTimeoutError::Disconnected) => {
+                    return Err(ClusterError::NodeFailed {
+                        rank,
+                        message: "the VPL generation panicked".into(),
+                    });
+                }
             }
-            std::thread::sleep(Duration::from_millis(1));
         }
-        walks
-            .join()
-            .map_err(|_| ClusterError::NodeFailed { rank, message: "the VPL generation panicked".into() })
     })?;
     let vpl_count = u32::try_from(vpls.total_vpls()).unwrap_or(u32::MAX);
     let s = &job.state.settings;
@@ -223,8 +231,26 @@ fn render_job<T: Transport>(
         }
         let _close = CloseOnExit(&queue);
         loop {
-            // Wait on the render threads, and look at the transport in between: one probe
-            // per wait, so this thread takes next to no CPU from the render threads.
+            // Every message waiting first (the tiles of a new frame come right behind it),
+            // then wait on the render threads: one probe per wait, so this thread takes next
+            // to no CPU from the render threads.
+            while let Some(message) = next_from_root(transport, Duration::ZERO)? {
+                match message {
+                    Message::Tiles { job: id, tiles } if id == job.id => {
+                        if let Some(&bad) = tiles.iter().find(|&&t| t >= grid.len()) {
+                            let message = format!("tile {bad} of frame {id}, which has {} tiles", grid.len());
+                            transport.send(0, &Message::Fatal(message.clone()).encode())?;
+                            return Err(ClusterError::Protocol { rank: 0, message });
+                        }
+                        queue.push(&tiles);
+                    }
+                    Message::Tiles { .. } => {}
+                    // Rank 0 moves on only once every tile of this job is back: whatever this
+                    // node still holds is a late copy.
+                    m @ (Message::Frame(_) | Message::Shutdown) => return Ok((rendered, Some(m))),
+                    other => return Err(unexpected(0, &other, "tiles or a frame")),
+                }
+            }
             let mut finished = match done_rx.recv_timeout(POLL) {
                 Ok(out) => Some(out),
                 Err(RecvTimeoutError::Timeout) => None,
@@ -241,22 +267,6 @@ fn render_job<T: Transport>(
             if last_beat.elapsed() >= HEARTBEAT {
                 transport.send(0, &Message::Heartbeat.encode())?;
                 *last_beat = Instant::now();
-            }
-            match next_from_root(transport, Duration::ZERO)? {
-                None => {}
-                Some(Message::Tiles { job: id, tiles }) if id == job.id => {
-                    if let Some(&bad) = tiles.iter().find(|&&t| t >= grid.len()) {
-                        let message = format!("tile {bad} of frame {id}, which has {} tiles", grid.len());
-                        transport.send(0, &Message::Fatal(message.clone()).encode())?;
-                        return Err(ClusterError::Protocol { rank: 0, message });
-                    }
-                    queue.push(&tiles);
-                }
-                Some(Message::Tiles { .. }) => {}
-                // Rank 0 moves on only once every tile of this job is back: whatever this
-                // node still holds is a late copy.
-                Some(m @ (Message::Frame(_) | Message::Shutdown)) => return Ok((rendered, Some(m))),
-                Some(other) => return Err(unexpected(0, &other, "tiles or a frame")),
             }
         }
     })
