@@ -199,40 +199,67 @@ fn render_frames(
 ) -> Result<u64> {
     let tone_map = ToneMap::from_exposure(args.exposure);
     let exr = ImageFormat::from_path(&args.output)? == ImageFormat::Exr;
-    let mut previous: Option<LuminanceStats> = None;
-    let mut rays = 0;
-    for k in 0..args.sequence {
-        let pose = ScenePose { time: args.frame.time + k as f32 / args.fps, moved: Vec::new() };
-        scene.set_time(pose.time);
-        let path = sequence_path(&args.output, k, args.sequence);
-        let mut frame = first;
-        frame.tone_map = ToneMapper::new(tone_map, &previous.unwrap_or_default());
-        let linear = exr || args.frames > 1 || previous.is_none();
-        if !linear {
-            let out = source.render(scene, &pose, &frame, false)?;
-            rays += out.rays.total();
-            write_png_rgb8(&out.srgb8, frame.settings.width, frame.settings.height, &path)?;
-            previous = Some(out.stats);
-            continue;
+    let (width, height) = (first.settings.width, first.settings.height);
+    // Files are written on their own thread, so frame k + 1 renders (on the cluster: the nodes
+    // start it) while frame k is encoded.
+    std::thread::scope(|s| -> Result<u64> {
+        let (to_writer, images) = std::sync::mpsc::sync_channel::<(std::path::PathBuf, Image)>(2);
+        let writer = s.spawn(move || -> Result<()> {
+            for (path, image) in images {
+                match image {
+                    Image::Srgb8(bytes) => write_png_rgb8(&bytes, width, height, &path)?,
+                    Image::Exr(film) => write_exr(&film, &path)?,
+                    Image::Png(film, mapper) => write_image(&film, &path, &mapper)?,
+                }
+            }
+            Ok(())
+        });
+        let mut previous: Option<LuminanceStats> = None;
+        let mut rays = 0;
+        for k in 0..args.sequence {
+            let pose = ScenePose { time: args.frame.time + k as f32 / args.fps, moved: Vec::new() };
+            scene.set_time(pose.time);
+            let path = sequence_path(&args.output, k, args.sequence);
+            let mut frame = first;
+            frame.tone_map = ToneMapper::new(tone_map, &previous.unwrap_or_default());
+            let linear = exr || args.frames > 1 || previous.is_none();
+            let (image, stats) = if linear {
+                let mut sum = Accumulator::default();
+                frame.settings.reseed_per_frame |= args.frames > 1;
+                for i in 0..args.frames {
+                    frame.frame = first.frame.wrapping_add(i);
+                    let out = source.render(scene, &pose, &frame, true)?;
+                    rays += out.rays.total();
+                    sum.add(out.film.as_ref().context("a linear frame came without its film")?);
+                }
+                let film: Film = sum.mean();
+                let stats = LuminanceStats::of_pixels(film.pixels());
+                let mapper = ToneMapper::new(tone_map, &stats);
+                (if exr { Image::Exr(film) } else { Image::Png(film, mapper) }, stats)
+            } else {
+                let out = source.render(scene, &pose, &frame, false)?;
+                rays += out.rays.total();
+                (Image::Srgb8(out.srgb8), out.stats)
+            };
+            previous = Some(stats);
+            if to_writer.send((path, image)).is_err() {
+                break;
+            }
         }
-        let mut sum = Accumulator::default();
-        frame.settings.reseed_per_frame |= args.frames > 1;
-        for i in 0..args.frames {
-            frame.frame = first.frame.wrapping_add(i);
-            let out = source.render(scene, &pose, &frame, true)?;
-            rays += out.rays.total();
-            sum.add(out.film.as_ref().context("a linear frame came without its film")?);
-        }
-        let film: Film = sum.mean();
-        let stats = LuminanceStats::of_pixels(film.pixels());
-        if exr {
-            write_exr(&film, &path)?;
-        } else {
-            write_image(&film, &path, &ToneMapper::new(tone_map, &stats))?;
-        }
-        previous = Some(stats);
-    }
-    Ok(rays)
+        drop(to_writer);
+        writer.join().map_err(|_| anyhow::anyhow!("the image writer panicked"))??;
+        Ok(rays)
+    })
+}
+
+/// A finished frame on its way to its file.
+enum Image {
+    /// 8-bit pixels as rendered (tone-mapped with the previous frame's statistics).
+    Srgb8(Vec<u8>),
+    /// Linear radiance for an EXR file.
+    Exr(Film),
+    /// Linear radiance and the tone map from its own statistics, for a PNG file.
+    Png(Film, ToneMapper),
 }
 
 /// `out.png` for a single frame, `out-0007.png` for frame 7 of a sequence.
