@@ -20,6 +20,7 @@
 //! Modules: [`encoder`] (frames to JPEG/PNG once for all connections), [`connection`] (one
 //! WebSocket), [`server`] (routes, start and shutdown).
 
+pub mod access;
 pub mod connection;
 pub mod encoder;
 pub mod server;

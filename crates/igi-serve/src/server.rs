@@ -2,13 +2,15 @@
 //! One render loop and one encoder serve every connection, so several browsers watch and
 //! steer the same session.
 
+use crate::access;
 use crate::connection::{self, MAX_MESSAGE_BYTES};
 use crate::encoder::{EncodedFrame, Encoder};
 use anyhow::Context;
 use axum::Router;
 use axum::extract::State;
 use axum::extract::ws::WebSocketUpgrade;
-use axum::response::{Html, IntoResponse};
+use axum::http::{HeaderMap, StatusCode};
+use axum::response::{Html, IntoResponse, Response};
 use axum::routing::get;
 use igi_session::{RenderLoop, Session};
 use std::future::Future;
@@ -24,6 +26,8 @@ const PAGE: &str = include_str!("../page/index.html");
 struct AppState {
     render_loop: Arc<RenderLoop>,
     frames: watch::Receiver<Option<Arc<EncodedFrame>>>,
+    /// The server listens on a loopback address: it answers to loopback names only.
+    loopback: bool,
 }
 
 /// Serves the viewer of `render_loop` on `listener` until `shutdown` completes.
@@ -32,8 +36,9 @@ pub async fn serve(
     listener: TcpListener,
     shutdown: impl Future<Output = ()> + Send + 'static,
 ) -> std::io::Result<()> {
+    let loopback = listener.local_addr()?.ip().is_loopback();
     let encoder = Encoder::spawn(render_loop.clone());
-    let state = AppState { render_loop, frames: encoder.subscribe() };
+    let state = AppState { render_loop, frames: encoder.subscribe(), loopback };
     let app = Router::new().route("/", get(page)).route("/ws", get(stream)).with_state(state);
     // Open WebSockets would hold a graceful shutdown forever: stop serving at once instead.
     tokio::select! {
@@ -46,11 +51,15 @@ async fn page() -> Html<&'static str> {
     Html(PAGE)
 }
 
-async fn stream(upgrade: WebSocketUpgrade, State(state): State<AppState>) -> impl IntoResponse {
+async fn stream(upgrade: WebSocketUpgrade, headers: HeaderMap, State(state): State<AppState>) -> Response {
+    if let Err(why) = access::check(&headers, state.loopback) {
+        return (StatusCode::FORBIDDEN, why).into_response();
+    }
     upgrade
         .max_message_size(MAX_MESSAGE_BYTES)
         .max_frame_size(MAX_MESSAGE_BYTES)
         .on_upgrade(move |socket| connection::handle(socket, state.render_loop, state.frames))
+        .into_response()
 }
 
 /// Runs the browser viewer of `session` on `listen` until Ctrl-C.

@@ -161,3 +161,30 @@ fn only_the_page_and_the_stream_are_served() {
     let (status, _) = get(server.address, "/ws");
     assert!(!status.contains("200"), "{status}");
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn pages_of_other_sites_and_rebound_names_cannot_open_the_stream() {
+    use tokio_tungstenite::tungstenite::client::IntoClientRequest;
+    let server = common::start(32, 24);
+    let request = |host: Option<&str>, origin: Option<&str>| {
+        let mut r = format!("ws://{}/ws", server.address).into_client_request().unwrap();
+        if let Some(h) = host {
+            r.headers_mut().insert("Host", h.parse().unwrap());
+        }
+        if let Some(o) = origin {
+            r.headers_mut().insert("Origin", o.parse().unwrap());
+        }
+        r
+    };
+    let refused = |result: Result<_, tokio_tungstenite::tungstenite::Error>| match result {
+        Err(tokio_tungstenite::tungstenite::Error::Http(response)) => response.status() == 403,
+        _ => false,
+    };
+    let same = format!("http://{}", server.address);
+    assert!(tokio_tungstenite::connect_async(request(None, Some(&same))).await.is_ok());
+    assert!(refused(tokio_tungstenite::connect_async(request(None, Some("http://evil.example"))).await));
+    let port = server.address.port();
+    let rebound = format!("evil.example:{port}");
+    let rebound_origin = format!("http://{rebound}");
+    assert!(refused(tokio_tungstenite::connect_async(request(Some(&rebound), Some(&rebound_origin))).await));
+}
