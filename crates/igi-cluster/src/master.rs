@@ -282,7 +282,11 @@ impl<T: Transport> Master<T> {
     fn hand_out(&mut self, i: usize) -> Result<(), ClusterError> {
         let Some(active) = &mut self.active else { return Ok(()) };
         let node = self.nodes[i];
-        let room = (node.threads * self.config.tiles_ahead) as usize;
+        // k tiles per thread ahead, fewer as the frame runs out (guided scheduling): a node
+        // left holding a full queue at the end would finish its last tiles alone.
+        let threads: u32 = self.nodes[..self.in_use].iter().map(|n| n.threads).sum();
+        let share = (active.queue.fresh() * node.threads).div_ceil(threads.max(1));
+        let room = (node.threads * self.config.tiles_ahead).min(node.threads + share) as usize;
         let deadline = self.last_frame.max(self.config.min_deadline);
         let now = Instant::now();
         let mut tiles = Vec::new();

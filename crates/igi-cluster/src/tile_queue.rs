@@ -39,6 +39,11 @@ impl TileQueue {
         self.remaining == 0
     }
 
+    /// Tiles not handed out yet.
+    pub fn fresh(&self) -> u32 {
+        self.total - self.next
+    }
+
     /// Tiles node `node` holds now.
     pub fn held_by(&self, node: usize) -> usize {
         self.loans.iter().filter(|l| l.node == node).count()
