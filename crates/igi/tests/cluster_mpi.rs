@@ -215,3 +215,51 @@ fn killing_a_node_mid_frame_ends_the_job_within_10_s() {
     eprintln!("ended {:.2} s after the kill with {status}", killed.elapsed().as_secs_f64());
     let _ = std::fs::remove_dir_all(&d);
 }
+
+#[test]
+fn the_cluster_benchmark_scales_over_the_nodes_and_only_8_bit_pixels_travel() {
+    if !have_mpirun() {
+        return;
+    }
+    let d = dir("bench");
+    let json = d.join("bench.json");
+    let app = [
+        "-n",
+        "3",
+        IGI,
+        "bench",
+        "cluster",
+        "cornell-box",
+        "--frames",
+        "3",
+        "--warmup",
+        "1",
+        "--width",
+        "160",
+        "--height",
+        "120",
+        "--aa",
+        "1",
+        "--threads",
+        "1",
+        "--json",
+        json.to_str().unwrap(),
+    ];
+    run(mpirun(&[&app]));
+    let report: serde_json::Value = serde_json::from_slice(&bytes(&json)).unwrap();
+    let raw = report["raw_8bit_bytes"].as_f64().unwrap();
+    assert_eq!(raw, 3.0 * 160.0 * 120.0);
+    let steps = report["steps"].as_array().unwrap();
+    let nodes: Vec<u64> = steps.iter().map(|s| s["nodes"].as_u64().unwrap()).collect();
+    assert_eq!(nodes, [1, 2]);
+    for s in steps {
+        // 6 tiles of 64² or less: the pixels, their statistics and the message framing.
+        let ratio = s["bytes_in"].as_f64().unwrap() / raw;
+        assert!((1.0..1.1).contains(&ratio), "{} node(s): {ratio:.3}x the raw 8-bit image", s["nodes"]);
+        let tiles: f64 = s["tiles_per_rank"].as_array().unwrap().iter().map(|t| t.as_f64().unwrap()).sum();
+        assert_eq!(tiles, 6.0);
+        assert!(s["fps"].as_f64().unwrap() > 0.0);
+    }
+    assert_eq!(report["model"].as_array().unwrap().len(), 6);
+    let _ = std::fs::remove_dir_all(&d);
+}
