@@ -1,0 +1,65 @@
+//! A viewer session rendered by the cluster (over the in-process transport): the moving frame
+//! comes as 8-bit pixels and equals the local session's; once the view is still, linear frames
+//! accumulate, one frame behind the local session (whose first frame had linear pixels too),
+//! and give the same images byte for byte.
+
+use igi_cluster::{ClusterSource, Master, MasterConfig, Setup};
+use igi_render::PreparedScene;
+use igi_session::{Session, ViewSettings};
+
+fn session(source: Option<Box<dyn igi_session::FrameSource>>) -> Session {
+    let scene = PreparedScene::new(igi_scene::builtin("cornell-box").unwrap());
+    let camera = *scene.camera().unwrap();
+    let settings = ViewSettings {
+        width: 48,
+        height: 40,
+        playing: false,
+        ..ViewSettings::for_scene(scene.bounds().diagonal())
+    };
+    match source {
+        Some(source) => Session::with_source(scene, camera, settings, source).unwrap(),
+        None => Session::new(scene, camera, settings, 2).unwrap(),
+    }
+}
+
+#[test]
+fn a_cluster_session_shows_the_local_sessions_frames() {
+    let mut ranks = igi_cluster::in_process(3).into_iter();
+    let root = ranks.next().unwrap();
+    let nodes: Vec<_> = ranks
+        .map(|mut t| {
+            std::thread::spawn(move || {
+                igi_cluster::run_worker(&mut t, 1, |s| {
+                    igi_scene::load_named(&s.scene).map_err(|e| e.to_string())
+                })
+            })
+        })
+        .collect();
+    let setup = Setup {
+        version: igi_cluster::protocol::PROTOCOL_VERSION,
+        scene: "cornell-box".into(),
+        files: vec![],
+        digest: igi_scene::builtin("cornell-box").unwrap().digest(),
+    };
+    let master = Master::connect(root, &setup, MasterConfig::default()).unwrap();
+    let source = ClusterSource::new(master, Box::new(|e| panic!("the cluster failed: {e}")));
+    let mut cluster = session(Some(Box::new(source)));
+    let mut local = session(None);
+
+    let local_frames: Vec<_> = (0..4).map(|_| local.render(0.0).unwrap()).collect();
+    let cluster_frames: Vec<_> = (0..5).map(|_| cluster.render(0.0).unwrap()).collect();
+    // The first frame: 8-bit pixels from the nodes, the same bytes, no linear film.
+    assert!(cluster_frames[0].rgb8 == local_frames[0].rgb8);
+    assert!(cluster_frames[0].film.is_none());
+    // Still: the cluster's mean of k frames is the local session's mean of k frames.
+    for k in 1..4 {
+        assert_eq!(cluster_frames[k + 1].stats.accumulated, local_frames[k].stats.accumulated);
+        assert!(cluster_frames[k + 1].rgb8 == local_frames[k].rgb8, "accumulated frame {k} differs");
+        assert!(
+            cluster_frames[k + 1].film.as_ref().unwrap().pixels()
+                == local_frames[k].film.as_ref().unwrap().pixels()
+        );
+    }
+    drop(cluster);
+    nodes.into_iter().for_each(|n| assert!(n.join().unwrap().is_ok()));
+}
