@@ -48,6 +48,9 @@ impl Default for MasterConfig {
 /// How long rank 0 waits on the transport before it checks deadlines and heartbeats.
 const POLL: Duration = Duration::from_millis(2);
 
+/// How often rank 0 looks for overdue tiles to copy.
+const SWEEP: Duration = Duration::from_millis(10);
+
 /// A render node as rank 0 sees it.
 #[derive(Clone, Copy, Debug)]
 struct Node {
@@ -221,6 +224,7 @@ impl<T: Transport> Master<T> {
         // Silence counts only while rank 0 listens: whatever nodes sent while it was busy
         // elsewhere (building its scene, writing the last frame) is still queued.
         self.nodes.iter_mut().for_each(|n| n.last_heard = waiting);
+        let mut last_sweep = waiting;
         loop {
             let Some(active) = &self.active else {
                 return Err(ClusterError::Protocol {
@@ -261,9 +265,14 @@ impl<T: Transport> Master<T> {
                     active.busy += handling.elapsed();
                 }
             }
-            // Copies of overdue tiles go to nodes with room.
-            for i in 0..self.in_use {
-                self.hand_out(i)?;
+            // Once the fresh tiles are out, copies of overdue tiles go to nodes with room;
+            // deadlines are a second or more, so looking every few milliseconds is enough.
+            let fresh_left = self.active.as_ref().is_some_and(|a| a.queue.fresh() > 0);
+            if !fresh_left && last_sweep.elapsed() >= SWEEP {
+                last_sweep = Instant::now();
+                for i in 0..self.in_use {
+                    self.hand_out(i)?;
+                }
             }
         }
         let wait = waiting.elapsed();

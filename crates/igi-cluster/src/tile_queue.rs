@@ -6,32 +6,36 @@
 //! whichever copy comes back first counts, so a slow node delays a frame by at most a deadline.
 //! Pure bookkeeping with the time passed in, so it is tested without clocks or threads.
 
+use std::collections::HashMap;
 use std::time::{Duration, Instant};
 
-/// A tile handed out and not yet back.
+/// A copy of a tile handed out and not yet back.
 #[derive(Clone, Copy, Debug)]
 struct Loan {
-    tile: u32,
     node: usize,
     since: Instant,
-    /// A copy was handed to another node already.
+    /// A copy of this loan was handed to another node already.
     copied: bool,
 }
 
-/// The tiles of one frame: handed out, back, or waiting.
+/// The tiles of one frame: handed out, back, or waiting. Every operation a message triggers
+/// costs O(1) (plus the copies of one tile), so rank 0 keeps up with many nodes; only the
+/// search for an overdue tile, once no fresh tile is left, looks at every loan.
 #[derive(Debug)]
 pub struct TileQueue {
     total: u32,
     next: u32,
-    done: Vec<bool>,
     remaining: u32,
-    loans: Vec<Loan>,
+    /// Loans by tile.
+    loans: HashMap<u32, Vec<Loan>>,
+    /// Loans by node.
+    held: HashMap<usize, usize>,
 }
 
 impl TileQueue {
     /// A frame of `total` tiles, none handed out.
     pub fn new(total: u32) -> Self {
-        Self { total, next: 0, done: vec![false; total as usize], remaining: total, loans: Vec::new() }
+        Self { total, next: 0, remaining: total, loans: HashMap::new(), held: HashMap::new() }
     }
 
     /// True once every tile is back.
@@ -46,55 +50,51 @@ impl TileQueue {
 
     /// Tiles node `node` holds now.
     pub fn held_by(&self, node: usize) -> usize {
-        self.loans.iter().filter(|l| l.node == node).count()
+        self.held.get(&node).copied().unwrap_or(0)
     }
 
     /// The next tile for `node` at time `now`: the next fresh tile, else a copy of the oldest
     /// tile another node has held longer than `deadline`. `None` if there is nothing to give.
     pub fn take(&mut self, node: usize, now: Instant, deadline: Duration) -> Option<u32> {
-        if self.next < self.total {
-            let tile = self.next;
+        let (tile, copy) = if self.next < self.total {
             self.next += 1;
-            self.loans.push(Loan { tile, node, since: now, copied: false });
-            return Some(tile);
-        }
-        let held_by_node = |tile: u32, loans: &[Loan]| loans.iter().any(|l| l.tile == tile && l.node == node);
-        let overdue = self
-            .loans
-            .iter()
-            .enumerate()
-            .filter(|(_, l)| !l.copied && now.saturating_duration_since(l.since) > deadline)
-            .filter(|(_, l)| !held_by_node(l.tile, &self.loans))
-            .min_by_key(|(_, l)| l.since)
-            .map(|(i, _)| i)?;
-        self.loans[overdue].copied = true;
-        let tile = self.loans[overdue].tile;
-        self.loans.push(Loan { tile, node, since: now, copied: true });
+            (self.next - 1, false)
+        } else {
+            let (tile, index) = self
+                .loans
+                .iter()
+                .filter(|(_, copies)| !copies.iter().any(|l| l.node == node))
+                .flat_map(|(&tile, copies)| copies.iter().enumerate().map(move |(i, l)| (tile, i, *l)))
+                .filter(|(_, _, l)| !l.copied && now.saturating_duration_since(l.since) > deadline)
+                .min_by_key(|(tile, _, l)| (l.since, *tile))
+                .map(|(tile, i, _)| (tile, i))?;
+            self.loans.get_mut(&tile)?[index].copied = true;
+            (tile, true)
+        };
+        // A copy is not copied again.
+        self.loans.entry(tile).or_default().push(Loan { node, since: now, copied: copy });
+        *self.held.entry(node).or_default() += 1;
         Some(tile)
     }
 
     /// Records tile `tile` back from `node`. True if it is the first copy back (use its
-    /// pixels); false for a late copy, a tile of no loan, or an index out of range.
+    /// pixels); false for a late copy, a tile of no loan, or an index out of range. Loans
+    /// exist only for tiles not back yet, so the first copy back voids the others.
     pub fn complete(&mut self, tile: u32, node: usize) -> bool {
-        let Some(position) = self.loans.iter().position(|l| l.tile == tile && l.node == node) else {
+        if !self.loans.get(&tile).is_some_and(|copies| copies.iter().any(|l| l.node == node)) {
             return false;
-        };
-        self.loans.swap_remove(position);
-        let first = !std::mem::replace(&mut self.done[tile as usize], true);
-        if first {
-            self.remaining -= 1;
-            // The other copies are void: their nodes may take new work.
-            self.loans.retain(|l| l.tile != tile);
         }
-        first
+        for copy in self.loans.remove(&tile).unwrap_or_default() {
+            self.release(copy.node);
+        }
+        self.remaining -= 1;
+        true
     }
 
-    /// The longest any node has held a tile it has not returned, at `now`.
-    pub fn oldest_loan(&self, now: Instant) -> Option<(usize, Duration)> {
-        self.loans
-            .iter()
-            .map(|l| (l.node, now.saturating_duration_since(l.since)))
-            .max_by_key(|&(_, held)| held)
+    fn release(&mut self, node: usize) {
+        if let Some(n) = self.held.get_mut(&node) {
+            *n = n.saturating_sub(1);
+        }
     }
 }
 
@@ -120,6 +120,7 @@ mod tests {
         assert_eq!(q.take(2, late, DEADLINE), Some(2));
         assert_eq!(q.take(2, late, DEADLINE), None, "each tile is copied once");
         assert!(q.complete(0, 2));
+        assert_eq!(q.held_by(1), 1, "the stalled node's copy of tile 0 is void");
         assert!(!q.complete(0, 1), "the stalled node's copy is late and void");
         assert!(!q.is_complete());
         assert!(q.complete(2, 2));
@@ -134,8 +135,7 @@ mod tests {
         assert_eq!(q.take(1, t0 + 5 * DEADLINE, DEADLINE), None);
         assert!(!q.complete(0, 3), "node 3 was never given tile 0");
         assert!(!q.complete(7, 1));
-        assert_eq!(q.oldest_loan(t0 + DEADLINE), Some((1, DEADLINE)));
         assert!(q.complete(0, 1));
-        assert_eq!(q.oldest_loan(t0), None);
+        assert_eq!(q.held_by(1), 0);
     }
 }
