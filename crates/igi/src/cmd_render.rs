@@ -120,7 +120,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         let rays = render_frames(args, source.as_mut(), &mut prepared, frame)?;
         let elapsed = start.elapsed().as_secs_f64();
         outln!(
-            "{}: {}x{}, {} triangles, {} thread(s){}: {} frame(s) of {} accumulated in {:.3} s ({:.2} fps, {:.1} Mrays/s; load {:.3} s, build {:.3} s) -> {}",
+            "{}: {}x{}, {} triangles, {} thread(s){}: {} frame(s), each the mean of {}, in {:.3} s ({:.2} fps, {:.1} Mrays/s; load {:.3} s, build {:.3} s) -> {}",
             args.scene,
             frame.settings.width,
             frame.settings.height,
