@@ -353,9 +353,7 @@ impl<T: Transport> Drop for Master<T> {
 }
 
 fn protocol(rank: usize, message: &Message) -> ClusterError {
-    let name = format!("{message:?}");
-    let name = name.split(['(', ' ', '{']).next().unwrap_or_default().to_string();
-    ClusterError::Protocol { rank, message: format!("unexpected {name} message") }
+    ClusterError::Protocol { rank, message: format!("unexpected {} message", message.kind()) }
 }
 
 /// A tile's pixels must have the job's format and the tile's size.

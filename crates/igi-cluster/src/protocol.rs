@@ -148,6 +148,20 @@ pub struct DecodeError {
 }
 
 impl Message {
+    /// The variant's name, for protocol errors.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Self::Setup(_) => "Setup",
+            Self::Ready(_) => "Ready",
+            Self::Frame(_) => "Frame",
+            Self::Tiles { .. } => "Tiles",
+            Self::Tile(_) => "Tile",
+            Self::Heartbeat => "Heartbeat",
+            Self::Fatal(_) => "Fatal",
+            Self::Shutdown => "Shutdown",
+        }
+    }
+
     /// The wire form.
     pub fn encode(&self) -> Vec<u8> {
         // Every field is a plain value: serialising into a Vec cannot fail.

@@ -124,9 +124,7 @@ fn next_from_root<T: Transport>(
 }
 
 fn unexpected(rank: usize, message: &Message, expected: &str) -> ClusterError {
-    let name = format!("{message:?}");
-    let name = name.split(['(', ' ', '{']).next().unwrap_or_default().to_string();
-    ClusterError::Protocol { rank, message: format!("sent {name} where {expected} was expected") }
+    ClusterError::Protocol { rank, message: format!("sent {} where {expected} was expected", message.kind()) }
 }
 
 /// The tile queue the render threads share with the transport thread.

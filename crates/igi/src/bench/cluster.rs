@@ -4,6 +4,7 @@
 //! travel per frame against the raw 8-bit image, the tiles each rank rendered, and the scaling
 //! efficiency; then a model that projects larger clusters from these measurements.
 
+use super::frame::ANIMATION_FPS;
 use crate::cluster::{ClusterArgs, Rank};
 use crate::frame_args::FrameArgs;
 use anyhow::{Context, Result, bail};
@@ -13,9 +14,6 @@ use igi_render::{ToneMap, ToneMapper};
 use serde::Serialize;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
-
-/// Scene-clock frames per second of `--animate`.
-const ANIMATION_FPS: f32 = 25.0;
 
 /// Arguments of `igi bench cluster`.
 #[derive(Debug, Args)]

@@ -14,8 +14,8 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-/// Scene-clock frames per second of `--animate`.
-const ANIMATION_FPS: f32 = 25.0;
+/// Scene-clock frames per second of `--animate` (also `igi bench cluster`'s).
+pub const ANIMATION_FPS: f32 = 25.0;
 
 /// Arguments of `igi bench frame`.
 #[derive(Debug, Args)]
