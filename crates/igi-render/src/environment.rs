@@ -34,7 +34,7 @@
 use std::f32::consts::{PI, TAU};
 
 use glam::{Vec2, Vec3};
-use igi_scene::{Environment, Texture};
+use igi_scene::{Environment, Image, Texture};
 
 use crate::lights::luminance;
 use crate::sampling::Cdf;
@@ -153,9 +153,7 @@ impl EnvironmentLight {
         match *environment {
             Environment::Constant { radiance } => Self { kind: Kind::Constant(sanitise(radiance)) },
             Environment::Map { texture, intensity, rotation_deg } => {
-                let image = textures.get(texture as usize).filter(|t| {
-                    t.width > 0 && t.height > 0 && t.texels.len() == (t.width as usize) * (t.height as usize)
-                });
+                let image = textures.get(texture as usize).map(|t| &t.image).filter(|i| i.is_complete());
                 match image {
                     Some(image) => {
                         Self { kind: Kind::Map(Box::new(Map::new(image, intensity, rotation_deg))) }
@@ -237,11 +235,15 @@ fn sanitise(radiance: Vec3) -> Vec3 {
 }
 
 impl Map {
-    fn new(image: &Texture, intensity: f32, rotation_deg: f32) -> Self {
+    fn new(image: &Image, intensity: f32, rotation_deg: f32) -> Self {
         let (width, height) = (image.width as usize, image.height as usize);
         let intensity = if intensity.is_finite() { intensity.max(0.0) } else { 0.0 };
-        let texels: Vec<Vec3> =
-            image.texels.iter().map(|&[r, g, b, _]| sanitise(Vec3::new(r, g, b) * intensity)).collect();
+        let texels: Vec<Vec3> = (0..image.texels.len())
+            .map(|i| {
+                let [r, g, b, _] = image.texels.linear(i);
+                sanitise(Vec3::new(r, g, b) * intensity)
+            })
+            .collect();
         let rotation =
             if rotation_deg.is_finite() { rotation_deg.to_radians().sin_cos() } else { (0.0, 1.0) };
         let cos_edges: Vec<f32> = (0..=height)
@@ -347,7 +349,6 @@ impl Map {
 mod tests {
     use super::*;
     use crate::sampling::hash32;
-    use igi_scene::Wrap;
 
     /// 8 × 4 texels: a dim, slightly varying sky and one bright texel at column 2, row 1.
     const W: u32 = 8;
@@ -365,7 +366,7 @@ mod tests {
                 }
             })
             .collect();
-        Texture { name: "sky".into(), width: W, height: H, texels, wrap: [Wrap::Repeat; 2] }
+        Texture::from_linear("sky", W, H, texels)
     }
 
     fn light(intensity: f32, rotation_deg: f32) -> EnvironmentLight {
@@ -423,7 +424,7 @@ mod tests {
                 for x in 0..W as usize {
                     let centre = Vec2::new((x as f32 + 0.5) / W as f32, (y as f32 + 0.5) / H as f32);
                     let dir = rotate_y(rotation, equirect_direction(centre));
-                    let [r, g, b, _] = texture.texels[y * W as usize + x];
+                    let [r, g, b, _] = texture.image.texels.linear(y * W as usize + x);
                     let expected = 2.0 * Vec3::new(r, g, b);
                     let got = env.radiance(dir);
                     assert!((got - expected).abs().max_element() < 1e-3 * expected.max_element(), "{got}");
@@ -434,7 +435,7 @@ mod tests {
         assert_eq!(light(1.0, 90.0).radiance(Vec3::X), light(1.0, 0.0).radiance(Vec3::Z));
         // Between texel centres the radiance interpolates; across the seam it wraps.
         let between = equirect_direction(Vec2::new(0.0, 0.5 / H as f32));
-        let (first, last) = (texture.texels[0], texture.texels[W as usize - 1]);
+        let (first, last) = (texture.image.texels.linear(0), texture.image.texels.linear(W as usize - 1));
         let expected = 0.5 * (first[0] + last[0]);
         assert!((light(1.0, 0.0).radiance(between).x - expected).abs() < 1e-5);
     }
@@ -539,13 +540,7 @@ mod tests {
         assert_eq!((s.radiance, s.pdf), (c, 1.0 / (4.0 * PI)));
         assert!((s.dir.length() - 1.0).abs() < 1e-6);
         // A uniform image integrates exactly like a constant sky.
-        let uniform = Texture {
-            name: "grey".into(),
-            width: 5,
-            height: 3,
-            texels: vec![[0.3, 0.5, 1.2, 1.0]; 15],
-            wrap: [Wrap::Repeat; 2],
-        };
+        let uniform = Texture::from_linear("grey", 5, 3, vec![[0.3, 0.5, 1.2, 1.0]; 15]);
         let map = EnvironmentLight::new(
             &Environment::Map { texture: 0, intensity: 1.0, rotation_deg: 10.0 },
             &[uniform],

@@ -19,7 +19,7 @@ use glam::{Affine3A, Quat, Vec2, Vec3};
 use igi_render::frame::FrameState;
 use igi_render::path_tracer::render_path_traced;
 use igi_render::{Film, FrameRenderer, PinholeCamera, PreparedScene, lights::eye_light};
-use igi_scene::{Instance, Light, Material, Mesh, Scene, Texture, Wrap};
+use igi_scene::{Instance, Light, Material, Mesh, Scene, Texture};
 use std::f32::consts::PI;
 
 const RHO: f32 = 0.5;
@@ -284,13 +284,7 @@ fn diffuse_texture_multiplies_the_albedo() {
     sc.meshes[0].uvs = Some(vec![Vec2::ZERO; 4]);
     sc.materials[0].diffuse = Vec3::splat(0.8);
     sc.materials[0].diffuse_texture = Some(0);
-    sc.textures.push(Texture {
-        name: "flat".into(),
-        width: 1,
-        height: 1,
-        texels: vec![[0.5, 0.25, 1.0, 1.0]],
-        wrap: [Wrap::Repeat; 2],
-    });
+    sc.textures.push(Texture::from_linear("flat", 1, 1, vec![[0.5, 0.25, 1.0, 1.0]]));
     let prepared = PreparedScene::new(sc);
     let cam = camera(Vec3::new(0.0, 2.0, 2.0), Vec3::ZERO, 40.0);
     let want = Vec3::new(0.4, 0.2, 0.8) / PI * irradiance;

@@ -3,6 +3,7 @@
 //! and animation before they render tiles of one image together.
 
 use crate::model::{Mesh, Scene, Texture};
+use crate::texels::Texels;
 use std::fmt::Write as _;
 use std::hash::{DefaultHasher, Hasher};
 
@@ -39,8 +40,19 @@ impl HashWriter {
     }
 
     fn texture(&mut self, texture: &Texture) {
-        let _ = write!(self, "{}|{}x{}|{:?}|", texture.name, texture.width, texture.height, texture.wrap);
-        self.floats(texture.texels.iter().flatten().copied());
+        let image = &texture.image;
+        let _ = write!(self, "{}|{}x{}|{:?}|", texture.name, image.width, image.height, texture.wrap);
+        match &image.texels {
+            Texels::Rgba8 { texels, space } => {
+                let _ = write!(self, "{space:?}");
+                self.0.write(texels.as_flattened());
+            }
+            Texels::Rgba16 { texels, space } => {
+                let _ = write!(self, "{space:?}");
+                texels.iter().flatten().for_each(|&v| self.0.write_u16(v));
+            }
+            Texels::RgbaF32(texels) => self.floats(texels.iter().flatten().copied()),
+        }
     }
 }
 

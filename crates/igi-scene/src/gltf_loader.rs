@@ -57,7 +57,8 @@ use crate::error::{Location, SceneError};
 use crate::model::{Camera, Instance, Light, Material, MaterialKind, Scene, Wrap};
 use crate::report::LoadReport;
 use crate::resources;
-use crate::texture::{self, ColorSpace, TextureSet};
+use crate::texels::ColorSpace;
+use crate::texture::TextureSet;
 use crate::validate::{MeshBuilder, Part};
 
 mod channels;
@@ -89,8 +90,17 @@ const SUPPORTED_EXTENSIONS: &[&str] = &[
 
 /// Loads a `.gltf` or `.glb` file and the buffers and images it references.
 pub fn load(path: &Path, report: &mut LoadReport) -> Result<Scene, SceneError> {
+    TextureSet::default().owning(|textures| load_into(path, textures, report))
+}
+
+/// Loads a glTF file whose textures go into `textures` (the scene's).
+pub(crate) fn load_into(
+    path: &Path,
+    textures: &mut TextureSet,
+    report: &mut LoadReport,
+) -> Result<Scene, SceneError> {
     let bytes = resources::read(path, report)?;
-    parse_file(&bytes, path, Some(&resources::base_dir(path)), report)
+    parse_file(&bytes, path, Some(&resources::base_dir(path)), textures, report)
 }
 
 /// Parses a glTF document or GLB container held in memory; `name` is used in messages.
@@ -102,13 +112,14 @@ pub fn parse(
     base_dir: Option<&Path>,
     report: &mut LoadReport,
 ) -> Result<Scene, SceneError> {
-    parse_file(bytes, Path::new(name), base_dir, report)
+    TextureSet::default().owning(|textures| parse_file(bytes, Path::new(name), base_dir, textures, report))
 }
 
 fn parse_file(
     bytes: &[u8],
     file: &Path,
     base_dir: Option<&Path>,
+    textures: &mut TextureSet,
     report: &mut LoadReport,
 ) -> Result<Scene, SceneError> {
     check_glb_length(bytes, file)?;
@@ -126,16 +137,14 @@ fn parse_file(
         buffers: &buffers,
         report,
         scene: Scene::default(),
-        textures: TextureSet::default(),
+        textures,
         meshes: HashMap::new(),
         materials: HashMap::new(),
         emissive_means: HashMap::new(),
         tracks,
     };
     loader.walk(&document)?;
-    let mut scene = loader.scene;
-    scene.textures = loader.textures.into_textures();
-    Ok(scene)
+    Ok(loader.scene)
 }
 
 /// The `gltf` crate subtracts the 12-byte header from a GLB's declared length unchecked.
@@ -400,7 +409,7 @@ struct Loader<'a> {
     buffers: &'a [Vec<u8>],
     report: &'a mut LoadReport,
     scene: Scene,
-    textures: TextureSet,
+    textures: &'a mut TextureSet,
     /// glTF mesh index → scene mesh index (`None`: the mesh has no triangles).
     meshes: HashMap<usize, Option<u32>>,
     /// glTF material index (`None`: the default material) → scene material index.
@@ -814,7 +823,9 @@ impl Loader<'_> {
     fn image(&mut self, image: gltf::Image, space: ColorSpace) -> Option<u32> {
         match self.image_source(&image)? {
             Ok(bytes) => {
-                let key = format!("{}#images[{}]", self.file.display(), image.index());
+                // One key per embedded image, however the file's path is spelled.
+                let file = std::fs::canonicalize(self.file).unwrap_or_else(|_| self.file.to_path_buf());
+                let key = format!("{}#images[{}]", file.display(), image.index());
                 self.textures.bytes(&key, &bytes, space, self.file, self.report)
             }
             Err(relative) => {
@@ -828,22 +839,9 @@ impl Loader<'_> {
         if let Some(&mean) = self.emissive_means.get(&image.index()) {
             return mean;
         }
-        let bytes = match self.image_source(&image)? {
-            Ok(bytes) => Some(bytes),
-            Err(relative) => self
-                .base_dir
-                .and_then(|dir| resources::resolve(dir, &relative.to_string_lossy()))
-                .and_then(|path| resources::read(&path, self.report).ok()),
-        };
-        let name = format!("images[{}]", image.index());
-        let mean = bytes.and_then(|bytes| match texture::mean_rgb(&bytes, &name, ColorSpace::Srgb) {
-            Ok(mean) => Some(mean),
-            Err(message) => {
-                self.report.warn(self.file, format!("{name}: emissive texture skipped: {message}"));
-                None
-            }
-        });
-        self.emissive_means.insert(image.index(), mean);
+        let image_index = image.index();
+        let mean = self.image(image, ColorSpace::Srgb).and_then(|texture| self.textures.mean_rgb(texture));
+        self.emissive_means.insert(image_index, mean);
         mean
     }
 

@@ -35,6 +35,7 @@ mod report;
 mod resources;
 pub mod scene_file;
 mod shader;
+mod texels;
 mod texture;
 mod validate;
 
@@ -47,7 +48,9 @@ pub use error::{Location, SceneError};
 pub use model::{Bounds, Camera, Instance, Light, Material, MaterialKind, Mesh, Scene, Texture, Wrap};
 pub use report::LoadReport;
 pub use shader::{Pattern, ShaderDesc};
-pub use texture::srgb_to_linear;
+pub use texels::{ColorSpace, Image, Texels, srgb_to_linear};
+pub use texture::DEFAULT_TEXTURE_BUDGET;
+use texture::TextureSet;
 
 /// The file formats [`load`] reads, by extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -74,11 +77,16 @@ pub(crate) fn is_model_file(path: &Path) -> bool {
     matches!(format_of(path), Some(Format::Obj | Format::Gltf | Format::Ply))
 }
 
-/// Loads a mesh file (`.obj`, `.gltf`, `.glb`, `.ply`): what a scene file may place.
-pub(crate) fn load_model_file(path: &Path, report: &mut LoadReport) -> Result<Scene, SceneError> {
+/// Loads a mesh file (`.obj`, `.gltf`, `.glb`, `.ply`): what a scene file may place. Its
+/// textures go into `textures` (the scene's).
+pub(crate) fn load_model_file(
+    path: &Path,
+    textures: &mut TextureSet,
+    report: &mut LoadReport,
+) -> Result<Scene, SceneError> {
     match format_of(path) {
-        Some(Format::Obj) => obj::load(path, report),
-        Some(Format::Gltf) => gltf_loader::load(path, report),
+        Some(Format::Obj) => obj::load_into(path, textures, report),
+        Some(Format::Gltf) => gltf_loader::load_into(path, textures, report),
         Some(Format::Ply) => ply::load(path, report),
         Some(Format::SceneFile) | None => {
             Err(SceneError::UnknownFormat { file: path.to_path_buf(), builtin_hint: false })
@@ -95,13 +103,35 @@ pub fn load(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
 
 /// Like [`load`], and also returns what the load repaired or skipped.
 pub fn load_with_report(path: impl AsRef<Path>) -> Result<(Scene, LoadReport), SceneError> {
-    let path = path.as_ref();
+    load_with(path.as_ref(), &LoadOptions::default())
+}
+
+/// What a load may take.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LoadOptions {
+    /// Bytes that all textures of the scene, with their mipmaps, may occupy
+    /// ([`DEFAULT_TEXTURE_BUDGET`] unless set). An image that does not fit what is left is
+    /// downscaled, with a warning.
+    pub texture_budget: u64,
+}
+
+impl Default for LoadOptions {
+    fn default() -> Self {
+        Self { texture_budget: DEFAULT_TEXTURE_BUDGET }
+    }
+}
+
+/// Loads a scene file or mesh file with `options`, and returns what the load repaired or
+/// skipped.
+pub fn load_with(path: &Path, options: &LoadOptions) -> Result<(Scene, LoadReport), SceneError> {
     let mut report = LoadReport::default();
-    let scene = if format_of(path) == Some(Format::SceneFile) {
-        scene_file::load(path, &mut report)?
-    } else {
-        load_model_file(path, &mut report)?
-    };
+    let scene = TextureSet::with_budget(options.texture_budget).owning(|textures| {
+        if format_of(path) == Some(Format::SceneFile) {
+            scene_file::load_into(path, textures, &mut report)
+        } else {
+            load_model_file(path, textures, &mut report)
+        }
+    })?;
     Ok((scene, report))
 }
 
@@ -113,6 +143,11 @@ pub fn load_named(spec: &str) -> Result<Scene, SceneError> {
 
 /// Like [`load_named`], and also returns the [`LoadReport`] (empty for a built-in scene).
 pub fn load_named_with_report(spec: &str) -> Result<(Scene, LoadReport), SceneError> {
+    load_named_with(spec, &LoadOptions::default())
+}
+
+/// Like [`load_named_with_report`], with `options`.
+pub fn load_named_with(spec: &str, options: &LoadOptions) -> Result<(Scene, LoadReport), SceneError> {
     if let Some(scene) = builtin(spec) {
         return Ok((scene, LoadReport::default()));
     }
@@ -120,5 +155,5 @@ pub fn load_named_with_report(spec: &str) -> Result<(Scene, LoadReport), SceneEr
     if format_of(path).is_none() {
         return Err(SceneError::UnknownFormat { file: path.to_path_buf(), builtin_hint: true });
     }
-    load_with_report(path)
+    load_with(path, options)
 }

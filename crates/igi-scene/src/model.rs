@@ -8,6 +8,7 @@
 use crate::animation::Animation;
 use crate::environment::Environment;
 use crate::shader::ShaderDesc;
+use crate::texels::{Image, Texels};
 use glam::{Affine3A, Vec2, Vec3};
 
 /// A triangle mesh in its own object space. Meshes are placed in the world by [`Instance`]s.
@@ -122,19 +123,25 @@ impl Material {
     }
 }
 
-/// A decoded image texture, stored as linear-light RGBA f32 texels, row 0 at the top.
+/// An image texture: a decoded image (see [`Image`] for how its texels are stored) and how
+/// texture coordinates outside [0, 1] reach it.
 #[derive(Clone, Debug)]
 pub struct Texture {
     /// The file it came from (or a descriptive name for embedded images).
     pub name: String,
-    /// Width in texels.
-    pub width: u32,
-    /// Height in texels.
-    pub height: u32,
-    /// `width * height` texels, row-major, linear RGB (sRGB decoded for colour maps) and alpha.
-    pub texels: Vec<[f32; 4]>,
+    /// The texels.
+    pub image: Image,
     /// How texture coordinates outside [0, 1] map into the image, along u and along v.
     pub wrap: [Wrap; 2],
+}
+
+impl Texture {
+    /// A repeating texture of `width × height` linear RGBA texels (row-major, row 0 at the
+    /// top): what a program that builds its own scene hands over.
+    pub fn from_linear(name: impl Into<String>, width: u32, height: u32, texels: Vec<[f32; 4]>) -> Self {
+        let image = Image { width, height, texels: Texels::RgbaF32(std::sync::Arc::new(texels)) };
+        Self { name: name.into(), image, wrap: [Wrap::Repeat; 2] }
+    }
 }
 
 /// How a texture coordinate outside [0, 1] maps into the image (glTF sampler wrap modes).

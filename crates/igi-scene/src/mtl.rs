@@ -31,7 +31,8 @@ use glam::Vec3;
 use crate::error::{Location, SceneError};
 use crate::model::{Material, MaterialKind};
 use crate::report::LoadReport;
-use crate::texture::{ColorSpace, TextureSet};
+use crate::texels::ColorSpace;
+use crate::texture::TextureSet;
 
 /// Parses an MTL library on its own, without loading its textures: the entry point for fuzzing
 /// and for tools that only want the materials. `name` is used in messages.

@@ -43,8 +43,17 @@ const HOISTED_LIBRARY: &str = "materials";
 
 /// Loads an OBJ file and the material libraries and textures it references.
 pub fn load(path: &Path, report: &mut LoadReport) -> Result<Scene, SceneError> {
+    TextureSet::default().owning(|textures| load_into(path, textures, report))
+}
+
+/// Loads an OBJ file whose textures go into `textures` (the scene's).
+pub(crate) fn load_into(
+    path: &Path,
+    textures: &mut TextureSet,
+    report: &mut LoadReport,
+) -> Result<Scene, SceneError> {
     let bytes = resources::read(path, report)?;
-    parse_file(&bytes, path, Some(&resources::base_dir(path)), report)
+    parse_file(&bytes, path, Some(&resources::base_dir(path)), textures, report)
 }
 
 /// Parses OBJ text. `name` is used in messages. Material libraries and textures are looked up
@@ -55,22 +64,22 @@ pub fn parse(
     base_dir: Option<&Path>,
     report: &mut LoadReport,
 ) -> Result<Scene, SceneError> {
-    parse_file(bytes, Path::new(name), base_dir, report)
+    TextureSet::default().owning(|textures| parse_file(bytes, Path::new(name), base_dir, textures, report))
 }
 
 fn parse_file(
     bytes: &[u8],
     file: &Path,
     base_dir: Option<&Path>,
+    textures: &mut TextureSet,
     report: &mut LoadReport,
 ) -> Result<Scene, SceneError> {
     let text = String::from_utf8_lossy(bytes);
     let prepared = prepare(&text, file)?;
-    let mut textures = TextureSet::default();
     let mut materials = Vec::new();
     if let Some(dir) = base_dir {
         for (library, line) in &prepared.libraries {
-            materials.extend(load_library(dir, library, *line, file, &mut textures, report)?);
+            materials.extend(load_library(dir, library, *line, file, textures, report)?);
         }
     }
     let mut by_name = mtl::index_by_name(&materials);
@@ -121,7 +130,7 @@ fn parse_file(
         report.warn(file, "normals dropped: only some faces have them");
     }
 
-    let mut scene = Scene { materials, textures: textures.into_textures(), ..Scene::default() };
+    let mut scene = Scene { materials, ..Scene::default() };
     if built.mesh.indices.is_empty() {
         report.warn(file, "no triangles");
     } else {

@@ -109,14 +109,25 @@ use crate::model::{Camera, Instance, Light, Material, Mesh, Scene};
 use crate::report::LoadReport;
 use crate::resources;
 use crate::shader::{Pattern, ShaderDesc};
-use crate::texture::{self, ColorSpace};
+use crate::texels::ColorSpace;
+use crate::texture::TextureSet;
 
 /// Loads a scene file and every mesh file it names.
 pub fn load(path: &Path, report: &mut LoadReport) -> Result<Scene, SceneError> {
+    TextureSet::default().owning(|textures| load_into(path, textures, report))
+}
+
+/// Loads a scene file whose textures (those of every mesh file and the sky's) go into
+/// `textures`, so each image is decoded once for the whole scene and within one budget.
+pub(crate) fn load_into(
+    path: &Path,
+    textures: &mut TextureSet,
+    report: &mut LoadReport,
+) -> Result<Scene, SceneError> {
     let bytes = resources::read(path, report)?;
     let text = std::str::from_utf8(&bytes)
         .map_err(|e| SceneError::parse(path, Location::File, format!("not UTF-8 text: {e}")))?;
-    parse_file(text, path, Some(&resources::base_dir(path)), report)
+    parse_file(text, path, Some(&resources::base_dir(path)), textures, report)
 }
 
 /// Parses scene-file text; `name` is used in messages. Mesh files are looked up in
@@ -127,7 +138,7 @@ pub fn parse(
     base_dir: Option<&Path>,
     report: &mut LoadReport,
 ) -> Result<Scene, SceneError> {
-    parse_file(text, Path::new(name), base_dir, report)
+    TextureSet::default().owning(|textures| parse_file(text, Path::new(name), base_dir, textures, report))
 }
 
 #[derive(Deserialize)]
@@ -566,6 +577,7 @@ fn parse_file(
     text: &str,
     file: &Path,
     base_dir: Option<&Path>,
+    textures: &mut TextureSet,
     report: &mut LoadReport,
 ) -> Result<Scene, SceneError> {
     let spec: SceneSpec = toml::from_str(text).map_err(|e| toml_error(&e, text, file))?;
@@ -603,7 +615,7 @@ fn parse_file(
                 .warn(file, format!("{path}file `{}` not loaded: parsing from memory", mesh.file.get_ref()));
             continue;
         };
-        let sub = load_mesh_file(&check, dir, index, &mesh.file, report)?;
+        let sub = load_mesh_file(&check, dir, index, &mesh.file, textures, report)?;
         append(&mut scene, sub, &placements, &own, material);
     }
 
@@ -629,7 +641,7 @@ fn parse_file(
     }
 
     if let Some(environment) = &spec.environment {
-        scene.environment = environment_from(&check, &mut scene, environment, base_dir, report)?;
+        scene.environment = environment_from(&check, textures, environment, base_dir, report)?;
     }
 
     if let Some(camera) = &spec.camera {
@@ -638,11 +650,11 @@ fn parse_file(
     Ok(scene)
 }
 
-/// The `[environment]` table; an image goes into `scene.textures`. `None` (with a warning)
-/// for an image when parsing from memory.
+/// The `[environment]` table; an image goes into `textures`. `None` (with a warning) for an
+/// image when parsing from memory.
 fn environment_from(
     check: &Checker,
-    scene: &mut Scene,
+    textures: &mut TextureSet,
     entry: &Spanned<EnvironmentSpec>,
     base_dir: Option<&Path>,
     report: &mut LoadReport,
@@ -690,15 +702,11 @@ fn environment_from(
         at: at(),
         missing: dir.join(name),
     })?;
-    let bytes = resources::read(&image_path, report)
-        .map_err(|e| SceneError::invalid(check.file, at(), e.to_string()))?;
     // Float images (.hdr, .exr) are linear whatever the colour space; 8- and 16-bit images
     // are sRGB-encoded pictures.
-    let image = texture::decode(&bytes, &image_path.display().to_string(), ColorSpace::Srgb)
-        .map_err(|e| SceneError::invalid(check.file, at(), format!("`{name}` could not be decoded: {e}")))?;
-    let texture = u32::try_from(scene.textures.len())
-        .map_err(|_| SceneError::invalid(check.file, at(), "too many textures"))?;
-    scene.textures.push(image);
+    let texture = textures
+        .required_file(&image_path, ColorSpace::Srgb, check.file, report)
+        .map_err(|e| SceneError::invalid(check.file, at(), format!("`{name}` could not be loaded: {e}")))?;
     Ok(Some(Environment::Map { texture, intensity, rotation_deg }))
 }
 
@@ -707,6 +715,7 @@ fn load_mesh_file(
     dir: &Path,
     index: usize,
     file: &Spanned<String>,
+    textures: &mut TextureSet,
     report: &mut LoadReport,
 ) -> Result<Scene, SceneError> {
     let name = file.get_ref();
@@ -726,7 +735,7 @@ fn load_mesh_file(
             format!("`{name}` is not an .obj, .gltf, .glb or .ply file"),
         ));
     }
-    crate::load_model_file(&path, report)
+    crate::load_model_file(&path, textures, report)
 }
 
 fn material_override(
@@ -769,7 +778,6 @@ fn append(
 ) {
     let mesh_base = scene.meshes.len() as u32;
     let material_base = scene.materials.len() as u32;
-    let texture_base = scene.textures.len() as u32;
     let mut meshes = sub.meshes;
     match material {
         Some(material) => {
@@ -784,13 +792,8 @@ fn append(
                     *id += material_base;
                 }
             }
-            scene.materials.extend(sub.materials.into_iter().map(|mut m| {
-                m.diffuse_texture = m.diffuse_texture.map(|t| t + texture_base);
-                m.bump_texture = m.bump_texture.map(|t| t + texture_base);
-                m.normal_texture = m.normal_texture.map(|t| t + texture_base);
-                m
-            }));
-            scene.textures.extend(sub.textures);
+            // Texture indices refer to the scene's one texture set already.
+            scene.materials.extend(sub.materials);
         }
     }
     scene.meshes.extend(meshes);

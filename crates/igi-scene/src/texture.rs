@@ -1,43 +1,57 @@
-//! Image textures: decoding with the `image` crate into linear-light [`Texture`]s, and
-//! [`TextureSet`], which loads each (file, colour space) pair once per scene.
+//! Image textures: decoding with the `image` crate into compact [`Image`]s, and
+//! [`TextureSet`], the textures of one scene: each file decoded once, whatever the colour
+//! spaces, slots and spellings of its path that refer to it, within a scene-wide memory budget.
 //!
 //! Policy for textures that cannot be had (missing file, undecodable image): a warning, and
 //! the material keeps its constant colour. A texture only changes how a surface looks, while a
 //! missing mesh, buffer or material file changes what the scene *is*, so those are errors. Many
 //! published scenes reference a texture or two that were never shipped; refusing to render
 //! them would help nobody.
+//!
+//! Memory: an image is checked against the decoder's cap and against what is left of the
+//! scene's budget ([`LoadOptions::texture_budget`](crate::LoadOptions)) from its header,
+//! before any texel is allocated; texels are decoded straight into their final storage (8-bit
+//! images stay 8-bit, see [`crate::texels`]). An image that does not fit what is left of the
+//! budget is decoded once and kept at the largest half-size level that fits, with a warning.
 
 use std::collections::HashMap;
 use std::collections::hash_map::Entry;
 use std::io::Cursor;
 use std::path::Path;
+use std::sync::Arc;
 
-use glam::Vec3;
-use image::{DynamicImage, ImageFormat, ImageReader, Limits};
+use glam::{DVec3, Vec3};
+use image::{ColorType, ImageDecoder, ImageFormat, ImageReader, Limits};
 
-use crate::model::{Texture, Wrap};
+use crate::SceneError;
+use crate::model::{Scene, Texture, Wrap};
 use crate::report::LoadReport;
 use crate::resources;
+use crate::texels::{ColorSpace, Image, Texels};
 
-/// Largest accepted width or height. 16k × 16k RGBA f32 texels are already 4 GiB; anything
-/// larger in a scene file is a mistake or an attack.
+/// Largest accepted width or height.
 const MAX_DIMENSION: u32 = 16_384;
-/// Bound on the decoder's own allocations.
+/// Bound on one decode's allocations (the decoder's and the decoded texels): a 16k × 16k
+/// 8-bit RGBA image, the largest that [`MAX_DIMENSION`] allows, just fits.
 const MAX_DECODE_BYTES: u64 = 1 << 30;
+/// Default scene-wide bound on the memory of all textures with their mipmaps.
+pub const DEFAULT_TEXTURE_BUDGET: u64 = 4 << 30;
 
-/// How the stored values of an image relate to linear light.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub(crate) enum ColorSpace {
-    /// Colour maps (diffuse, base colour, emissive): 8- and 16-bit values are sRGB-encoded.
-    Srgb,
-    /// Data maps (bump, height): values are used as they are, scaled to [0, 1].
-    Linear,
+/// Bytes of a texture with its mipmap: the coarser levels add up to a third of the finest.
+fn with_mipmap(bytes: u64) -> u64 {
+    bytes + bytes / 3
 }
 
-/// Decodes an encoded image (PNG, JPEG, Radiance HDR or OpenEXR) into linear RGBA texels.
-/// `name` is used for the texture's name and, if the content is not recognised, to guess the
-/// format from its extension.
-pub(crate) fn decode(bytes: &[u8], name: &str, space: ColorSpace) -> Result<Texture, String> {
+/// A mebibyte figure for messages.
+fn mib(bytes: u64) -> String {
+    format!("{:.1} MiB", bytes as f64 / f64::from(1 << 20))
+}
+
+/// Decodes an encoded image (PNG, JPEG, Radiance HDR or OpenEXR). `name` is used, if the
+/// content is not recognised, to guess the format from its extension. `budget` bounds the
+/// bytes the image and its mipmap may keep: a larger image is halved until it fits (the
+/// returned message says so), and one that cannot fit even at 1 × 1 is refused before decoding.
+pub(crate) fn decode(bytes: &[u8], name: &str, budget: u64) -> Result<(Image, Option<String>), String> {
     let mut reader = ImageReader::new(Cursor::new(bytes)).with_guessed_format().map_err(|e| e.to_string())?;
     if reader.format().is_none() {
         if let Some(format) = Path::new(name).extension().and_then(ImageFormat::from_extension) {
@@ -49,94 +63,150 @@ pub(crate) fn decode(bytes: &[u8], name: &str, space: ColorSpace) -> Result<Text
     limits.max_image_height = Some(MAX_DIMENSION);
     limits.max_alloc = Some(MAX_DECODE_BYTES);
     reader.limits(limits);
-    let image = reader.decode().map_err(|e| e.to_string())?;
-    Ok(Texture {
-        name: name.to_owned(),
-        width: image.width(),
-        height: image.height(),
-        texels: linear_texels(image, space),
-        wrap: [Wrap::Repeat; 2],
-    })
-}
-
-/// Average linear RGB of an encoded image (glTF emissive maps: see `gltf_loader`).
-pub(crate) fn mean_rgb(bytes: &[u8], name: &str, space: ColorSpace) -> Result<Vec3, String> {
-    let texture = decode(bytes, name, space)?;
-    let sum = texture
-        .texels
-        .iter()
-        .fold(glam::DVec3::ZERO, |sum, t| sum + glam::DVec3::new(t[0].into(), t[1].into(), t[2].into()));
-    Ok((sum / texture.texels.len().max(1) as f64).as_vec3())
-}
-
-fn linear_texels(image: DynamicImage, space: ColorSpace) -> Vec<[f32; 4]> {
-    let decode8 = lut8(space);
-    match image {
-        DynamicImage::ImageRgb32F(_) | DynamicImage::ImageRgba32F(_) => {
-            // Float images (HDR, EXR) are linear already, whatever the slot.
-            image.into_rgba32f().pixels().map(|p| p.0).collect()
+    let decoder = reader.into_decoder().map_err(|e| e.to_string())?;
+    let (width, height) = decoder.dimensions();
+    let texels = u64::from(width) * u64::from(height);
+    let stored = texels * storage_bytes(decoder.color_type())?;
+    let needed = stored.max(decoder.total_bytes());
+    if needed > MAX_DECODE_BYTES {
+        return Err(format!(
+            "{width}x{height} needs {} to decode, more than the limit of {}",
+            mib(needed),
+            mib(MAX_DECODE_BYTES)
+        ));
+    }
+    // How many times the image must be halved to fit what is left of the budget.
+    let mut halvings = 0;
+    while with_mipmap(stored >> (2 * halvings)) > budget {
+        if stored >> (2 * halvings) <= 16 {
+            return Err(format!(
+                "{width}x{height} ({}) does not fit what is left of the scene's texture budget ({})",
+                mib(with_mipmap(stored)),
+                mib(budget)
+            ));
         }
-        DynamicImage::ImageLuma16(_)
-        | DynamicImage::ImageLumaA16(_)
-        | DynamicImage::ImageRgb16(_)
-        | DynamicImage::ImageRgba16(_) => image
-            .into_rgba16()
-            .pixels()
-            .map(|p| {
-                let [r, g, b, a] = p.0.map(|v| f32::from(v) / 65535.0);
-                match space {
-                    ColorSpace::Srgb => [srgb_to_linear(r), srgb_to_linear(g), srgb_to_linear(b), a],
-                    ColorSpace::Linear => [r, g, b, a],
-                }
-            })
-            .collect(),
-        _ => image
-            .into_rgba8()
-            .pixels()
-            .map(|p| {
-                let [r, g, b, a] = p.0;
-                [
-                    decode8[usize::from(r)],
-                    decode8[usize::from(g)],
-                    decode8[usize::from(b)],
-                    f32::from(a) / 255.0,
-                ]
-            })
-            .collect(),
+        halvings += 1;
+    }
+    let mut image = Image { width, height, texels: read_texels(decoder)? };
+    for _ in 0..halvings {
+        image = image.half();
+    }
+    let note = (halvings > 0).then(|| {
+        format!(
+            "{width}x{height} ({} with mipmaps) exceeds what is left of the scene's texture budget ({}); \
+             downscaled to {}x{}",
+            mib(with_mipmap(stored)),
+            mib(budget),
+            image.width,
+            image.height
+        )
+    });
+    Ok((image, note))
+}
+
+/// Bytes per texel of the storage that decoded images of `color` get.
+fn storage_bytes(color: ColorType) -> Result<u64, String> {
+    match color {
+        ColorType::L8 | ColorType::La8 | ColorType::Rgb8 | ColorType::Rgba8 => Ok(4),
+        ColorType::L16 | ColorType::La16 | ColorType::Rgb16 | ColorType::Rgba16 => Ok(8),
+        ColorType::Rgb32F | ColorType::Rgba32F => Ok(16),
+        other => Err(format!("unsupported pixel format {other:?}")),
     }
 }
 
-/// The 256 linear values of 8-bit channel values: a table, because textures of big scenes
-/// have tens of millions of texels and `powf` per channel would dominate their load time.
-fn lut8(space: ColorSpace) -> [f32; 256] {
-    std::array::from_fn(|v| {
-        let x = v as f32 / 255.0;
-        match space {
-            ColorSpace::Srgb => srgb_to_linear(x),
-            ColorSpace::Linear => x,
+/// Reads the decoder's pixels into RGBA storage. 8-bit pixels are read straight into the
+/// final buffer and widened to four channels in place, so a decode allocates its texels once.
+/// The colour space is set later, by the view ([`Texels::in_space`]).
+fn read_texels(decoder: impl ImageDecoder) -> Result<Texels, String> {
+    let color = decoder.color_type();
+    let (width, height) = decoder.dimensions();
+    let n = width as usize * height as usize;
+    let channels = usize::from(color.channel_count());
+    match color {
+        ColorType::L8 | ColorType::La8 | ColorType::Rgb8 | ColorType::Rgba8 => {
+            let mut texels = vec![[0u8; 4]; n];
+            let bytes = texels.as_flattened_mut();
+            decoder.read_image(&mut bytes[..n * channels]).map_err(|e| e.to_string())?;
+            // Widen from the back, so no pixel is overwritten before it is read.
+            for i in (0..n).rev() {
+                let rgba = rgba(&bytes[i * channels..(i + 1) * channels], u8::MAX);
+                bytes[i * 4..i * 4 + 4].copy_from_slice(&rgba);
+            }
+            Ok(Texels::Rgba8 { texels: Arc::new(texels), space: ColorSpace::Srgb })
         }
-    })
+        ColorType::L16 | ColorType::La16 | ColorType::Rgb16 | ColorType::Rgba16 => {
+            let raw = read_raw(decoder, n * channels * 2)?;
+            let texels = pixels(&raw, channels, |c| u16::from_ne_bytes([c[0], c[1]]), u16::MAX);
+            Ok(Texels::Rgba16 { texels: Arc::new(texels), space: ColorSpace::Srgb })
+        }
+        ColorType::Rgb32F | ColorType::Rgba32F => {
+            let raw = read_raw(decoder, n * channels * 4)?;
+            let texels = pixels(&raw, channels, |c| f32::from_ne_bytes([c[0], c[1], c[2], c[3]]), 1.0);
+            Ok(Texels::RgbaF32(Arc::new(texels)))
+        }
+        other => Err(format!("unsupported pixel format {other:?}")),
+    }
 }
 
-/// The sRGB transfer function, inverted (IEC 61966-2-1): the linear value of an sRGB-encoded
-/// value in [0, 1] (clamped to it). Every decoder of the workspace uses this one, so an
-/// 8-bit value decodes to the same float everywhere.
-pub fn srgb_to_linear(x: f32) -> f32 {
-    let x = x.clamp(0.0, 1.0);
-    if x <= 0.04045 { x / 12.92 } else { ((x + 0.055) / 1.055).powf(2.4) }
+/// The decoder's pixels as bytes (native-endian channels).
+fn read_raw(decoder: impl ImageDecoder, len: usize) -> Result<Vec<u8>, String> {
+    let mut raw = vec![0u8; len];
+    decoder.read_image(&mut raw).map_err(|e| e.to_string())?;
+    Ok(raw)
 }
 
-/// The textures of one scene, each loaded once however many materials use it.
-#[derive(Debug, Default)]
+/// RGBA pixels from raw pixels of `channels` channels of `size_of::<T>()` bytes each.
+fn pixels<T: Copy + Default>(raw: &[u8], channels: usize, value: impl Fn(&[u8]) -> T, one: T) -> Vec<[T; 4]> {
+    let size = size_of::<T>();
+    raw.chunks_exact(channels * size)
+        .map(|pixel| {
+            let mut c = [T::default(); 4];
+            pixel.chunks_exact(size).zip(&mut c).for_each(|(bytes, c)| *c = value(bytes));
+            rgba(&c[..channels], one)
+        })
+        .collect()
+}
+
+/// An RGBA pixel from a grey, grey + alpha, RGB or RGBA one; `one` is opaque alpha.
+fn rgba<T: Copy>(c: &[T], one: T) -> [T; 4] {
+    match *c {
+        [l] => [l, l, l, one],
+        [l, a] => [l, l, l, a],
+        [r, g, b] => [r, g, b, one],
+        [r, g, b, a, ..] => [r, g, b, a],
+        [] => [one; 4],
+    }
+}
+
+/// The textures of one scene, each image decoded once however many materials, slots, colour
+/// spaces and spellings of its path use it.
+#[derive(Debug)]
 pub(crate) struct TextureSet {
     textures: Vec<Texture>,
-    /// Outcome per source and colour space; failures are remembered so that a missing texture
-    /// used by twenty materials gives one warning, not twenty.
-    loaded: HashMap<(String, ColorSpace), Option<u32>>,
+    /// The decoded image of each source (a canonical file path, or a name for an embedded
+    /// image), or why it cannot be had: failures are remembered so that a broken texture used
+    /// by twenty materials gives one warning, not twenty.
+    images: HashMap<String, Result<Image, String>>,
+    /// The texture of each source read in each colour space.
+    views: HashMap<(String, ColorSpace), u32>,
+    /// Bytes the textures and their mipmaps may still take.
+    budget_left: u64,
+}
+
+impl Default for TextureSet {
+    fn default() -> Self {
+        Self::with_budget(DEFAULT_TEXTURE_BUDGET)
+    }
 }
 
 impl TextureSet {
-    /// Loads the texture that `referrer` names `reference`, relative to `dir`.
+    /// An empty set whose textures, with their mipmaps, may take `budget` bytes.
+    pub fn with_budget(budget: u64) -> Self {
+        Self { textures: Vec::new(), images: HashMap::new(), views: HashMap::new(), budget_left: budget }
+    }
+
+    /// The texture of the image file that `referrer` names `reference`, relative to `dir`,
+    /// read in `space`.
     pub fn file(
         &mut self,
         dir: &Path,
@@ -146,29 +216,54 @@ impl TextureSet {
         report: &mut LoadReport,
     ) -> Option<u32> {
         let Some(path) = resources::resolve(dir, reference) else {
-            let key = (dir.join(reference).display().to_string(), space);
-            if let Entry::Vacant(entry) = self.loaded.entry(key) {
+            let key = dir.join(reference).display().to_string();
+            if let Entry::Vacant(entry) = self.images.entry(key) {
                 report.warn(referrer, format!("texture `{reference}` not found in {}", dir.display()));
-                entry.insert(None);
+                entry.insert(Err("not found".into()));
             }
             return None;
         };
-        let key = (path.display().to_string(), space);
-        if let Some(&outcome) = self.loaded.get(&key) {
-            return outcome;
+        let (key, fresh) = self.load_file(&path, referrer, report);
+        if let (Err(err), true) = (&self.images[&key], fresh) {
+            report.warn(referrer, format!("texture `{key}` skipped: {err}"));
         }
-        let outcome = match resources::read(&path, report) {
-            Ok(bytes) => self.insert_decoded(&bytes, &key.0, space, referrer, report),
-            Err(err) => {
-                report.warn(referrer, format!("texture skipped: {err}"));
-                None
-            }
-        };
-        self.loaded.insert(key, outcome);
-        outcome
+        self.view(&key, space)
     }
 
-    /// Decodes an in-memory image (glTF buffer views, data URIs) identified by `key`.
+    /// The texture of the image file at `path` (resolved) read in `space`, or why there is
+    /// none: for an image the scene cannot do without (an environment map).
+    pub fn required_file(
+        &mut self,
+        path: &Path,
+        space: ColorSpace,
+        referrer: &Path,
+        report: &mut LoadReport,
+    ) -> Result<u32, String> {
+        let (key, _) = self.load_file(path, referrer, report);
+        match &self.images[&key] {
+            Err(err) => Err(err.clone()),
+            Ok(_) => self.view(&key, space).ok_or_else(|| "too many textures".into()),
+        }
+    }
+
+    /// Reads and decodes the file at `path` unless that was done before; returns its key (one
+    /// per file, however its path is spelled: `x.png`, `./x.png`, links) and whether this call
+    /// decoded it.
+    fn load_file(&mut self, path: &Path, referrer: &Path, report: &mut LoadReport) -> (String, bool) {
+        let key = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf()).display().to_string();
+        if self.images.contains_key(&key) {
+            return (key, false);
+        }
+        let image = match resources::read(path, report) {
+            Ok(bytes) => self.decoded(&bytes, &key, referrer, report),
+            Err(err) => Err(err.to_string()),
+        };
+        self.images.insert(key.clone(), image);
+        (key, true)
+    }
+
+    /// The texture of an in-memory image (glTF buffer views, data URIs) identified by `key`,
+    /// read in `space`.
     pub fn bytes(
         &mut self,
         key: &str,
@@ -177,34 +272,55 @@ impl TextureSet {
         referrer: &Path,
         report: &mut LoadReport,
     ) -> Option<u32> {
-        let key = (key.to_owned(), space);
-        if let Some(&outcome) = self.loaded.get(&key) {
-            return outcome;
+        if !self.images.contains_key(key) {
+            let image = self.decoded(bytes, key, referrer, report);
+            if let Err(err) = &image {
+                report.warn(referrer, format!("texture `{key}` skipped: {err}"));
+            }
+            self.images.insert(key.to_owned(), image);
         }
-        let outcome = self.insert_decoded(bytes, &key.0, space, referrer, report);
-        self.loaded.insert(key, outcome);
-        outcome
+        self.view(key, space)
     }
 
-    fn insert_decoded(
+    /// Decodes an image within what is left of the budget and charges it; a downscale is
+    /// reported as a warning.
+    fn decoded(
         &mut self,
         bytes: &[u8],
         name: &str,
-        space: ColorSpace,
         referrer: &Path,
         report: &mut LoadReport,
-    ) -> Option<u32> {
-        match decode(bytes, name, space) {
-            Ok(texture) => {
-                let index = u32::try_from(self.textures.len()).ok()?;
-                self.textures.push(texture);
-                Some(index)
-            }
-            Err(err) => {
-                report.warn(referrer, format!("texture `{name}` skipped: {err}"));
-                None
-            }
+    ) -> Result<Image, String> {
+        let (image, note) = decode(bytes, name, self.budget_left)?;
+        if let Some(note) = note {
+            report.warn(referrer, format!("texture `{name}`: {note}"));
         }
+        self.budget_left -= with_mipmap(image.bytes());
+        Ok(image)
+    }
+
+    /// The texture reading the decoded image of `key` in `space`, made on first use. Each
+    /// colour space gets its own mipmap (levels average linear light), so a second view is
+    /// charged another third of the image.
+    fn view(&mut self, key: &str, space: ColorSpace) -> Option<u32> {
+        if let Some(&index) = self.views.get(&(key.to_owned(), space)) {
+            return Some(index);
+        }
+        let image = self.images.get(key)?.as_ref().ok()?;
+        // The image itself was charged when it was decoded, with room for one mipmap.
+        if self.views.keys().any(|(k, _)| k == key) {
+            let mipmap = with_mipmap(image.bytes()) - image.bytes();
+            self.budget_left = self.budget_left.saturating_sub(mipmap);
+        }
+        let texture = Texture {
+            name: key.to_owned(),
+            image: Image { width: image.width, height: image.height, texels: image.texels.in_space(space) },
+            wrap: [Wrap::Repeat; 2],
+        };
+        let index = u32::try_from(self.textures.len()).ok()?;
+        self.textures.push(texture);
+        self.views.insert((key.to_owned(), space), index);
+        Some(index)
     }
 
     /// Sets the wrap modes (along u and v) of texture `index`.
@@ -214,9 +330,30 @@ impl TextureSet {
         }
     }
 
+    /// The average linear RGB of texture `index` (glTF emissive maps: see `gltf_loader`).
+    pub fn mean_rgb(&self, index: u32) -> Option<Vec3> {
+        let texels = &self.textures.get(index as usize)?.image.texels;
+        let sum = (0..texels.len()).fold(DVec3::ZERO, |sum, i| {
+            let [r, g, b, _] = texels.linear(i);
+            sum + DVec3::new(r.into(), g.into(), b.into())
+        });
+        Some((sum / texels.len().max(1) as f64).as_vec3())
+    }
+
     /// The loaded textures, in the order their indices refer to.
     pub fn into_textures(self) -> Vec<Texture> {
         self.textures
+    }
+
+    /// Runs the loader of a scene whose textures all come from this set, and gives the scene
+    /// the set's textures.
+    pub fn owning(
+        mut self,
+        load: impl FnOnce(&mut Self) -> Result<Scene, SceneError>,
+    ) -> Result<Scene, SceneError> {
+        let mut scene = load(&mut self)?;
+        scene.textures = self.into_textures();
+        Ok(scene)
     }
 }
 
@@ -236,23 +373,61 @@ mod tests {
     #[test]
     fn colour_maps_are_srgb_decoded_and_data_maps_are_not() {
         let bytes = png(&[[255, 128, 0, 255], [10, 20, 30, 64]], 2);
-        let colour = decode(&bytes, "t.png", ColorSpace::Srgb).unwrap();
+        let mut set = TextureSet::default();
+        let mut report = LoadReport::default();
+        let referrer = Path::new("scene.gltf");
+        let colour = set.bytes("t.png", &bytes, ColorSpace::Srgb, referrer, &mut report).unwrap();
+        let data = set.bytes("t.png", &bytes, ColorSpace::Linear, referrer, &mut report).unwrap();
+        let textures = set.into_textures();
+        let colour = &textures[colour as usize].image;
         assert_eq!((colour.width, colour.height), (2, 1));
-        assert_eq!(colour.texels[0][0], 1.0);
-        assert!((colour.texels[0][1] - 0.2158605).abs() < 1e-6);
-        assert!((colour.texels[1][3] - 64.0 / 255.0).abs() < 1e-6, "alpha stays linear");
-        let data = decode(&bytes, "t.png", ColorSpace::Linear).unwrap();
-        assert!((data.texels[0][1] - 128.0 / 255.0).abs() < 1e-6);
+        assert_eq!(colour.texels.linear(0)[0], 1.0);
+        assert!((colour.texels.linear(0)[1] - 0.2158605).abs() < 1e-6);
+        assert!((colour.texels.linear(1)[3] - 64.0 / 255.0).abs() < 1e-6, "alpha stays linear");
+        let data = &textures[data as usize].image;
+        assert!((data.texels.linear(0)[1] - 128.0 / 255.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn grey_and_rgb_images_widen_to_rgba() {
+        let grey = image::GrayImage::from_raw(2, 1, vec![0, 255]).unwrap();
+        let mut bytes = Vec::new();
+        grey.write_to(&mut Cursor::new(&mut bytes), ImageFormat::Png).unwrap();
+        let (image, note) = decode(&bytes, "g.png", u64::MAX).unwrap();
+        assert!(note.is_none());
+        let texels = image.texels.in_space(ColorSpace::Linear);
+        assert_eq!(texels.linear(0), [0.0, 0.0, 0.0, 1.0]);
+        assert_eq!(texels.linear(1), [1.0, 1.0, 1.0, 1.0]);
+        let rgb = image::RgbImage::from_raw(2, 1, vec![1, 2, 3, 4, 5, 6]).unwrap();
+        let mut bytes = Vec::new();
+        rgb.write_to(&mut Cursor::new(&mut bytes), ImageFormat::Png).unwrap();
+        let (image, _) = decode(&bytes, "c.png", u64::MAX).unwrap();
+        match &image.texels {
+            Texels::Rgba8 { texels, .. } => assert_eq!(**texels, [[1, 2, 3, 255], [4, 5, 6, 255]]),
+            other => panic!("8-bit stays 8-bit: {other:?}"),
+        }
     }
 
     #[test]
     fn garbage_is_an_error_not_a_panic() {
-        assert!(decode(b"\x89PNG\r\n\x1a\nnot really", "x.png", ColorSpace::Srgb).is_err());
-        assert!(decode(&[], "x.jpg", ColorSpace::Srgb).is_err());
+        assert!(decode(b"\x89PNG\r\n\x1a\nnot really", "x.png", u64::MAX).is_err());
+        assert!(decode(&[], "x.jpg", u64::MAX).is_err());
     }
 
     #[test]
-    fn each_texture_is_loaded_once_and_failures_warn_once() {
+    fn images_over_the_budget_are_halved_until_they_fit_or_refused() {
+        let bytes = png(&[[200, 100, 50, 255]; 64 * 64], 64);
+        // 64 × 64 × 4 bytes = 16 KiB, 21.3 KiB with its mipmap.
+        let (image, note) = decode(&bytes, "t.png", 22 << 10).unwrap();
+        assert_eq!((image.width, note), (64, None));
+        let (image, note) = decode(&bytes, "t.png", 6 << 10).unwrap();
+        assert_eq!((image.width, image.height), (32, 32));
+        assert!(note.unwrap().contains("downscaled to 32x32"));
+        assert!(decode(&bytes, "t.png", 20).unwrap_err().contains("texture budget"));
+    }
+
+    #[test]
+    fn each_image_is_decoded_once_and_failures_warn_once() {
         let mut set = TextureSet::default();
         let mut report = LoadReport::default();
         let bytes = png(&[[1, 2, 3, 4]], 1);
@@ -266,6 +441,29 @@ mod tests {
             assert_eq!(set.file(dir, "x.png", ColorSpace::Srgb, referrer, &mut report), None);
         }
         assert_eq!(report.warnings.len(), 1, "{:?}", report.warnings);
-        assert_eq!(set.into_textures().len(), 2);
+        let textures = set.into_textures();
+        assert_eq!(textures.len(), 2);
+        // The two colour spaces read one decode.
+        match (&textures[0].image.texels, &textures[1].image.texels) {
+            (Texels::Rgba8 { texels: x, .. }, Texels::Rgba8 { texels: y, .. }) => assert!(Arc::ptr_eq(x, y)),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn one_decode_per_file_however_its_path_is_spelled() {
+        let dir = std::env::temp_dir().join(format!("igi-texture-spellings-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("sub")).unwrap();
+        std::fs::write(dir.join("x.png"), png(&[[9, 9, 9, 255]], 1)).unwrap();
+        let mut set = TextureSet::default();
+        let mut report = LoadReport::default();
+        let referrer = Path::new("scene.mtl");
+        let ids: Vec<_> = ["x.png", "./x.png", "sub/../x.png"]
+            .iter()
+            .map(|r| set.file(&dir, r, ColorSpace::Srgb, referrer, &mut report))
+            .collect();
+        assert_eq!(ids, [Some(0), Some(0), Some(0)]);
+        assert_eq!(report.files.len(), 1, "read once: {:?}", report.files);
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

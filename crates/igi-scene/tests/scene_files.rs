@@ -307,13 +307,13 @@ fn image_environment_is_read_relative_to_the_scene_file() {
         Some(igi_scene::Environment::Map { texture: 0, intensity: 2.0, rotation_deg: 90.0 })
     );
     let sky = &scene.textures[0];
-    assert_eq!((sky.width, sky.height), (4, 2));
-    assert_eq!(sky.texels[5], [40.0, 30.0, 20.0, 1.0], "HDR texels are linear radiance");
-    assert_eq!(sky.texels[0], [0.25, 0.5, 1.0, 1.0]);
+    assert_eq!((sky.image.width, sky.image.height), (4, 2));
+    assert_eq!(sky.image.texels.linear(5), [40.0, 30.0, 20.0, 1.0], "HDR texels are linear radiance");
+    assert_eq!(sky.image.texels.linear(0), [0.25, 0.5, 1.0, 1.0]);
 
     fs::write(dir.join("png.toml"), "[environment]\nfile = \"sky.png\"\n").unwrap();
     let scene = load(dir.join("png.toml")).unwrap();
-    let texel = scene.textures[0].texels[0];
+    let texel = scene.textures[0].image.texels.linear(0);
     assert_eq!((texel[0], texel[2]), (1.0, 0.0));
     assert!((texel[1] - 0.2158605).abs() < 1e-6, "8-bit images are sRGB-decoded: {texel:?}");
 
@@ -333,7 +333,7 @@ fn image_environment_is_read_relative_to_the_scene_file() {
     let err = load(dir.join("broken.toml")).unwrap_err().to_string();
     assert!(
         err.starts_with(&format!(
-            "{}: line 2, field `environment.file`: `broken.hdr` could not be decoded: ",
+            "{}: line 2, field `environment.file`: `broken.hdr` could not be loaded: ",
             dir.join("broken.toml").display()
         )),
         "{err}"
@@ -371,5 +371,8 @@ fn gltf_textures_keep_their_sampler_wrap_modes_and_the_normal_map_its_scale() {
     assert_eq!(normal.wrap, [igi_scene::Wrap::Repeat; 2]);
     assert_eq!(m.normal_scale, 0.5);
     // The normal map is data: linear, (128, 128, 255) → about (0.5, 0.5, 1).
-    assert!((normal.texels[0][2] - 1.0).abs() < 1e-6 && (normal.texels[0][0] - 128.0 / 255.0).abs() < 1e-6);
+    assert!(
+        (normal.image.texels.linear(0)[2] - 1.0).abs() < 1e-6
+            && (normal.image.texels.linear(0)[0] - 128.0 / 255.0).abs() < 1e-6
+    );
 }

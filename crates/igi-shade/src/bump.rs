@@ -52,7 +52,7 @@ mod tests {
                 [x * slope_per_texel; 4]
             })
             .collect();
-        MipMap::new(&Texture { name: "ramp".into(), width, height: 4, texels, wrap: [Wrap::Clamp; 2] })
+        MipMap::new(&Texture { wrap: [Wrap::Clamp; 2], ..Texture::from_linear("ramp", width, 4, texels) })
     }
 
     #[test]

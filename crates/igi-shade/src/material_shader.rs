@@ -44,10 +44,11 @@ pub struct MaterialShader {
 }
 
 impl MaterialShader {
-    /// The shader of `material`, whose texture indices refer to `maps`.
-    pub fn new(material: &Material, maps: &[Arc<MipMap>]) -> Self {
+    /// The shader of `material`, whose texture indices refer to `maps` (`None`: a texture
+    /// no material reads).
+    pub fn new(material: &Material, maps: &[Option<Arc<MipMap>>]) -> Self {
         let plastic = material.kind == MaterialKind::Plastic;
-        let map = |t: Option<u32>| t.and_then(|t| maps.get(t as usize)).cloned();
+        let map = |t: Option<u32>| t.and_then(|t| maps.get(t as usize)).cloned().flatten();
         Self {
             diffuse: if plastic { material.diffuse } else { Vec3::ZERO },
             diffuse_texture: map(material.diffuse_texture).filter(|_| plastic),

@@ -5,12 +5,8 @@
 
 use crate::texture::MipMap;
 use crate::{MaterialShader, ProceduralShader, SurfaceShader};
-use igi_scene::{Material, Texture, Wrap};
+use igi_scene::{Material, Texture};
 use std::sync::Arc;
-
-/// A texture no material reads: stands in for its pyramid.
-const EMPTY: Texture =
-    Texture { name: String::new(), width: 0, height: 0, texels: Vec::new(), wrap: [Wrap::Repeat; 2] };
 
 /// One surface shader per material, in the order of the scene's materials.
 #[derive(Debug)]
@@ -28,11 +24,8 @@ impl ShaderTable {
                     && [m.diffuse_texture, m.bump_texture, m.normal_texture].contains(&Some(t as u32))
             })
         };
-        let maps: Vec<Arc<MipMap>> = textures
-            .iter()
-            .enumerate()
-            .map(|(i, t)| Arc::new(if used(i) { MipMap::new(t) } else { MipMap::new(&EMPTY) }))
-            .collect();
+        let maps: Vec<Option<Arc<MipMap>>> =
+            textures.iter().enumerate().map(|(i, t)| used(i).then(|| Arc::new(MipMap::new(t)))).collect();
         let shaders = materials
             .iter()
             .map(|m| -> Arc<dyn SurfaceShader> {

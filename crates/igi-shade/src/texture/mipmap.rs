@@ -3,33 +3,43 @@
 
 use super::wrap::wrap_texel;
 use glam::{Vec2, Vec4};
-use igi_scene::{Texture, Wrap};
+use igi_scene::{Image, Texels, Texture, Wrap};
+use std::sync::Arc;
 
-/// One level of a [`MipMap`].
-#[derive(Clone, Debug, PartialEq)]
-pub struct Level {
-    /// Width in texels.
-    pub width: u32,
-    /// Height in texels.
-    pub height: u32,
-    /// Linear RGBA texels, row-major, row 0 at the top.
-    pub texels: Vec<Vec4>,
-}
+/// One level of a [`MipMap`]: an image, stored as its source is (see [`igi_scene::Texels`]).
+#[derive(Clone, Debug)]
+pub struct Level(Image);
 
 impl Level {
+    /// Width in texels.
+    pub fn width(&self) -> u32 {
+        self.0.width
+    }
+
+    /// Height in texels.
+    pub fn height(&self) -> u32 {
+        self.0.height
+    }
+
+    /// The linear RGBA value of texel (`x`, `y`).
+    pub fn texel(&self, x: u32, y: u32) -> Vec4 {
+        Vec4::from_array(self.0.texels.linear((y * self.0.width + x) as usize))
+    }
+
     /// The four texels around texture coordinates `uv` (top left, top right, bottom left,
     /// bottom right) and the position of `uv` between their centres.
     #[inline]
     fn quad(&self, uv: Vec2, wrap: [Wrap; 2]) -> ([Vec4; 4], Vec2) {
-        let x = uv.x * self.width as f32 - 0.5;
-        let y = uv.y * self.height as f32 - 0.5;
+        let (width, height) = (self.0.width, self.0.height);
+        let x = uv.x * width as f32 - 0.5;
+        let y = uv.y * height as f32 - 0.5;
         let (x0, y0) = (x.floor(), y.floor());
         // The texel columns and rows on either side, wrapped once per axis (not per texel).
-        let [c0, c1] = wrap_pair(x0, self.width, wrap[0]);
-        let [r0, r1] = wrap_pair(y0, self.height, wrap[1]);
-        let (r0, r1) = (r0 * self.width as usize, r1 * self.width as usize);
-        let t = &self.texels;
-        ([t[r0 + c0], t[r0 + c1], t[r1 + c0], t[r1 + c1]], Vec2::new(x - x0, y - y0))
+        let [c0, c1] = wrap_pair(x0, width, wrap[0]);
+        let [r0, r1] = wrap_pair(y0, height, wrap[1]);
+        let (r0, r1) = (r0 * width as usize, r1 * width as usize);
+        let texels = self.0.texels.linear4([r0 + c0, r0 + c1, r1 + c0, r1 + c1]);
+        (texels.map(Vec4::from_array), Vec2::new(x - x0, y - y0))
     }
 
     /// Bilinear interpolation of the four texels around texture coordinates `uv`.
@@ -47,29 +57,7 @@ impl Level {
         let value = a.lerp(b, f.x).lerp(c.lerp(d, f.x), f.y);
         let d_dx = (b - a).lerp(d - c, f.y);
         let d_dy = c.lerp(d, f.x) - a.lerp(b, f.x);
-        (value, d_dx * self.width as f32, d_dy * self.height as f32)
-    }
-
-    /// The next coarser level: ⌈w/2⌉ × ⌈h/2⌉ texels, each the mean of the (up to) 2 × 2
-    /// texels it covers; an odd last column or row is averaged with what it has.
-    fn half(&self) -> Self {
-        let (w, h) = (self.width.div_ceil(2).max(1), self.height.div_ceil(2).max(1));
-        let mut texels = Vec::with_capacity((w * h) as usize);
-        for y in 0..h {
-            for x in 0..w {
-                let (xs, ys) = (2 * x..(2 * x + 2).min(self.width), 2 * y..(2 * y + 2).min(self.height));
-                let mut sum = Vec4::ZERO;
-                let mut n = 0.0;
-                for sy in ys {
-                    for sx in xs.clone() {
-                        sum += self.texels[(sy * self.width + sx) as usize];
-                        n += 1.0;
-                    }
-                }
-                texels.push(sum / n);
-            }
-        }
-        Self { width: w, height: h, texels }
+        (value, d_dx * self.0.width as f32, d_dy * self.0.height as f32)
     }
 }
 
@@ -93,26 +81,25 @@ fn wrap_pair(i: f32, size: u32, wrap: Wrap) -> [usize; 2] {
 
 /// A texture ready for filtered lookups: level 0 is the image, each further level half the
 /// size of the one before, down to 1 × 1.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct MipMap {
     levels: Vec<Level>,
     wrap: [Wrap; 2],
 }
 
 impl MipMap {
-    /// The pyramid of `texture`. A texture without texels (or with fewer than its size says)
-    /// becomes a single opaque white texel, so a broken texture leaves the material's colour.
+    /// The pyramid of `texture`; level 0 shares the texture's texels. A texture whose texels
+    /// do not match its size becomes a single opaque white texel, so a broken texture leaves
+    /// the material's colour.
     pub fn new(texture: &Texture) -> Self {
-        let (w, h) = (texture.width, texture.height);
-        let base = if w == 0 || h == 0 || texture.texels.len() < w as usize * h as usize {
-            Level { width: 1, height: 1, texels: vec![Vec4::ONE] }
+        let base = if texture.image.is_complete() {
+            texture.image.clone()
         } else {
-            let texels = texture.texels[..(w * h) as usize].iter().map(|t| Vec4::from_array(*t)).collect();
-            Level { width: w, height: h, texels }
+            Image { width: 1, height: 1, texels: Texels::RgbaF32(Arc::new(vec![[1.0; 4]])) }
         };
-        let mut levels = vec![base];
-        while let Some(last) = levels.last().filter(|l| l.width > 1 || l.height > 1) {
-            let next = last.half();
+        let mut levels = vec![Level(base)];
+        while let Some(last) = levels.last().filter(|l| l.width() > 1 || l.height() > 1) {
+            let next = Level(last.0.half());
             levels.push(next);
         }
         Self { levels, wrap: texture.wrap }
@@ -125,7 +112,7 @@ impl MipMap {
 
     /// Width and height of level 0.
     pub fn size(&self) -> (u32, u32) {
-        (self.levels[0].width, self.levels[0].height)
+        (self.levels[0].width(), self.levels[0].height())
     }
 
     /// The continuous level of detail at which one texel spans `footprint` texels of level
@@ -173,7 +160,7 @@ mod tests {
     use super::*;
 
     fn texture(width: u32, height: u32, texels: Vec<[f32; 4]>) -> Texture {
-        Texture { name: "t".into(), width, height, texels, wrap: [Wrap::Repeat; 2] }
+        Texture::from_linear("t", width, height, texels)
     }
 
     /// 2 × 2: top row red, green; bottom row blue, white.
@@ -228,13 +215,13 @@ mod tests {
         // 5 × 3 texels of distinct values.
         let t = texture(5, 3, (0..15).map(|i| [i as f32, 0.0, 0.0, 1.0]).collect());
         let m = MipMap::new(&t);
-        let sizes: Vec<(u32, u32)> = m.levels().iter().map(|l| (l.width, l.height)).collect();
+        let sizes: Vec<(u32, u32)> = m.levels().iter().map(|l| (l.width(), l.height())).collect();
         assert_eq!(sizes, [(5, 3), (3, 2), (2, 1), (1, 1)]);
         let l1 = &m.levels()[1];
         // (0, 0) covers texels 0, 1, 5, 6; (2, 0) the odd column 4, 9; (2, 1) the corner 14.
-        assert_eq!(l1.texels[0].x, (0.0 + 1.0 + 5.0 + 6.0) / 4.0);
-        assert_eq!(l1.texels[2].x, (4.0 + 9.0) / 2.0);
-        assert_eq!(l1.texels[5].x, 14.0);
+        assert_eq!(l1.texel(0, 0).x, (0.0 + 1.0 + 5.0 + 6.0) / 4.0);
+        assert_eq!(l1.texel(2, 0).x, (4.0 + 9.0) / 2.0);
+        assert_eq!(l1.texel(2, 1).x, 14.0);
     }
 
     #[test]

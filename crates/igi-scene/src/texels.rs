@@ -1,0 +1,288 @@
+//! How a texture's texels are stored, and their values in linear light.
+//!
+//! 8-bit images stay 8-bit (4 bytes per texel instead of 16 as linear floats): colour maps keep
+//! their sRGB encoding and are decoded at lookup through a 256-entry table, which costs a load
+//! per channel. Float images (Radiance HDR, OpenEXR) and 16-bit images are kept as linear
+//! floats. Texels are reference-counted so that the views of one decoded image (a colour map
+//! and a data map of the same file, a texture and its mipmap's finest level) share them.
+
+use std::sync::{Arc, LazyLock};
+
+/// How the stored values of an 8-bit image relate to linear light.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ColorSpace {
+    /// Colour maps (diffuse, base colour, emissive): R, G and B are sRGB-encoded.
+    Srgb,
+    /// Data maps (bump, height, normal, metallic-roughness): values are used as they are,
+    /// scaled to [0, 1].
+    Linear,
+}
+
+/// The texels of an [`Image`], row-major, row 0 at the top, RGBA.
+#[derive(Clone, Debug)]
+pub enum Texels {
+    /// 8 bits per channel as the file stored them: R, G and B in `space`, alpha linear.
+    Rgba8 {
+        /// The texels.
+        texels: Arc<Vec<[u8; 4]>>,
+        /// What R, G and B encode.
+        space: ColorSpace,
+    },
+    /// 16 bits per channel as the file stored them: R, G and B in `space`, alpha linear.
+    Rgba16 {
+        /// The texels.
+        texels: Arc<Vec<[u16; 4]>>,
+        /// What R, G and B encode.
+        space: ColorSpace,
+    },
+    /// Linear-light floats.
+    RgbaF32(Arc<Vec<[f32; 4]>>),
+}
+
+/// A grid of texels: a decoded image, or one level of a mipmap.
+#[derive(Clone, Debug)]
+pub struct Image {
+    /// Width in texels.
+    pub width: u32,
+    /// Height in texels.
+    pub height: u32,
+    /// `width * height` texels.
+    pub texels: Texels,
+}
+
+/// The linear values of the 256 sRGB-encoded 8-bit values.
+static SRGB8: LazyLock<Vec<f32>> = LazyLock::new(|| table(256, srgb_to_linear));
+/// The linear values of the 256 plain 8-bit values: v / 255.
+static LINEAR8: LazyLock<Vec<f32>> = LazyLock::new(|| table(256, |x| x));
+/// The linear values of the 65536 sRGB-encoded 16-bit values.
+static SRGB16: LazyLock<Vec<f32>> = LazyLock::new(|| table(65536, srgb_to_linear));
+/// The linear values of the 65536 plain 16-bit values: v / 65535.
+static LINEAR16: LazyLock<Vec<f32>> = LazyLock::new(|| table(65536, |x| x));
+
+fn table(len: usize, decode: impl Fn(f32) -> f32) -> Vec<f32> {
+    (0..len).map(|v| decode(v as f32 / (len - 1) as f32)).collect()
+}
+
+/// The sRGB transfer function, inverted (IEC 61966-2-1): the linear value of an sRGB-encoded
+/// value in [0, 1] (clamped to it). Every decoder of the workspace uses this one, so an 8-bit
+/// value decodes to the same float everywhere.
+pub fn srgb_to_linear(x: f32) -> f32 {
+    let x = x.clamp(0.0, 1.0);
+    if x <= 0.04045 { x / 12.92 } else { ((x + 0.055) / 1.055).powf(2.4) }
+}
+
+impl ColorSpace {
+    /// The linear value of each 8-bit value in this space.
+    pub fn table8(self) -> &'static [f32] {
+        match self {
+            Self::Srgb => &SRGB8,
+            Self::Linear => &LINEAR8,
+        }
+    }
+
+    /// The linear value of each 16-bit value in this space.
+    pub fn table16(self) -> &'static [f32] {
+        match self {
+            Self::Srgb => &SRGB16,
+            Self::Linear => &LINEAR16,
+        }
+    }
+}
+
+/// The stored value whose linear value in `table` (increasing) is nearest to `x`: the exact
+/// inverse of the lookup, with no transfer function evaluated.
+fn encode(table: &[f32], x: f32) -> usize {
+    let above = table.partition_point(|&v| v < x);
+    if above == 0 {
+        return 0;
+    }
+    if above == table.len() {
+        return table.len() - 1;
+    }
+    // `above` is the first value ≥ x; the one below it may be nearer.
+    if x - table[above - 1] <= table[above] - x { above - 1 } else { above }
+}
+
+/// The linear RGBA value of a stored integer texel: R, G and B through `rgb`, alpha through
+/// `alpha`.
+#[inline]
+fn decode_texel<T: Copy + Into<usize>>(texel: [T; 4], rgb: &[f32], alpha: &[f32]) -> [f32; 4] {
+    let [r, g, b, a] = texel.map(Into::into);
+    [rgb[r], rgb[g], rgb[b], alpha[a]]
+}
+
+impl Texels {
+    /// Number of texels.
+    pub fn len(&self) -> usize {
+        match self {
+            Self::Rgba8 { texels, .. } => texels.len(),
+            Self::Rgba16 { texels, .. } => texels.len(),
+            Self::RgbaF32(texels) => texels.len(),
+        }
+    }
+
+    /// True if there are no texels.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Bytes one texel occupies.
+    pub fn bytes_per_texel(&self) -> usize {
+        match self {
+            Self::Rgba8 { .. } => 4,
+            Self::Rgba16 { .. } => 8,
+            Self::RgbaF32(_) => 16,
+        }
+    }
+
+    /// The linear RGBA value of texel `i`.
+    #[inline]
+    pub fn linear(&self, i: usize) -> [f32; 4] {
+        self.linear4([i; 4])[0]
+    }
+
+    /// The linear RGBA values of the four texels `indices`, with one dispatch on the storage
+    /// for all four (a bilinear lookup's footprint).
+    #[inline]
+    pub fn linear4(&self, indices: [usize; 4]) -> [[f32; 4]; 4] {
+        match self {
+            Self::Rgba8 { texels, space } => {
+                let (rgb, alpha) = (space.table8(), &**LINEAR8);
+                indices.map(|i| decode_texel(texels[i], rgb, alpha))
+            }
+            Self::Rgba16 { texels, space } => {
+                let (rgb, alpha) = (space.table16(), &**LINEAR16);
+                indices.map(|i| decode_texel(texels[i], rgb, alpha))
+            }
+            Self::RgbaF32(texels) => indices.map(|i| texels[i]),
+        }
+    }
+
+    /// The same texels read in another colour space (integer texels only; floats are linear
+    /// whatever the slot). Shares the storage.
+    pub fn in_space(&self, space: ColorSpace) -> Self {
+        match self {
+            Self::Rgba8 { texels, .. } => Self::Rgba8 { texels: texels.clone(), space },
+            Self::Rgba16 { texels, .. } => Self::Rgba16 { texels: texels.clone(), space },
+            Self::RgbaF32(texels) => Self::RgbaF32(texels.clone()),
+        }
+    }
+
+    /// Texels in this storage holding the linear values `linear` (integer storage takes the
+    /// nearest stored value).
+    fn encoded_like(&self, linear: impl Iterator<Item = [f32; 4]>) -> Self {
+        match self {
+            Self::Rgba8 { space, .. } => {
+                let (rgb, alpha) = (space.table8(), &**LINEAR8);
+                let texels = linear
+                    .map(|[r, g, b, a]| {
+                        [encode(rgb, r), encode(rgb, g), encode(rgb, b), encode(alpha, a)].map(|v| v as u8)
+                    })
+                    .collect();
+                Self::Rgba8 { texels: Arc::new(texels), space: *space }
+            }
+            Self::Rgba16 { space, .. } => {
+                let (rgb, alpha) = (space.table16(), &**LINEAR16);
+                let texels = linear
+                    .map(|[r, g, b, a]| {
+                        [encode(rgb, r), encode(rgb, g), encode(rgb, b), encode(alpha, a)].map(|v| v as u16)
+                    })
+                    .collect();
+                Self::Rgba16 { texels: Arc::new(texels), space: *space }
+            }
+            Self::RgbaF32(_) => Self::RgbaF32(Arc::new(linear.collect())),
+        }
+    }
+}
+
+impl Image {
+    /// Bytes its texels occupy.
+    pub fn bytes(&self) -> u64 {
+        self.texels.len() as u64 * self.texels.bytes_per_texel() as u64
+    }
+
+    /// True if it has as many texels as its size says, and at least one.
+    pub fn is_complete(&self) -> bool {
+        self.width > 0 && self.height > 0 && self.texels.len() == self.width as usize * self.height as usize
+    }
+
+    /// The next coarser level of a mipmap (Williams 1983): ⌈w/2⌉ × ⌈h/2⌉ texels, each the mean
+    /// in linear light of the (up to) 2 × 2 texels it covers (an odd last column or row is
+    /// averaged with what it has), stored as this image is.
+    pub fn half(&self) -> Self {
+        let (width, height) = (self.width.div_ceil(2).max(1), self.height.div_ceil(2).max(1));
+        let texel = |x: u32, y: u32| self.texels.linear((y * self.width + x) as usize);
+        let means = (0..height).flat_map(|y| (0..width).map(move |x| (x, y))).map(|(x, y)| {
+            let (xs, ys) = (2 * x..(2 * x + 2).min(self.width), 2 * y..(2 * y + 2).min(self.height));
+            let mut sum = [0.0f32; 4];
+            let mut n = 0.0;
+            for sy in ys {
+                for sx in xs.clone() {
+                    let t = texel(sx, sy);
+                    sum.iter_mut().zip(t).for_each(|(s, t)| *s += t);
+                    n += 1.0;
+                }
+            }
+            sum.map(|s| s / n)
+        });
+        Self { width, height, texels: self.texels.encoded_like(means) }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn encoding_inverts_the_tables_exactly() {
+        for space in [ColorSpace::Srgb, ColorSpace::Linear] {
+            for table in [space.table8(), space.table16()] {
+                for v in (0..table.len()).step_by(7).chain([table.len() - 1]) {
+                    assert_eq!(encode(table, table[v]), v, "{space:?} {v}");
+                }
+                assert_eq!(encode(table, -1.0), 0);
+                assert_eq!(encode(table, 2.0), table.len() - 1);
+                assert_eq!(encode(table, f32::NAN), 0, "NaN never indexes out of range");
+            }
+        }
+        // Between two linear values, the nearer one.
+        let t = ColorSpace::Linear.table8();
+        assert_eq!(encode(t, (t[10] + t[11]) * 0.5 - 1e-6), 10);
+        assert_eq!(encode(t, (t[10] + t[11]) * 0.5 + 1e-6), 11);
+    }
+
+    #[test]
+    fn srgb_texels_decode_at_lookup_and_views_share_storage() {
+        let texels = Arc::new(vec![[255u8, 128, 0, 64]]);
+        let colour = Texels::Rgba8 { texels: texels.clone(), space: ColorSpace::Srgb };
+        let [r, g, b, a] = colour.linear(0);
+        assert_eq!((r, b), (1.0, 0.0));
+        assert!((g - 0.2158605).abs() < 1e-6, "{g}");
+        assert!((a - 64.0 / 255.0).abs() < 1e-6, "alpha stays linear");
+        let data = colour.in_space(ColorSpace::Linear);
+        assert!((data.linear(0)[1] - 128.0 / 255.0).abs() < 1e-6);
+        assert_eq!(Arc::strong_count(&texels), 3, "one copy of the texels for all views");
+    }
+
+    #[test]
+    fn halving_averages_linear_light_and_keeps_the_storage() {
+        // Black and white sRGB texels average to linear 0.5, which is sRGB 188, not 128.
+        let image = Image {
+            width: 2,
+            height: 1,
+            texels: Texels::Rgba8 {
+                texels: Arc::new(vec![[0, 0, 0, 255], [255, 255, 255, 255]]),
+                space: ColorSpace::Srgb,
+            },
+        };
+        let half = image.half();
+        assert_eq!((half.width, half.height), (1, 1));
+        match &half.texels {
+            Texels::Rgba8 { texels, space } => {
+                assert_eq!(*space, ColorSpace::Srgb);
+                assert_eq!(texels[0], [188, 188, 188, 255]);
+            }
+            other => panic!("8-bit stays 8-bit: {other:?}"),
+        }
+    }
+}
