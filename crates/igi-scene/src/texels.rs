@@ -99,8 +99,42 @@ fn encode(table: &[f32], x: f32) -> usize {
     if above == table.len() {
         return table.len() - 1;
     }
-    // `above` is the first value ≥ x; the one below it may be nearer.
-    if x - table[above - 1] <= table[above] - x { above - 1 } else { above }
+    nearer(table, x, above - 1)
+}
+
+/// `below` or `below + 1`, whichever has the linear value in `table` nearer to `x`.
+fn nearer(table: &[f32], x: f32, below: usize) -> usize {
+    match table.get(below + 1) {
+        Some(&next) if next - x < x - table[below] => below + 1,
+        _ => below,
+    }
+}
+
+/// Bins of the unit interval fine enough that each holds at most one boundary between the
+/// nearest 8-bit sRGB values (their linear values are at least 1/(255 · 12.92) apart).
+const SRGB8_BINS: usize = 1 << 16;
+
+/// For each bin of [0, 1], the largest 8-bit sRGB value whose linear value lies at or below
+/// the bin's start.
+static SRGB8_BELOW: LazyLock<Vec<u8>> = LazyLock::new(|| {
+    (0..SRGB8_BINS)
+        .map(|b| (SRGB8.partition_point(|&v| v <= b as f32 / (SRGB8_BINS - 1) as f32) - 1) as u8)
+        .collect()
+});
+
+/// The 8-bit value in `space` nearest to the linear value `x`: [`encode`] in constant time (a
+/// mipmap re-encodes every texel it averages).
+fn encode8(space: ColorSpace, x: f32) -> u8 {
+    let x = x.clamp(0.0, 1.0);
+    match space {
+        ColorSpace::Linear => (x * 255.0).round() as u8,
+        ColorSpace::Srgb => {
+            // The bin's start is at or below x, so the nearest value is the one at or below
+            // the start or the next; the bin holds no further boundary.
+            let below = SRGB8_BELOW[(x * (SRGB8_BINS - 1) as f32) as usize];
+            nearer(&SRGB8, x, usize::from(below)) as u8
+        }
+    }
 }
 
 /// The linear RGBA value of a stored integer texel: R, G and B through `rgb`, alpha through
@@ -138,7 +172,11 @@ impl Texels {
     /// The linear RGBA value of texel `i`.
     #[inline]
     pub fn linear(&self, i: usize) -> [f32; 4] {
-        self.linear4([i; 4])[0]
+        match self {
+            Self::Rgba8 { texels, space } => decode_texel(texels[i], space.table8(), &LINEAR8),
+            Self::Rgba16 { texels, space } => decode_texel(texels[i], space.table16(), &LINEAR16),
+            Self::RgbaF32(texels) => texels[i],
+        }
     }
 
     /// The linear RGBA values of the four texels `indices`, with one dispatch on the storage
@@ -173,11 +211,9 @@ impl Texels {
     fn encoded_like(&self, linear: impl Iterator<Item = [f32; 4]>) -> Self {
         match self {
             Self::Rgba8 { space, .. } => {
-                let (rgb, alpha) = (space.table8(), &**LINEAR8);
+                let encode = |c| encode8(*space, c);
                 let texels = linear
-                    .map(|[r, g, b, a]| {
-                        [encode(rgb, r), encode(rgb, g), encode(rgb, b), encode(alpha, a)].map(|v| v as u8)
-                    })
+                    .map(|[r, g, b, a]| [encode(r), encode(g), encode(b), encode8(ColorSpace::Linear, a)])
                     .collect();
                 Self::Rgba8 { texels: Arc::new(texels), space: *space }
             }
@@ -236,6 +272,18 @@ mod tests {
     #[test]
     fn encoding_inverts_the_tables_exactly() {
         for space in [ColorSpace::Srgb, ColorSpace::Linear] {
+            let table = space.table8();
+            for v in 0..=255u8 {
+                assert_eq!(encode8(space, table[usize::from(v)]), v, "{space:?} {v}");
+                // Anywhere between two values, the constant-time encoder agrees with the search.
+                if v < 255 {
+                    for t in [0.1, 0.49, 0.51, 0.9] {
+                        let x = table[usize::from(v)] * (1.0 - t) + table[usize::from(v) + 1] * t;
+                        assert_eq!(usize::from(encode8(space, x)), encode(table, x), "{space:?} {v} {t}");
+                    }
+                }
+            }
+            assert_eq!((encode8(space, -1.0), encode8(space, 2.0), encode8(space, f32::NAN)), (0, 255, 0));
             for table in [space.table8(), space.table16()] {
                 for v in (0..table.len()).step_by(7).chain([table.len() - 1]) {
                     assert_eq!(encode(table, table[v]), v, "{space:?} {v}");
