@@ -93,6 +93,8 @@
 //! Unknown fields are errors (a typo like `rotation` must not be silently ignored), and every
 //! error names the scene file, the line and the field.
 
+mod field_spans;
+
 use std::ops::Range;
 use std::path::Path;
 
@@ -389,12 +391,11 @@ struct Checker<'a> {
 }
 
 impl Checker<'_> {
+    /// An error about the field at `path`, at the line of its value, or else (a default
+    /// that is not in the file) of `span`, its table's.
     fn error(&self, span: &Range<usize>, path: String, message: impl Into<String>) -> SceneError {
-        SceneError::invalid(
-            self.file,
-            Location::Field { line: Some(line_of(self.text, span.start)), path },
-            message,
-        )
+        let at = field_spans::value_span(self.text, &path).map_or(span.start, |value| value.start);
+        SceneError::invalid(self.file, Location::Field { line: Some(line_of(self.text, at)), path }, message)
     }
 
     fn vector(&self, span: &Range<usize>, path: String, v: [f32; 3]) -> Result<Vec3, SceneError> {
@@ -1182,41 +1183,18 @@ fn line_of(text: &str, offset: usize) -> usize {
 }
 
 /// A `toml` error as a [`SceneError`] pointing at the line and, where it can be told, the
-/// field (`mesh[1].scale`): the table headers before the error are replayed to name it.
+/// field (`mesh[1].scale`).
 fn toml_error(error: &toml::de::Error, text: &str, file: &Path) -> SceneError {
     let message = error.message().trim().to_owned();
     let Some(span) = error.span() else {
         return SceneError::parse(file, Location::File, message);
     };
     let line = line_of(text, span.start);
-    let location = match field_at(text, line) {
+    let location = match field_spans::path_at(text, span.start) {
         Some(path) => Location::Field { line: Some(line), path },
         None => Location::Line(line),
     };
     SceneError::parse(file, location, message)
-}
-
-/// The dotted path of the key assigned on `line` (1-based), e.g. `mesh[1].scale`.
-fn field_at(text: &str, line: usize) -> Option<String> {
-    let mut table = String::new();
-    let mut counts: std::collections::HashMap<String, usize> = std::collections::HashMap::new();
-    for raw in text.lines().take(line.saturating_sub(1)) {
-        let header = raw.trim();
-        if let Some(name) = header.strip_prefix("[[").and_then(|h| h.split("]]").next()) {
-            let name = name.trim().to_owned();
-            let count = counts.entry(name.clone()).or_insert(0);
-            table = format!("{name}[{count}]");
-            *count += 1;
-        } else if let Some(name) = header.strip_prefix('[').and_then(|h| h.split(']').next()) {
-            table = name.trim().to_owned();
-        }
-    }
-    let current = text.lines().nth(line - 1)?;
-    let key = current.split_once('=')?.0.trim();
-    if key.is_empty() || key.starts_with('[') || key.starts_with('#') {
-        return None;
-    }
-    Some(if table.is_empty() { key.to_owned() } else { format!("{table}.{key}") })
 }
 
 #[cfg(test)]
@@ -1257,9 +1235,22 @@ mod tests {
     #[test]
     fn semantic_errors_name_the_field() {
         let err = parse_str("[[light]]\ntype = \"spot\"\nposition = [0, 0, 0]\ndirection = [0, 0, 0]\nangle = 30\nintensity = [1, 1, 1]\n").unwrap_err();
-        assert!(err.to_string().contains("field `light[0].direction`: direction must not be zero"), "{err}");
+        // The line of the field, not of its table's header.
+        assert!(
+            err.to_string().contains("line 4, field `light[0].direction`: direction must not be zero"),
+            "{err}"
+        );
         let err = parse_str("[camera]\nposition = [0, 1, 0]\ntarget = [0, 1, 0]\nfov = 40\n").unwrap_err();
-        assert!(err.to_string().contains("camera.target"), "{err}");
+        assert!(err.to_string().contains("line 3, field `camera.target`"), "{err}");
+        let err =
+            parse_str("[[mesh]]\nfile = \"a.obj\"\ninstances = [\n  { scale = 1 },\n  { scale = 0 },\n]\n")
+                .unwrap_err();
+        assert!(err.to_string().contains("line 5, field `mesh[0].instances[1].scale`"), "{err}");
+        let err = parse_str(
+            "[[mesh]]\nfile = \"a.obj\"\ninstances = [\n  { scale = 1 },\n  { scale = \"x\" },\n]\n",
+        )
+        .unwrap_err();
+        assert!(err.to_string().contains("line 5, field `mesh[0].instances[1].scale`"), "{err}");
         let err = parse_str("[[light]]\ntype = \"point\"\nposition = [0, 0, 0]\nradiance = [1, 1, 1]\n")
             .unwrap_err();
         assert!(err.to_string().contains("a point light has no `radiance`"), "{err}");
