@@ -578,9 +578,15 @@ impl Loader<'_> {
         };
         let Some(index) = index else { return Ok(()) };
         let transform = Affine3A::from_mat4(world);
-        if !transform.inverse().is_finite() {
-            self.report
-                .warn(self.file, format!("nodes[{}]: scale is zero; the instance is left out", node.index()));
+        if !(transform.is_finite() && transform.inverse().is_finite()) {
+            // Rays are traced in the instance's own space, so its transform must invert in f32.
+            let (scale, _, _) = world.to_scale_rotation_translation();
+            let why = if scale.cmpeq(glam::Vec3::ZERO).any() {
+                "scale is zero".to_owned()
+            } else {
+                format!("world transform (scale {scale}) cannot be inverted in single precision")
+            };
+            self.report.warn(self.file, format!("nodes[{}]: {why}; the instance is left out", node.index()));
             return Ok(());
         }
         self.scene.instances.push(Instance { mesh: index, transform });

@@ -399,8 +399,18 @@ impl Checker<'_> {
     }
 
     fn vector(&self, span: &Range<usize>, path: String, v: [f32; 3]) -> Result<Vec3, SceneError> {
+        self.vector_at(span, || path, v)
+    }
+
+    /// [`Checker::vector`] with the path formatted only for a message.
+    fn vector_at(
+        &self,
+        span: &Range<usize>,
+        path: impl FnOnce() -> String,
+        v: [f32; 3],
+    ) -> Result<Vec3, SceneError> {
         let v = Vec3::from(v);
-        if v.is_finite() { Ok(v) } else { Err(self.error(span, path, "values must be finite")) }
+        if v.is_finite() { Ok(v) } else { Err(self.error(span, path(), "values must be finite")) }
     }
 
     fn colour(&self, span: &Range<usize>, path: String, v: [f32; 3]) -> Result<Vec3, SceneError> {
@@ -444,27 +454,35 @@ impl Checker<'_> {
             .ok_or_else(|| self.error(span, path, "direction must not be zero"))
     }
 
+    /// The placement of `translate`, `rotate` (degrees) and `scale`; `path` is the prefix of
+    /// their field paths, formatted only for a message (instance lists are long).
     fn transform(
         &self,
         span: &Range<usize>,
-        path: &str,
+        path: impl Fn() -> String,
         translate: Option<[f32; 3]>,
         rotate: Option<[f32; 3]>,
         scale: Option<Scale>,
     ) -> Result<Affine3A, SceneError> {
-        let translation = self.vector(span, format!("{path}translate"), translate.unwrap_or_default())?;
-        let degrees = self.vector(span, format!("{path}rotate"), rotate.unwrap_or_default())?;
-        let scale = self.scale(span, format!("{path}scale"), scale.unwrap_or(Scale::Uniform(1.0)))?;
+        let translation =
+            self.vector_at(span, || format!("{}translate", path()), translate.unwrap_or_default())?;
+        let degrees = self.vector_at(span, || format!("{}rotate", path()), rotate.unwrap_or_default())?;
+        let scale = self.scale(span, || format!("{}scale", path()), scale.unwrap_or(Scale::Uniform(1.0)))?;
         Ok(Affine3A::from_scale_rotation_translation(scale, euler_degrees(degrees), translation))
     }
 
-    fn scale(&self, span: &Range<usize>, path: String, scale: Scale) -> Result<Vec3, SceneError> {
+    fn scale(
+        &self,
+        span: &Range<usize>,
+        path: impl FnOnce() -> String,
+        scale: Scale,
+    ) -> Result<Vec3, SceneError> {
         let scale = match scale {
             Scale::Uniform(s) => Vec3::splat(s),
             Scale::Axes(axes) => Vec3::from(axes),
         };
         if !scale.is_finite() || scale.cmpeq(Vec3::ZERO).any() {
-            return Err(self.error(span, path, "scale must be finite and non-zero"));
+            return Err(self.error(span, path(), "scale must be finite and non-zero"));
         }
         Ok(scale)
     }
@@ -561,7 +579,7 @@ fn mesh_node(
         key.rotate.map(|v| check.vector(span, at, v)).transpose()
     })?;
     let scale = check.track(span, &path, spec, "scale", |key, at| {
-        key.scale.map(|v| check.scale(span, at, v)).transpose()
+        key.scale.map(|v| check.scale(span, || at, v)).transpose()
     })?;
     let period = [translation.as_ref(), rotation.as_ref(), scale.as_ref()]
         .into_iter()
@@ -581,6 +599,7 @@ fn parse_file(
     textures: &mut TextureSet,
     report: &mut LoadReport,
 ) -> Result<Scene, SceneError> {
+    check_size(text, file)?;
     let spec: SceneSpec = toml::from_str(text).map_err(|e| toml_error(&e, text, file))?;
     let check = Checker { file, text };
     let mut scene = Scene::default();
@@ -589,7 +608,7 @@ fn parse_file(
         let span = entry.span();
         let path = format!("mesh[{index}].");
         let mesh = entry.get_ref();
-        let own = check.transform(&span, &path, mesh.translate, mesh.rotate, mesh.scale)?;
+        let own = check.transform(&span, || path.clone(), mesh.translate, mesh.rotate, mesh.scale)?;
         let own = mesh_node(&check, &span, &path, own, mesh.animation.as_ref())?;
         let placements = match &mesh.instances {
             None => vec![Affine3A::IDENTITY],
@@ -597,8 +616,13 @@ fn parse_file(
                 .iter()
                 .enumerate()
                 .map(|(i, t)| {
-                    let path = format!("{path}instances[{i}].");
-                    check.transform(&span, &path, t.translate, t.rotate, t.scale)
+                    check.transform(
+                        &span,
+                        || format!("{path}instances[{i}]."),
+                        t.translate,
+                        t.rotate,
+                        t.scale,
+                    )
                 })
                 .collect::<Result<_, _>>()?,
         };
@@ -617,6 +641,18 @@ fn parse_file(
             continue;
         };
         let sub = load_mesh_file(&check, dir, index, &mesh.file, textures, report)?;
+        let count =
+            placements.len().saturating_mul(sub.instances.len()).saturating_add(scene.instances.len());
+        if count > crate::MAX_INSTANCES {
+            return Err(check.error(
+                &span,
+                format!("{path}instances"),
+                format!(
+                    "the scene would have {count} instances; it may have at most {}",
+                    crate::MAX_INSTANCES
+                ),
+            ));
+        }
         append(&mut scene, sub, &placements, &own, material);
     }
 
@@ -1178,6 +1214,36 @@ fn camera_from(check: &Checker, camera: &Spanned<CameraSpec>) -> Result<Camera, 
 }
 
 /// 1-based line of a byte offset.
+/// Largest scene file. Scene files place and light meshes that live in files of their own;
+/// a scene of [`MAX_INSTANCES`](crate::MAX_INSTANCES) instances takes a few MiB.
+const MAX_SCENE_FILE_BYTES: usize = 16 << 20;
+/// Most inline tables (`{ ... }`) a scene file may hold: one per instance, and as many again
+/// for keyframes and materials.
+const MAX_INLINE_TABLES: usize = 2 * crate::MAX_INSTANCES;
+
+/// Bounds what parsing `text` can take before it is parsed. `toml` holds each inline table of a
+/// document in a map of about a kilobyte, so a file of ten million short `{}` entries would
+/// take gigabytes before the instance count could be checked.
+fn check_size(text: &str, file: &Path) -> Result<(), SceneError> {
+    let refuse = |message: String| Err(SceneError::invalid(file, Location::File, message));
+    if text.len() > MAX_SCENE_FILE_BYTES {
+        return refuse(format!(
+            "{} bytes; a scene file may have at most {MAX_SCENE_FILE_BYTES} (meshes belong in mesh files)",
+            text.len()
+        ));
+    }
+    // Counting braces over-counts (a brace in a string), never under-counts.
+    let tables = text.bytes().filter(|&b| b == b'{').count();
+    if tables > MAX_INLINE_TABLES {
+        return refuse(format!(
+            "{tables} inline tables (`{{ ... }}`); a scene file may have at most {MAX_INLINE_TABLES} \
+             (a scene at most {} instances)",
+            crate::MAX_INSTANCES
+        ));
+    }
+    Ok(())
+}
+
 fn line_of(text: &str, offset: usize) -> usize {
     text.as_bytes()[..offset.min(text.len())].iter().filter(|&&b| b == b'\n').count() + 1
 }
@@ -1280,13 +1346,13 @@ mod tests {
     #[test]
     fn rotation_order_is_x_then_y_then_z() {
         let check = Checker { file: Path::new("s.toml"), text: "" };
-        let t = check.transform(&(0..0), "", None, Some([90.0, 90.0, 0.0]), None).unwrap();
+        let t = check.transform(&(0..0), String::new, None, Some([90.0, 90.0, 0.0]), None).unwrap();
         // X first takes +Y to +Z, then Y takes +Z to +X.
         assert!((t.transform_vector3(Vec3::Y) - Vec3::X).length() < 1e-6);
         let t = check
             .transform(
                 &(0..0),
-                "",
+                String::new,
                 Some([1.0, 2.0, 3.0]),
                 Some([0.0, 0.0, 90.0]),
                 Some(Scale::Axes([2.0, 1.0, 1.0])),

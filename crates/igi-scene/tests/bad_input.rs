@@ -228,3 +228,51 @@ fn malformed_and_unknown_toml() {
         toml("[camera]\nposition = [0, 1, 3.5]\ntarget = [0, 1, 0]\nfov = 39.3\n[lights]\n").unwrap_err();
     assert!(err.to_string().contains("unknown field `lights`"), "{err}");
 }
+
+/// A scene file placing a one-triangle OBJ `count` times.
+fn instanced_scene(dir: &Path, count: usize) -> std::path::PathBuf {
+    std::fs::create_dir_all(dir).unwrap();
+    std::fs::write(dir.join("tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let mut text = String::from("[[mesh]]\nfile = \"tri.obj\"\ninstances = [\n");
+    for i in 0..count {
+        text.push_str(&format!("  {{ translate = [{}, 0, 0] }},\n", i % 1000));
+    }
+    text.push_str("]\n");
+    let path = dir.join(format!("instances-{count}.toml"));
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn instance_counts_are_capped() {
+    let dir = std::env::temp_dir().join(format!("igi-instance-cap-{}", std::process::id()));
+    let scene = load(instanced_scene(&dir, igi_scene::MAX_INSTANCES)).unwrap();
+    assert_eq!(scene.instances.len(), igi_scene::MAX_INSTANCES);
+    let err = load(instanced_scene(&dir, igi_scene::MAX_INSTANCES + 1)).unwrap_err().to_string();
+    assert!(
+        err.contains("line 3, field `mesh[0].instances`: the scene would have 100001 instances; it may have at most 100000"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+
+    // Five million empty inline tables are refused before `toml` builds them (gigabytes).
+    let text = format!("[[mesh]]\nfile = \"tri.obj\"\ninstances = [{}]\n", "{},".repeat(5_000_000));
+    let err = toml(&text).unwrap_err().to_string();
+    assert!(err.contains("5000000 inline tables"), "{err}");
+    let err = toml(&" ".repeat(17 << 20)).unwrap_err().to_string();
+    assert!(err.contains("a scene file may have at most 16777216"), "{err}");
+}
+
+#[test]
+fn huge_node_scales_are_named_for_what_they_are() {
+    let (json, _) = gltf_document(&TRIANGLE, &[0, 1, 2], true);
+    let huge = json.replace(r#""nodes":[{"mesh":0}]"#, r#""nodes":[{"mesh":0,"scale":[1e38,1e38,1e38]}]"#);
+    let (scene, report) = gltf(huge.as_bytes()).unwrap();
+    assert!(scene.instances.is_empty());
+    let warning = report.warnings.join("\n");
+    assert!(warning.contains("nodes[0]: world transform (scale"), "{warning}");
+    assert!(warning.contains("cannot be inverted in single precision"), "{warning}");
+    let zero = json.replace(r#""nodes":[{"mesh":0}]"#, r#""nodes":[{"mesh":0,"scale":[1,0,1]}]"#);
+    let (_, report) = gltf(zero.as_bytes()).unwrap();
+    assert!(report.warnings.join("\n").contains("nodes[0]: scale is zero"), "{report:?}");
+}
