@@ -408,6 +408,45 @@ mod tests {
         }
     }
 
+    proptest::proptest! {
+        /// Mutated images of every stored kind (8- and 16-bit grey, grey + alpha, RGB, RGBA)
+        /// decode to complete images or to an error, never a panic.
+        #[test]
+        fn mutated_images_decode_or_fail_cleanly(
+            kind in 0usize..8,
+            flips in proptest::collection::vec((0usize..4096, proptest::num::u8::ANY), 0..8),
+            cut in 0usize..4096,
+            budget in 0u64..4096,
+        ) {
+            let (w, h) = (5, 3);
+            let mut buffer = Cursor::new(Vec::new());
+            let image = match kind {
+                0 => image::DynamicImage::ImageLuma8(image::GrayImage::from_fn(w, h, |x, _| image::Luma([x as u8 * 40]))),
+                1 => image::DynamicImage::ImageLumaA8(image::GrayAlphaImage::from_pixel(w, h, image::LumaA([9, 200]))),
+                2 => image::DynamicImage::ImageRgb8(image::RgbImage::from_pixel(w, h, image::Rgb([1, 2, 3]))),
+                3 => image::DynamicImage::ImageRgba8(image::RgbaImage::from_pixel(w, h, image::Rgba([1, 2, 3, 4]))),
+                4 => image::DynamicImage::ImageLuma16(image::ImageBuffer::from_pixel(w, h, image::Luma([60000]))),
+                5 => image::DynamicImage::ImageRgb16(image::ImageBuffer::from_pixel(w, h, image::Rgb([1, 2, 65535]))),
+                6 => image::DynamicImage::ImageRgba16(image::ImageBuffer::from_pixel(w, h, image::Rgba([7; 4]))),
+                _ => image::DynamicImage::ImageRgb32F(image::ImageBuffer::from_pixel(w, h, image::Rgb([0.5, 2.0, 1e3]))),
+            };
+            let format = if kind == 7 { ImageFormat::OpenExr } else { ImageFormat::Png };
+            image.write_to(&mut buffer, format).unwrap();
+            let mut bytes = buffer.into_inner();
+            for (at, value) in flips {
+                let len = bytes.len().max(1);
+                if let Some(byte) = bytes.get_mut(at % len) {
+                    *byte ^= value;
+                }
+            }
+            bytes.truncate(cut.max(8));
+            if let Ok((image, _)) = decode(&bytes, "fuzz.png", budget) {
+                proptest::prop_assert!(image.is_complete());
+                proptest::prop_assert!(with_mipmap(image.bytes()) <= budget);
+            }
+        }
+    }
+
     #[test]
     fn garbage_is_an_error_not_a_panic() {
         assert!(decode(b"\x89PNG\r\n\x1a\nnot really", "x.png", u64::MAX).is_err());
