@@ -8,6 +8,8 @@
 
 use std::sync::{Arc, LazyLock};
 
+use rayon::prelude::*;
+
 /// How the stored values of an 8-bit image relate to linear light.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ColorSpace {
@@ -122,17 +124,29 @@ static SRGB8_BELOW: LazyLock<Vec<u8>> = LazyLock::new(|| {
         .collect()
 });
 
-/// The 8-bit value in `space` nearest to the linear value `x`: [`encode`] in constant time (a
-/// mipmap re-encodes every texel it averages).
-fn encode8(space: ColorSpace, x: f32) -> u8 {
-    let x = x.clamp(0.0, 1.0);
-    match space {
-        ColorSpace::Linear => (x * 255.0).round() as u8,
-        ColorSpace::Srgb => {
-            // The bin's start is at or below x, so the nearest value is the one at or below
-            // the start or the next; the bin holds no further boundary.
-            let below = SRGB8_BELOW[(x * (SRGB8_BINS - 1) as f32) as usize];
-            nearer(&SRGB8, x, usize::from(below)) as u8
+/// The 8-bit value in a colour space nearest to a linear value: [`encode`] in constant time
+/// (a mipmap re-encodes every texel it averages), with its tables looked up once.
+struct Encoder8 {
+    space: ColorSpace,
+    srgb: &'static [f32],
+    srgb_below: &'static [u8],
+}
+
+impl Encoder8 {
+    fn new(space: ColorSpace) -> Self {
+        Self { space, srgb: &SRGB8, srgb_below: &SRGB8_BELOW }
+    }
+
+    fn encode(&self, x: f32) -> u8 {
+        let x = x.clamp(0.0, 1.0);
+        match self.space {
+            ColorSpace::Linear => (x * 255.0).round() as u8,
+            ColorSpace::Srgb => {
+                // The bin's start is at or below x, so the nearest value is the one at or
+                // below the start or the next; the bin holds no further boundary.
+                let below = self.srgb_below[(x * (SRGB8_BINS - 1) as f32) as usize];
+                nearer(self.srgb, x, usize::from(below)) as u8
+            }
         }
     }
 }
@@ -205,30 +219,37 @@ impl Texels {
             Self::RgbaF32(texels) => Self::RgbaF32(texels.clone()),
         }
     }
+}
 
-    /// Texels in this storage holding the linear values `linear` (integer storage takes the
-    /// nearest stored value).
-    fn encoded_like(&self, linear: impl Iterator<Item = [f32; 4]>) -> Self {
-        match self {
-            Self::Rgba8 { space, .. } => {
-                let encode = |c| encode8(*space, c);
-                let texels = linear
-                    .map(|[r, g, b, a]| [encode(r), encode(g), encode(b), encode8(ColorSpace::Linear, a)])
-                    .collect();
-                Self::Rgba8 { texels: Arc::new(texels), space: *space }
-            }
-            Self::Rgba16 { space, .. } => {
-                let (rgb, alpha) = (space.table16(), &**LINEAR16);
-                let texels = linear
-                    .map(|[r, g, b, a]| {
-                        [encode(rgb, r), encode(rgb, g), encode(rgb, b), encode(alpha, a)].map(|v| v as u16)
-                    })
-                    .collect();
-                Self::Rgba16 { texels: Arc::new(texels), space: *space }
-            }
-            Self::RgbaF32(_) => Self::RgbaF32(Arc::new(linear.collect())),
-        }
-    }
+/// The ⌈w/2⌉ × ⌈h/2⌉ means of the (up to) 2 × 2 texels of a `w × h` grid that each covers,
+/// read by `texel` (linear light, by index) and stored by `store`; rows in parallel.
+fn box_halve<T: Send>(
+    w: u32,
+    h: u32,
+    texel: impl Fn(usize) -> [f32; 4] + Sync,
+    store: impl Fn([f32; 4]) -> T + Sync,
+) -> Vec<T> {
+    let (width, height) = (w.div_ceil(2).max(1), h.div_ceil(2).max(1));
+    let (texel, store) = (&texel, &store);
+    (0..height)
+        .into_par_iter()
+        .flat_map_iter(|y| {
+            let rows = 2 * y..(2 * y + 2).min(h);
+            (0..width).map(move |x| {
+                let columns = 2 * x..(2 * x + 2).min(w);
+                let mut sum = [0.0f32; 4];
+                let mut n = 0.0;
+                for row in rows.clone() {
+                    for column in columns.clone() {
+                        let t = texel((row * w + column) as usize);
+                        sum.iter_mut().zip(t).for_each(|(s, t)| *s += t);
+                        n += 1.0;
+                    }
+                }
+                store(sum.map(|s| s / n))
+            })
+        })
+        .collect()
 }
 
 impl Image {
@@ -246,22 +267,35 @@ impl Image {
     /// in linear light of the (up to) 2 × 2 texels it covers (an odd last column or row is
     /// averaged with what it has), stored as this image is.
     pub fn half(&self) -> Self {
-        let (width, height) = (self.width.div_ceil(2).max(1), self.height.div_ceil(2).max(1));
-        let texel = |x: u32, y: u32| self.texels.linear((y * self.width + x) as usize);
-        let means = (0..height).flat_map(|y| (0..width).map(move |x| (x, y))).map(|(x, y)| {
-            let (xs, ys) = (2 * x..(2 * x + 2).min(self.width), 2 * y..(2 * y + 2).min(self.height));
-            let mut sum = [0.0f32; 4];
-            let mut n = 0.0;
-            for sy in ys {
-                for sx in xs.clone() {
-                    let t = texel(sx, sy);
-                    sum.iter_mut().zip(t).for_each(|(s, t)| *s += t);
-                    n += 1.0;
-                }
+        let (w, h) = (self.width, self.height);
+        let (width, height) = (w.div_ceil(2).max(1), h.div_ceil(2).max(1));
+        let texels = match &self.texels {
+            Texels::Rgba8 { texels, space } => {
+                let (rgb, alpha): (&[f32], &[f32]) = (space.table8(), &LINEAR8);
+                let (colour, linear) = (Encoder8::new(*space), Encoder8::new(ColorSpace::Linear));
+                let halved = box_halve(
+                    w,
+                    h,
+                    |i| decode_texel(texels[i], rgb, alpha),
+                    |[r, g, b, a]| [colour.encode(r), colour.encode(g), colour.encode(b), linear.encode(a)],
+                );
+                Texels::Rgba8 { texels: Arc::new(halved), space: *space }
             }
-            sum.map(|s| s / n)
-        });
-        Self { width, height, texels: self.texels.encoded_like(means) }
+            Texels::Rgba16 { texels, space } => {
+                let (rgb, alpha): (&[f32], &[f32]) = (space.table16(), &LINEAR16);
+                let halved = box_halve(
+                    w,
+                    h,
+                    |i| decode_texel(texels[i], rgb, alpha),
+                    |[r, g, b, a]| {
+                        [encode(rgb, r), encode(rgb, g), encode(rgb, b), encode(alpha, a)].map(|v| v as u16)
+                    },
+                );
+                Texels::Rgba16 { texels: Arc::new(halved), space: *space }
+            }
+            Texels::RgbaF32(texels) => Texels::RgbaF32(Arc::new(box_halve(w, h, |i| texels[i], |t| t))),
+        };
+        Self { width, height, texels }
     }
 }
 
@@ -274,16 +308,21 @@ mod tests {
         for space in [ColorSpace::Srgb, ColorSpace::Linear] {
             let table = space.table8();
             for v in 0..=255u8 {
-                assert_eq!(encode8(space, table[usize::from(v)]), v, "{space:?} {v}");
+                assert_eq!(Encoder8::new(space).encode(table[usize::from(v)]), v, "{space:?} {v}");
                 // Anywhere between two values, the constant-time encoder agrees with the search.
                 if v < 255 {
                     for t in [0.1, 0.49, 0.51, 0.9] {
                         let x = table[usize::from(v)] * (1.0 - t) + table[usize::from(v) + 1] * t;
-                        assert_eq!(usize::from(encode8(space, x)), encode(table, x), "{space:?} {v} {t}");
+                        assert_eq!(
+                            usize::from(Encoder8::new(space).encode(x)),
+                            encode(table, x),
+                            "{space:?} {v} {t}"
+                        );
                     }
                 }
             }
-            assert_eq!((encode8(space, -1.0), encode8(space, 2.0), encode8(space, f32::NAN)), (0, 255, 0));
+            let e = Encoder8::new(space);
+            assert_eq!((e.encode(-1.0), e.encode(2.0), e.encode(f32::NAN)), (0, 255, 0));
             for table in [space.table8(), space.table16()] {
                 for v in (0..table.len()).step_by(7).chain([table.len() - 1]) {
                     assert_eq!(encode(table, table[v]), v, "{space:?} {v}");
