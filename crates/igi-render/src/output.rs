@@ -1,14 +1,29 @@
 //! Writing a [`Film`] to disk: OpenEXR with the linear radiance (32-bit float RGB, through the
 //! `exr` crate, written deterministically), or PNG with tone-mapped, sRGB-encoded 8-bit RGB (through `image`). The file
-//! extension picks the format.
+//! extension picks the format. Every file is replaced at once ([`atomic_file`]).
+
+mod atomic_file;
+
+pub use atomic_file::{check_writable, write_atomically};
 
 use crate::film::Film;
 use crate::tonemap::ToneMapper;
 use std::path::{Path, PathBuf};
 
-/// Why an image could not be written.
+/// Why an output file could not be written.
 #[derive(Debug, thiserror::Error)]
 pub enum OutputError {
+    /// The output's folder is missing or takes no new files.
+    #[error("cannot create files in the folder {}: {error}", folder.display())]
+    Folder {
+        /// The folder the output would go to.
+        folder: PathBuf,
+        /// Why a file could not be created there.
+        error: std::io::Error,
+    },
+    /// The output path names a folder.
+    #[error("{} is a folder; the output must be a file", .0.display())]
+    IsFolder(PathBuf),
     /// The extension names no supported format.
     #[error("{}: unknown image format (use .png or .exr)", .0.display())]
     UnknownFormat(PathBuf),
@@ -73,14 +88,16 @@ pub fn write_png(film: &Film, path: &Path, tone_map: &ToneMapper) -> Result<(), 
 /// Writes 8-bit sRGB pixels (3 bytes each, row-major, row 0 at the top) as a PNG: a display
 /// image as the tiles delivered it.
 pub fn write_png_rgb8(rgb8: &[u8], width: u32, height: u32, path: &Path) -> Result<(), OutputError> {
-    image::save_buffer_with_format(
-        path,
-        rgb8,
-        width,
-        height,
-        image::ExtendedColorType::Rgb8,
-        image::ImageFormat::Png,
-    )
+    write_atomically(path, |out| {
+        image::write_buffer_with_format(
+            out,
+            rgb8,
+            width,
+            height,
+            image::ExtendedColorType::Rgb8,
+            image::ImageFormat::Png,
+        )
+    })
     .map_err(|error| OutputError::Png { path: path.to_owned(), error })
 }
 
@@ -92,9 +109,7 @@ pub fn write_exr(film: &Film, path: &Path) -> Result<(), OutputError> {
         let p = film.get(x as u32, y as u32);
         (p.x, p.y, p.z)
     });
-    Image::from_channels((film.width() as usize, film.height() as usize), channels)
-        .write()
-        .non_parallel()
-        .to_file(path)
+    let image = Image::from_channels((film.width() as usize, film.height() as usize), channels);
+    write_atomically(path, |out| image.write().non_parallel().to_buffered(out))
         .map_err(|error| OutputError::Exr { path: path.to_owned(), error })
 }

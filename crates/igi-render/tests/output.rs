@@ -1,7 +1,7 @@
 //! Image files: EXR keeps the linear values exactly, PNG holds the tone-mapped sRGB bytes.
 
 use glam::Vec3;
-use igi_render::output::{ImageFormat, to_srgb8};
+use igi_render::output::{ImageFormat, to_srgb8, write_png_rgb8};
 use igi_render::tonemap::{LuminanceStats, ToneMapper, linear_to_srgb, srgb_to_linear};
 use igi_render::{Film, ToneMap, write_exr, write_image, write_png};
 use std::path::PathBuf;
@@ -135,4 +135,48 @@ fn files_are_byte_for_byte_reproducible() {
         write_image(&film, &p2, &ToneMapper::for_film(ToneMap::default(), &film)).unwrap();
         assert!(std::fs::read(&p1).unwrap() == std::fs::read(&p2).unwrap(), "{name} differs between writes");
     }
+}
+
+/// The files in `path`'s folder other than `path` itself (temporaries a write left behind).
+fn others_in_folder(path: &std::path::Path) -> Vec<PathBuf> {
+    let mut others: Vec<PathBuf> = std::fs::read_dir(path.parent().unwrap())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p != path)
+        .collect();
+    others.sort();
+    others
+}
+
+/// A folder of its own for one test, so the files in it are the test's alone.
+fn own_folder(name: &str) -> PathBuf {
+    let dir = tmp(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn a_failed_png_write_keeps_the_earlier_file() {
+    let path = own_folder("failed-png").join("keep.png");
+    let film = test_film();
+    write_png(&film, &path, &ToneMapper::for_film(ToneMap::default(), &film)).unwrap();
+    let before = std::fs::read(&path).unwrap();
+    // The PNG encoder refuses an image of 0 x 0 pixels, after the file was opened.
+    let err = write_png_rgb8(&[], 0, 0, &path).unwrap_err();
+    assert!(err.to_string().contains("keep.png"), "{err}");
+    assert_eq!(std::fs::read(&path).unwrap(), before, "the earlier file changed");
+    assert_eq!(others_in_folder(&path), Vec::<PathBuf>::new(), "temporary files were left");
+}
+
+#[test]
+fn a_failed_exr_write_keeps_the_earlier_file() {
+    let path = own_folder("failed-exr").join("keep.exr");
+    write_exr(&test_film(), &path).unwrap();
+    let before = std::fs::read(&path).unwrap();
+    // The EXR writer refuses an image without pixels, after the file was opened.
+    let err = write_exr(&Film::from_pixels(0, 0, Vec::new()), &path).unwrap_err();
+    assert!(err.to_string().contains("keep.exr"), "{err}");
+    assert_eq!(std::fs::read(&path).unwrap(), before, "the earlier file changed");
+    assert_eq!(others_in_folder(&path), Vec::<PathBuf>::new(), "temporary files were left");
 }
