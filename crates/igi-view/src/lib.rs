@@ -10,7 +10,7 @@
 pub mod app;
 pub mod panel;
 
-use anyhow::{Result, bail};
+use anyhow::{Context, Result, bail};
 use igi_session::{RenderLoop, Session};
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -29,6 +29,9 @@ pub struct ViewOptions {
 
 /// Opens the window on `session` and runs until it is closed.
 pub fn run(session: Session, options: ViewOptions) -> Result<()> {
+    if let Some(path) = &options.screenshot {
+        igi_render::output::check_writable(path).context("--screenshot")?;
+    }
     if cfg!(target_os = "linux")
         && std::env::var_os("DISPLAY").is_none()
         && std::env::var_os("WAYLAND_DISPLAY").is_none()

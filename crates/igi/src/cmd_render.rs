@@ -6,8 +6,7 @@ use crate::frame_args::FrameArgs;
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
 use igi_render::frame_renderer::{FrameOutput, FrameRenderer};
-use igi_render::output::ImageFormat;
-use igi_render::output::write_png_rgb8;
+use igi_render::output::{ImageFormat, check_writable, write_png_rgb8};
 use igi_render::path_tracer::render_path_traced;
 use igi_render::sampling::MAX_SAMPLES;
 use igi_render::tonemap::LuminanceStats;
@@ -87,11 +86,19 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if args.cluster.cluster && args.mode == Mode::Path {
         bail!("--cluster renders with --mode igi only");
     }
+    // A render can take hours: a folder that takes no files fails now, not at the end. On a
+    // cluster only rank 0 writes, so there the check waits until this process knows its rank.
+    if !args.cluster.cluster {
+        check_writable(&args.output)?;
+    }
 
     let t_load = Instant::now();
     let (scene, source): (_, Option<Box<dyn FrameSource>>) = if args.cluster.cluster {
         match crate::cluster::start(&args.cluster, &args.scene, args.frame.threads)? {
-            Rank::Root(root) => (root.scene, Some(crate::cluster::source(root.master, args.frame.threads))),
+            Rank::Root(root) => {
+                check_writable(&args.output)?;
+                (root.scene, Some(crate::cluster::source(root.master, args.frame.threads)))
+            }
             Rank::NodeDone => return Ok(()),
         }
     } else {
@@ -349,6 +356,20 @@ mod tests {
     fn bad_output_extension_fails_before_rendering() {
         let a = args(&["igi", "render", "cornell-box", "-o", "out.jpg"]);
         assert!(format!("{:#}", run(&a).unwrap_err()).contains("out.jpg"));
+    }
+
+    #[test]
+    fn a_missing_output_folder_fails_before_the_scene_is_loaded() {
+        // The scene does not exist either: the folder's error proves the check came first.
+        let a = args(&["igi", "render", "/no/such/scene.obj", "-o", "/nonexistent-igi/x.png"]);
+        let err = format!("{:#}", run(&a).unwrap_err());
+        assert!(err.contains("cannot create files in the folder /nonexistent-igi"), "{err}");
+        let folder = std::env::temp_dir().join(format!("igi-cmd-render-{}.png", std::process::id()));
+        std::fs::create_dir_all(&folder).unwrap();
+        let a = args(&["igi", "render", "/no/such/scene.obj", "-o", folder.to_str().unwrap()]);
+        let err = format!("{:#}", run(&a).unwrap_err());
+        assert!(err.contains("is a folder"), "{err}");
+        std::fs::remove_dir(&folder).unwrap();
     }
 
     #[test]

@@ -96,6 +96,8 @@ pub fn run(args: &ClusterBenchArgs) -> Result<()> {
         Rank::Root(root) => root,
         Rank::NodeDone => return Ok(()),
     };
+    // Only rank 0 writes the report.
+    super::check_json(args.json.as_deref())?;
     let mut state = args.frame.frame_state(&root.scene)?;
     let Some(mut master) = root.master else {
         bail!(
@@ -174,8 +176,7 @@ pub fn run(args: &ClusterBenchArgs) -> Result<()> {
     };
     print_report(&report);
     if let Some(path) = &args.json {
-        std::fs::write(path, serde_json::to_string_pretty(&report)?)
-            .with_context(|| format!("cannot write {}", path.display()))?;
+        super::write_json(path, &report)?;
     }
     Ok(())
 }

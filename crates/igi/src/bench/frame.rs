@@ -86,6 +86,7 @@ pub fn run(args: &FrameBenchArgs) -> Result<()> {
     if !(1..=100_000).contains(&args.frames) {
         bail!("--frames must be between 1 and 100000");
     }
+    super::check_json(args.json.as_deref())?;
     let scene = igi_scene::load_named(&args.scene).context("cannot load scene")?;
     let mut frame = args.frame.frame_state(&scene)?;
     frame.settings.reseed_per_frame = args.reseed;
@@ -171,8 +172,7 @@ pub fn run(args: &FrameBenchArgs) -> Result<()> {
     };
     print_report(&report);
     if let Some(path) = &args.json {
-        std::fs::write(path, serde_json::to_string_pretty(&report)?)
-            .with_context(|| format!("cannot write {}", path.display()))?;
+        super::write_json(path, &report)?;
     }
     Ok(())
 }
