@@ -47,6 +47,7 @@ pub use environment::Environment;
 pub use error::{Location, SceneError};
 pub use model::{Bounds, Camera, Instance, Light, Material, MaterialKind, Mesh, Scene, Texture, Wrap};
 pub use report::LoadReport;
+pub use resources::read_regular_file;
 pub use shader::{Pattern, ShaderDesc};
 pub use texels::{ColorSpace, Image, Texels, srgb_to_linear};
 pub use texture::DEFAULT_TEXTURE_BUDGET;

@@ -5,21 +5,47 @@
 //! names `00_SKAP.JPG` for `00_skap.JPG`). [`resolve`] finds such files anyway.
 
 use std::fs;
-use std::io;
+use std::io::{self, Read};
 use std::path::{Component, Path, PathBuf};
 
 use crate::{LoadReport, SceneError};
 
-/// Reads a whole regular file and lists it in the report's files. Devices, FIFOs and
-/// directories are refused, so a reference to `/dev/zero` in a fuzzed or malicious file cannot
-/// make a load read forever.
+/// Reads a whole regular file and lists it in the report's files. Scene files are read
+/// whatever their size (a scene's geometry can take gigabytes); see [`read_regular_file`].
 pub(crate) fn read(path: &Path, report: &mut LoadReport) -> Result<Vec<u8>, SceneError> {
+    let bytes = read_regular_file(path, u64::MAX)?;
+    report.files.push(path.to_path_buf());
+    Ok(bytes)
+}
+
+/// Reads a whole regular file of at most `max_bytes` bytes: the guarded reader of every file
+/// igi takes as input. Devices, FIFOs and directories are refused, so a reference to
+/// `/dev/zero` in a fuzzed or malicious file cannot make a read go on forever; a file larger
+/// than `max_bytes` is refused before it is read, and one that grows while it is read (or
+/// claims 0 bytes, as `/proc` files do) is refused once it passes the bound.
+pub fn read_regular_file(path: &Path, max_bytes: u64) -> Result<Vec<u8>, SceneError> {
     let metadata = fs::metadata(path).map_err(|e| SceneError::io(path, e))?;
     if !metadata.is_file() {
         return Err(SceneError::io(path, io::Error::new(io::ErrorKind::InvalidInput, "not a regular file")));
     }
-    let bytes = fs::read(path).map_err(|e| SceneError::io(path, e))?;
-    report.files.push(path.to_path_buf());
+    let too_large = |size: String| {
+        SceneError::io(
+            path,
+            io::Error::new(
+                io::ErrorKind::FileTooLarge,
+                format!("{size} bytes, more than the {max_bytes} allowed"),
+            ),
+        )
+    };
+    if metadata.len() > max_bytes {
+        return Err(too_large(metadata.len().to_string()));
+    }
+    let file = fs::File::open(path).map_err(|e| SceneError::io(path, e))?;
+    let mut bytes = Vec::with_capacity(usize::try_from(metadata.len()).unwrap_or(0));
+    file.take(max_bytes.saturating_add(1)).read_to_end(&mut bytes).map_err(|e| SceneError::io(path, e))?;
+    if bytes.len() as u64 > max_bytes {
+        return Err(too_large(format!("over {max_bytes}")));
+    }
     Ok(bytes)
 }
 
@@ -97,5 +123,21 @@ mod tests {
     fn refuses_devices() {
         let err = read(Path::new("/dev/zero"), &mut LoadReport::default()).unwrap_err();
         assert!(err.to_string().contains("not a regular file"), "{err}");
+    }
+
+    #[test]
+    fn refuses_files_beyond_the_bound() {
+        let path = std::env::temp_dir().join(format!("igi-scene-bound-{}", std::process::id()));
+        fs::write(&path, [b'x'; 100]).unwrap();
+        assert_eq!(read_regular_file(&path, 100).unwrap().len(), 100);
+        let err = read_regular_file(&path, 99).unwrap_err().to_string();
+        assert!(err.contains("100 bytes, more than the 99 allowed"), "{err}");
+        fs::remove_file(&path).unwrap();
+        // A regular file whose size says 0 but whose reads go on.
+        let stat = Path::new("/proc/self/stat");
+        if stat.is_file() {
+            let err = read_regular_file(stat, 4).unwrap_err().to_string();
+            assert!(err.contains("over 4 bytes"), "{err}");
+        }
     }
 }

@@ -9,6 +9,7 @@ use clap::Args;
 use glam::Vec3;
 use igi_bvh::{Accel, Ray, RayPacket8, TriangleMesh};
 use igi_render::PreparedScene;
+use igi_render::frame::limits::{MAX_INTERLEAVE, MAX_SIDE, MAX_VPLS_PER_PIXEL};
 use igi_simd::{F32x8, M32x8, Vec3x8};
 use serde::Serialize;
 use std::path::PathBuf;
@@ -57,12 +58,15 @@ pub struct RaysArgs {
     pub json: Option<PathBuf>,
 }
 
+/// Largest `--reps` (as `igi bench frame --frames`).
+const MAX_REPS: usize = 100_000;
+
 fn parse_res(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s.split_once('x').ok_or_else(|| format!("resolution {s:?} is not WxH"))?;
-    let p = |v: &str| v.parse::<u32>().ok().filter(|&v| (1..=16384).contains(&v));
+    let p = |v: &str| v.parse::<u32>().ok().filter(|&v| (1..=MAX_SIDE).contains(&v));
     match (p(w), p(h)) {
         (Some(w), Some(h)) => Ok((w, h)),
-        _ => Err(format!("resolution {s:?} is not WxH with sides in 1..=16384")),
+        _ => Err(format!("resolution {s:?} is not WxH with sides in 1..={MAX_SIDE}")),
     }
 }
 
@@ -167,12 +171,25 @@ fn hit_record(ray: &Ray, t: f32) -> HitRec {
 
 /// Runs the benchmark and prints (and optionally writes) the results.
 pub fn run(args: &RaysArgs) -> Result<()> {
-    if args.k == 0 || args.sets == 0 || args.sets > 16 {
-        bail!("--k must be at least 1 and --sets between 1 and 16");
+    // The renderer's bounds: --k is its --vpls, --sets its --interleave side.
+    if !(1..=MAX_VPLS_PER_PIXEL as usize).contains(&args.k) {
+        bail!("--k: {} is not between 1 and {MAX_VPLS_PER_PIXEL}", args.k);
+    }
+    if !(1..=MAX_INTERLEAVE as usize).contains(&args.sets) {
+        bail!("--sets: {} is not between 1 and {MAX_INTERLEAVE}", args.sets);
     }
     if args.threads.iter().any(|&t| t == 0 || t > 1024) {
         bail!("--threads must be between 1 and 1024");
     }
+    if !(1..=MAX_REPS).contains(&args.reps) {
+        bail!("--reps: {} is not between 1 and {MAX_REPS}", args.reps);
+    }
+    super::check_json(args.json.as_deref())?;
+    let file_vpls = args
+        .vpl_file
+        .as_deref()
+        .map(|path| read_vpl_file(path, args.sets * args.sets, args.k))
+        .transpose()?;
     let scene = igi_scene::load_named(&args.scene).context("cannot load scene")?;
     let camera = args.camera.resolve(&scene)?;
 
@@ -202,8 +219,8 @@ pub fn run(args: &RaysArgs) -> Result<()> {
     let bounds = accel.bounds();
     let eps_abs = 1e-5 * bounds.diagonal();
 
-    let vpls = match &args.vpl_file {
-        Some(path) => read_vpl_file(path, args.sets * args.sets, args.k)?,
+    let vpls = match file_vpls {
+        Some(vpls) => vpls,
         None => {
             let emitters = prepared.emissive_triangle_corners();
             let source = match args.light {
@@ -327,8 +344,7 @@ pub fn run(args: &RaysArgs) -> Result<()> {
             },
             results,
         };
-        std::fs::write(path, serde_json::to_string_pretty(&report)?)
-            .with_context(|| format!("cannot write {}", path.display()))?;
+        super::write_json(path, &report)?;
     }
     Ok(())
 }
@@ -476,4 +492,52 @@ fn shadow_packet8(c: &ShadowCtx, tile: usize, hits: &[HitRec]) -> (u64, u64) {
         }
     }
     (rays, blocked)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    fn args(line: &[&str]) -> RaysArgs {
+        let cli = crate::cli::Cli::try_parse_from(line).expect("valid command line");
+        match cli.command {
+            crate::cli::Command::Bench(crate::bench::BenchCommand::Rays(a)) => a,
+            other => panic!("not a bench rays command: {other:?}"),
+        }
+    }
+
+    fn error_of(line: &[&str]) -> String {
+        format!("{:#}", run(&args(line)).unwrap_err())
+    }
+
+    #[test]
+    fn vpl_counts_beyond_the_renderers_bounds_are_refused() {
+        let err = error_of(&["igi", "bench", "rays", "cornell-box", "--k", "1000000000"]);
+        assert!(err.contains("--k: 1000000000 is not between 1 and 4096"), "{err}");
+        let err = error_of(&["igi", "bench", "rays", "cornell-box", "--sets", "17"]);
+        assert!(err.contains("--sets: 17 is not between 1 and 16"), "{err}");
+        let err = error_of(&["igi", "bench", "rays", "cornell-box", "--reps", "100000000000"]);
+        assert!(err.contains("--reps: 100000000000 is not between 1 and 100000"), "{err}");
+    }
+
+    #[test]
+    fn vpl_files_are_read_through_the_guarded_reader() {
+        let err = error_of(&["igi", "bench", "rays", "cornell-box", "--vpl-file", "/dev/zero"]);
+        assert!(err.contains("/dev/zero: not a regular file"), "{err}");
+        // A sparse file just beyond the bound: refused by its size, before it is read.
+        let path = std::env::temp_dir().join(format!("igi-bench-vpls-{}.txt", std::process::id()));
+        let file = std::fs::File::create(&path).unwrap();
+        file.set_len(super::super::workload::MAX_VPL_FILE_BYTES + 1).unwrap();
+        let err = error_of(&["igi", "bench", "rays", "cornell-box", "--vpl-file", path.to_str().unwrap()]);
+        assert!(err.contains("bytes, more than the 268435456 allowed"), "{err}");
+        std::fs::remove_file(&path).unwrap();
+    }
+
+    #[test]
+    fn a_missing_json_folder_fails_before_the_scene_is_loaded() {
+        let err =
+            error_of(&["igi", "bench", "rays", "/no/such/scene.obj", "--json", "/nonexistent-igi/r.json"]);
+        assert!(err.contains("--json: cannot create files in the folder /nonexistent-igi"), "{err}");
+    }
 }

@@ -184,11 +184,15 @@ pub fn random_walk_vpls(
     Ok(out)
 }
 
+/// Largest VPL file: 256 bytes a line for the most VPLs `igi bench rays` takes (16 x 16 sets of
+/// 4096), where embree-bench writes about 100.
+pub(super) const MAX_VPL_FILE_BYTES: u64 = 256 * 16 * 16 * 4096;
+
 /// Reads an embree-bench VPL file (`set slot px py pz nx ny nz depth` per line, `#` comments)
-/// holding exactly `sets · k` VPLs.
+/// holding exactly `sets · k` VPLs, through the loaders' guarded reader.
 pub fn read_vpl_file(path: &Path, sets: usize, k: usize) -> Result<Vec<BenchVpl>> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("cannot read VPL file {}", path.display()))?;
+    let bytes = igi_scene::read_regular_file(path, MAX_VPL_FILE_BYTES).context("cannot read the VPL file")?;
+    let text = String::from_utf8(bytes).with_context(|| format!("{}: not UTF-8 text", path.display()))?;
     let mut vpls = vec![None; sets * k];
     for (line_no, line) in text.lines().enumerate() {
         let line = line.trim();
@@ -214,7 +218,7 @@ pub fn read_vpl_file(path: &Path, sets: usize, k: usize) -> Result<Vec<BenchVpl>
         vpls[set * k + slot] = Some(BenchVpl {
             p: Vec3::new(num(f[2])?, num(f[3])?, num(f[4])?),
             n: Vec3::new(num(f[5])?, num(f[6])?, num(f[7])?),
-            depth: int(f[8])? as u32,
+            depth: f[8].parse::<u32>().with_context(|| format!("{}: bad depth {:?}", at(), f[8]))?,
         });
     }
     let missing = vpls.iter().filter(|v| v.is_none()).count();
