@@ -199,6 +199,45 @@ pub struct Camera {
     pub fov_y_deg: f32,
 }
 
+/// Why a [`Camera`] cannot frame an image: the field at fault and what is wrong with it, for
+/// the scene file and the command line to report in their own terms (`camera.up`,
+/// `--camera-up`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CameraDefect {
+    /// `position`, `target`, `up` or `fov`.
+    pub field: &'static str,
+    /// What is wrong, as the end of a sentence naming the field.
+    pub problem: &'static str,
+}
+
+impl Camera {
+    /// Checks that the camera frames an image: finite vectors, a target a finite, non-zero
+    /// distance from the position, an up vector neither zero nor parallel to the view
+    /// direction (either leaves the image's horizontal axis undefined), and a vertical field
+    /// of view in (0, 180) degrees. Every camera a user gives goes through this one check.
+    pub fn check(&self) -> Result<(), CameraDefect> {
+        let defect = |field, problem| Err(CameraDefect { field, problem });
+        for (field, v) in [("position", self.position), ("target", self.target), ("up", self.up)] {
+            if !v.is_finite() {
+                return defect(field, "values must be finite");
+            }
+        }
+        let Some(forward) = (self.target - self.position).try_normalize() else {
+            return defect("target", "must lie a finite, non-zero distance from the position");
+        };
+        let Some(up) = self.up.try_normalize() else {
+            return defect("up", "must not be zero");
+        };
+        if forward.cross(up).length() < 1e-6 {
+            return defect("up", "must not be parallel to the view direction");
+        }
+        if !(self.fov_y_deg > 0.0 && self.fov_y_deg < 180.0) {
+            return defect("fov", "the vertical field of view must be in (0, 180) degrees");
+        }
+        Ok(())
+    }
+}
+
 /// One placement of a mesh in the world.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Instance {

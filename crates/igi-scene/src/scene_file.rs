@@ -1194,23 +1194,14 @@ fn quad_mesh(name: String, centre: Vec3, u: Vec3, v: Vec3, material: u32) -> Mes
 fn camera_from(check: &Checker, camera: &Spanned<CameraSpec>) -> Result<Camera, SceneError> {
     let span = camera.span();
     let spec = camera.get_ref();
-    let position = check.vector(&span, "camera.position".into(), spec.position)?;
-    let target = check.vector(&span, "camera.target".into(), spec.target)?;
-    let up = check.direction(&span, "camera.up".into(), spec.up)?;
-    let forward = (target - position)
-        .try_normalize()
-        .ok_or_else(|| check.error(&span, "camera.target".into(), "target must differ from position"))?;
-    if forward.cross(up).length() < 1e-6 {
-        return Err(check.error(&span, "camera.up".into(), "up must not be parallel to the view direction"));
-    }
-    if !(spec.fov > 0.0 && spec.fov < 180.0) {
-        return Err(check.error(
-            &span,
-            "camera.fov".into(),
-            "the vertical field of view must be in (0, 180) degrees",
-        ));
-    }
-    Ok(Camera { position, target, up, fov_y_deg: spec.fov })
+    let camera = Camera {
+        position: spec.position.into(),
+        target: spec.target.into(),
+        up: spec.up.into(),
+        fov_y_deg: spec.fov,
+    };
+    camera.check().map_err(|d| check.error(&span, format!("camera.{}", d.field), d.problem))?;
+    Ok(Camera { up: camera.up.normalize(), ..camera })
 }
 
 /// 1-based line of a byte offset.

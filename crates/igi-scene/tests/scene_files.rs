@@ -121,6 +121,24 @@ irradiance = [2, 2, 2]
 }
 
 #[test]
+fn cameras_that_frame_no_image_are_refused_naming_the_field() {
+    let cases = [
+        ("up = [0, 0, 0]\nfov = 40", "line 2, field `camera.up`: must not be zero"),
+        (
+            "up = [0, 0, -1]\nfov = 40",
+            "line 2, field `camera.up`: must not be parallel to the view direction",
+        ),
+        ("fov = 180", "line 2, field `camera.fov`: the vertical field of view"),
+    ];
+    for (field, expected) in cases {
+        let scene_toml = format!("\n[camera]\nposition = [0, 1, 3.5]\ntarget = [0, 1, 0]\n{field}\n");
+        let dir = directory("camera-up", &[("scene.toml", &scene_toml)]);
+        let err = load(dir.join("scene.toml")).unwrap_err().to_string();
+        assert!(err.contains(expected), "{err}");
+    }
+}
+
+#[test]
 fn gltf_files_bring_their_lights_and_camera_along() {
     let (json, _) = gltf_document(&[[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], &[0, 1, 2], true);
     let json = json

@@ -82,6 +82,11 @@ pub fn parse_vec3(s: &str) -> Result<Vec3, String> {
     }
 }
 
+/// `x,y,z`, as [`parse_vec3`] reads it.
+fn vec3_text(v: Vec3) -> String {
+    format!("{},{},{}", v.x, v.y, v.z)
+}
+
 /// World bounds of the scene as the BVH crate's box type.
 pub fn scene_bounds(scene: &Scene) -> Aabb {
     let b = scene.bounds();
@@ -108,19 +113,23 @@ pub struct CameraArgs {
 
 impl CameraArgs {
     /// The scene's camera (or a default one framing its bounds) with the given fields
-    /// replaced; an error for a field of view outside (0, 180) or a camera looking nowhere.
+    /// replaced; an error naming the flag for a camera that frames no image
+    /// ([`Camera::check`], the scene files' check).
     pub fn resolve(&self, scene: &Scene) -> Result<Camera> {
-        if self.fov.is_some_and(|f| !(f > 0.0 && f < 180.0)) {
-            anyhow::bail!("--fov must be between 0 and 180 degrees");
-        }
         let mut camera = scene.camera.unwrap_or_else(|| default_camera(&scene_bounds(scene)));
         camera.position = self.camera_position.unwrap_or(camera.position);
         camera.target = self.camera_target.unwrap_or(camera.target);
         camera.up = self.camera_up.unwrap_or(camera.up);
         camera.fov_y_deg = self.fov.unwrap_or(camera.fov_y_deg);
-        if (camera.target - camera.position).length_squared() == 0.0 {
-            anyhow::bail!("the camera position and target coincide");
-        }
+        camera.check().map_err(|defect| {
+            let (flag, value) = match defect.field {
+                "position" => ("--camera-position", vec3_text(camera.position)),
+                "target" => ("--camera-target", vec3_text(camera.target)),
+                "up" => ("--camera-up", vec3_text(camera.up)),
+                _ => ("--fov", camera.fov_y_deg.to_string()),
+            };
+            anyhow::anyhow!("{flag} {value}: {}", defect.problem)
+        })?;
         Ok(camera)
     }
 }
@@ -135,6 +144,32 @@ mod tests {
         assert!(parse_vec3("1,2").is_err());
         assert!(parse_vec3("1,2,x").is_err());
         assert!(parse_vec3("1,2,inf").is_err());
+    }
+
+    fn camera_error(flags: &[&str]) -> String {
+        let mut line = vec!["igi", "render", "cornell-box", "-o", "x.png"];
+        line.extend_from_slice(flags);
+        let Command::Render(args) = Cli::try_parse_from(line).expect("valid command line").command else {
+            panic!("not a render command")
+        };
+        let scene = igi_scene::load_named("cornell-box").unwrap();
+        args.frame.camera.resolve(&scene).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn cameras_that_frame_no_image_are_refused_naming_the_flag() {
+        assert_eq!(camera_error(&["--camera-up", "0,0,0"]), "--camera-up 0,0,0: must not be zero");
+        // The Cornell box's camera looks along -z.
+        assert_eq!(
+            camera_error(&["--camera-up", "0,0,-2"]),
+            "--camera-up 0,0,-2: must not be parallel to the view direction"
+        );
+        let err = camera_error(&["--camera-position", "1,2,3", "--camera-target", "1,2,3"]);
+        assert!(err.starts_with("--camera-target 1,2,3: must lie a finite, non-zero distance"), "{err}");
+        let err = camera_error(&["--camera-position", "3e38,0,0", "--camera-target", "-3e38,0,0"]);
+        assert!(err.starts_with("--camera-target -300000000000000000000000000000000000000,0,0"), "{err}");
+        assert!(camera_error(&["--fov", "180"]).starts_with("--fov 180: "));
+        assert!(camera_error(&["--fov", "NaN"]).starts_with("--fov NaN: "));
     }
 
     #[test]
