@@ -1,6 +1,6 @@
-//! Output files are replaced at once: `igi render` stopped by Ctrl-C while it writes its image
-//! leaves the earlier file as it was (issue 12, fault 3), and an output folder that does not
-//! exist fails the command before anything is rendered.
+//! Output files are replaced at once: `igi render` stopped by Ctrl-C while it writes its image,
+//! or running out of disk space, leaves the earlier file as it was (issue 12, fault 3), and an
+//! output folder that does not exist fails the command before anything is rendered.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -85,4 +85,51 @@ fn a_missing_output_folder_fails_before_rendering() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("cannot create files in the folder /nonexistent-igi-folder"), "{stderr}");
     assert!(start.elapsed() < Duration::from_secs(10), "took {:?}", start.elapsed());
+}
+
+/// A 64 KiB tmpfs, unmounted when dropped.
+struct TinyDisk(PathBuf);
+
+impl TinyDisk {
+    /// `None` where this user may not mount (mounting needs root; CI runs as root).
+    fn mount() -> Option<Self> {
+        let dir = folder("full-disk");
+        let mounted = Command::new("mount")
+            .args(["-t", "tmpfs", "-o", "size=64k", "tmpfs"])
+            .arg(&dir)
+            .stderr(Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success());
+        if mounted {
+            return Some(Self(dir));
+        }
+        let _ = std::fs::remove_dir(&dir);
+        None
+    }
+}
+
+impl Drop for TinyDisk {
+    fn drop(&mut self) {
+        let _ = Command::new("umount").arg(&self.0).status();
+        let _ = std::fs::remove_dir(&self.0);
+    }
+}
+
+#[test]
+fn a_full_disk_keeps_the_earlier_file() {
+    let Some(disk) = TinyDisk::mount() else {
+        eprintln!("skipped: cannot mount a tmpfs here (needs root)");
+        return;
+    };
+    let keep = disk.0.join("keep.png");
+    assert!(render(&keep, 32).output().unwrap().status.success());
+    let earlier = std::fs::read(&keep).unwrap();
+    // About 400 KB of PNG for 64 KiB of disk.
+    let out = render(&keep, 1024).output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && stderr.contains("No space left"), "{stderr}");
+    let after = std::fs::read(&keep).unwrap();
+    assert!(after == earlier, "the earlier file changed: {} bytes, were {}", after.len(), earlier.len());
+    let names: Vec<_> = std::fs::read_dir(&disk.0).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(names, ["keep.png"], "temporary files were left");
 }
