@@ -123,12 +123,12 @@ irradiance = [2, 2, 2]
 #[test]
 fn cameras_that_frame_no_image_are_refused_naming_the_field() {
     let cases = [
-        ("up = [0, 0, 0]\nfov = 40", "line 2, field `camera.up`: must not be zero"),
+        ("up = [0, 0, 0]\nfov = 40", "line 5, field `camera.up`: must not be zero"),
         (
             "up = [0, 0, -1]\nfov = 40",
-            "line 2, field `camera.up`: must not be parallel to the view direction",
+            "line 5, field `camera.up`: must not be parallel to the view direction",
         ),
-        ("fov = 180", "line 2, field `camera.fov`: the vertical field of view"),
+        ("fov = 180", "line 5, field `camera.fov`: the vertical field of view"),
     ];
     for (field, expected) in cases {
         let scene_toml = format!("\n[camera]\nposition = [0, 1, 3.5]\ntarget = [0, 1, 0]\n{field}\n");
