@@ -13,7 +13,16 @@ use crate::{LoadReport, SceneError};
 /// Reads a whole regular file and lists it in the report's files. Scene files are read
 /// whatever their size (a scene's geometry can take gigabytes); see [`read_regular_file`].
 pub(crate) fn read(path: &Path, report: &mut LoadReport) -> Result<Vec<u8>, SceneError> {
-    let bytes = read_regular_file(path, u64::MAX)?;
+    read_at_most(path, u64::MAX, report)
+}
+
+/// [`read`] of a file that may have at most `max_bytes` bytes.
+pub(crate) fn read_at_most(
+    path: &Path,
+    max_bytes: u64,
+    report: &mut LoadReport,
+) -> Result<Vec<u8>, SceneError> {
+    let bytes = read_regular_file(path, max_bytes)?;
     report.files.push(path.to_path_buf());
     Ok(bytes)
 }

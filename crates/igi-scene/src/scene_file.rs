@@ -126,7 +126,8 @@ pub(crate) fn load_into(
     textures: &mut TextureSet,
     report: &mut LoadReport,
 ) -> Result<Scene, SceneError> {
-    let bytes = resources::read(path, report)?;
+    // Refused before it is read if it is too large (`check_size` bounds text from memory).
+    let bytes = resources::read_at_most(path, MAX_SCENE_FILE_BYTES as u64, report)?;
     let text = std::str::from_utf8(&bytes)
         .map_err(|e| SceneError::parse(path, Location::File, format!("not UTF-8 text: {e}")))?;
     parse_file(text, path, Some(&resources::base_dir(path)), textures, report)

@@ -261,6 +261,12 @@ fn instance_counts_are_capped() {
     assert!(err.contains("5000000 inline tables"), "{err}");
     let err = toml(&" ".repeat(17 << 20)).unwrap_err().to_string();
     assert!(err.contains("a scene file may have at most 16777216"), "{err}");
+    // On disk, a file that large is refused by its size before it is read.
+    let big = std::env::temp_dir().join(format!("igi-big-scene-{}.toml", std::process::id()));
+    std::fs::File::create(&big).unwrap().set_len(17 << 20).unwrap();
+    let err = load(&big).unwrap_err().to_string();
+    std::fs::remove_file(&big).unwrap();
+    assert!(err.contains("more than the 16777216 allowed"), "{err}");
 }
 
 #[test]
