@@ -304,6 +304,16 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// Bytes the texels of all textures occupy, each decoded image once (the views of one image
+    /// in two colour spaces share its texels); mipmaps add about a third.
+    pub fn texel_bytes(&self) -> u64 {
+        let mut images: Vec<(*const u8, u64)> =
+            self.textures.iter().map(|t| (t.image.texels.storage(), t.image.bytes())).collect();
+        images.sort_unstable();
+        images.dedup();
+        images.iter().map(|&(_, bytes)| bytes).sum()
+    }
+
     /// World-space bounds of every instance, exact (each vertex is transformed, so rotated
     /// instances do not inflate it). [`Bounds::EMPTY`] for a scene without geometry.
     pub fn bounds(&self) -> Bounds {

@@ -174,6 +174,15 @@ impl Texels {
         self.len() == 0
     }
 
+    /// Where the texels are stored: the same for the views of one decoded image.
+    pub(crate) fn storage(&self) -> *const u8 {
+        match self {
+            Self::Rgba8 { texels, .. } => texels.as_ptr().cast(),
+            Self::Rgba16 { texels, .. } => texels.as_ptr().cast(),
+            Self::RgbaF32(texels) => texels.as_ptr().cast(),
+        }
+    }
+
     /// Bytes one texel occupies.
     pub fn bytes_per_texel(&self) -> usize {
         match self {
@@ -223,33 +232,32 @@ impl Texels {
 
 /// The ⌈w/2⌉ × ⌈h/2⌉ means of the (up to) 2 × 2 texels of a `w × h` grid that each covers,
 /// read by `texel` (linear light, by index) and stored by `store`; rows in parallel.
-fn box_halve<T: Send>(
+fn box_halve<T: Copy + Default + Send>(
     w: u32,
     h: u32,
     texel: impl Fn(usize) -> [f32; 4] + Sync,
     store: impl Fn([f32; 4]) -> T + Sync,
 ) -> Vec<T> {
     let (width, height) = (w.div_ceil(2).max(1), h.div_ceil(2).max(1));
-    let (texel, store) = (&texel, &store);
-    (0..height)
-        .into_par_iter()
-        .flat_map_iter(|y| {
-            let rows = 2 * y..(2 * y + 2).min(h);
-            (0..width).map(move |x| {
-                let columns = 2 * x..(2 * x + 2).min(w);
-                let mut sum = [0.0f32; 4];
-                let mut n = 0.0;
-                for row in rows.clone() {
-                    for column in columns.clone() {
-                        let t = texel((row * w + column) as usize);
-                        sum.iter_mut().zip(t).for_each(|(s, t)| *s += t);
-                        n += 1.0;
-                    }
+    // Written in place, row by row: collecting a parallel iterator would hold the level twice.
+    let mut halved = vec![T::default(); width as usize * height as usize];
+    halved.par_chunks_mut(width as usize).zip(0..height).for_each(|(out, y)| {
+        let rows = 2 * y..(2 * y + 2).min(h);
+        for (x, out) in (0..width).zip(out) {
+            let columns = 2 * x..(2 * x + 2).min(w);
+            let mut sum = [0.0f32; 4];
+            let mut n = 0.0;
+            for row in rows.clone() {
+                for column in columns.clone() {
+                    let t = texel((row * w + column) as usize);
+                    sum.iter_mut().zip(t).for_each(|(s, t)| *s += t);
+                    n += 1.0;
                 }
-                store(sum.map(|s| s / n))
-            })
-        })
-        .collect()
+            }
+            *out = store(sum.map(|s| s / n));
+        }
+    });
+    halved
 }
 
 impl Image {

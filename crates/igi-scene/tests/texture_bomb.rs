@@ -117,14 +117,16 @@ fn write_scene(dir: &Path) {
     .unwrap();
 }
 
-/// Loads `bomb.toml` with `budget` and returns the scene's texture bytes, the peak of live
-/// bytes during the load and the warnings.
+/// Loads `bomb.toml` with `budget` and returns the storage and width of each texture, the peak
+/// of live bytes during the load and the warnings.
 fn load(dir: &Path, budget: u64) -> (Vec<(usize, u32)>, usize, Vec<String>) {
     let before = LIVE.load(Ordering::Relaxed);
     PEAK.store(before, Ordering::Relaxed);
     let (scene, report) = load_with(&dir.join("bomb.toml"), &LoadOptions { texture_budget: budget })
         .unwrap_or_else(|e| panic!("{e}"));
     let peak = PEAK.load(Ordering::Relaxed) - before;
+    let bytes = scene.texel_bytes();
+    assert!(bytes <= budget, "{bytes} bytes of texels over a budget of {budget}");
     let storage = scene
         .textures
         .iter()
@@ -134,6 +136,11 @@ fn load(dir: &Path, budget: u64) -> (Vec<(usize, u32)>, usize, Vec<String>) {
         })
         .collect();
     (storage, peak, report.warnings)
+}
+
+/// The texel bytes of `bomb.toml` loaded with the default budget.
+fn scene_bytes(dir: &Path) -> u64 {
+    igi_scene::load(dir.join("bomb.toml")).unwrap().texel_bytes()
 }
 
 #[test]
@@ -146,6 +153,7 @@ fn a_bomb_referenced_eight_ways_is_decoded_once_compactly_and_within_the_budget(
     assert_eq!(storage.len(), 2, "one texture per colour space: {warnings:?}");
     assert_eq!(storage[0], storage[1], "both views read the same texels");
     assert_eq!(storage[0].1, SIDE);
+    assert_eq!(scene_bytes(&dir), DECODED as u64, "4 bytes per texel, counted once");
     assert!(peak < DECODED + 32 * MIB, "peak {} MiB for a {} MiB image", peak / MIB, DECODED / MIB);
 
     // A 48 MiB budget: the image (341 MiB with its mipmap) is halved twice, to 16 MiB.

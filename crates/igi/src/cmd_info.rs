@@ -71,7 +71,11 @@ pub fn run(args: &InfoArgs) -> Result<()> {
          {procedural} procedural)",
         scene.materials.len()
     );
-    outln!("textures     {}", scene.textures.len());
+    outln!(
+        "textures     {} ({:.1} MiB of texels, about a third more with mipmaps)",
+        scene.textures.len(),
+        scene.texel_bytes() as f64 / f64::from(1 << 20)
+    );
     outln!(
         "lights       {point} point, {spot} spot, {directional} directional; \
          {emissive_tris} emissive triangles (area {emissive_area})"
