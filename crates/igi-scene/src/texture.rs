@@ -65,8 +65,8 @@ pub(crate) fn decode(bytes: &[u8], name: &str, budget: u64) -> Result<(Image, Op
     reader.limits(limits);
     let decoder = reader.into_decoder().map_err(|e| e.to_string())?;
     let (width, height) = decoder.dimensions();
-    let texels = u64::from(width) * u64::from(height);
-    let stored = texels * storage_bytes(decoder.color_type())?;
+    let per_texel = storage_bytes(decoder.color_type())?;
+    let stored = u64::from(width) * u64::from(height) * per_texel;
     let needed = stored.max(decoder.total_bytes());
     if needed > MAX_DECODE_BYTES {
         return Err(format!(
@@ -75,17 +75,18 @@ pub(crate) fn decode(bytes: &[u8], name: &str, budget: u64) -> Result<(Image, Op
             mib(MAX_DECODE_BYTES)
         ));
     }
-    // How many times the image must be halved to fit what is left of the budget.
-    let mut halvings = 0;
-    while with_mipmap(stored >> (2 * halvings)) > budget {
-        if stored >> (2 * halvings) <= 16 {
+    // How many times the image must be halved (as a mipmap level is: ⌈w/2⌉ × ⌈h/2⌉) to fit
+    // what is left of the budget.
+    let (mut w, mut h, mut halvings) = (width, height, 0);
+    while with_mipmap(u64::from(w) * u64::from(h) * per_texel) > budget {
+        if w == 1 && h == 1 {
             return Err(format!(
                 "{width}x{height} ({}) does not fit what is left of the scene's texture budget ({})",
                 mib(with_mipmap(stored)),
                 mib(budget)
             ));
         }
-        halvings += 1;
+        (w, h, halvings) = (w.div_ceil(2), h.div_ceil(2), halvings + 1);
     }
     let mut image = Image { width, height, texels: read_texels(decoder)? };
     for _ in 0..halvings {
@@ -409,6 +410,8 @@ mod tests {
     }
 
     proptest::proptest! {
+        #![proptest_config(proptest::test_runner::Config::with_cases(2000))]
+
         /// Mutated images of every stored kind (8- and 16-bit grey, grey + alpha, RGB, RGBA)
         /// decode to complete images or to an error, never a panic.
         #[test]
@@ -462,7 +465,14 @@ mod tests {
         let (image, note) = decode(&bytes, "t.png", 6 << 10).unwrap();
         assert_eq!((image.width, image.height), (32, 32));
         assert!(note.unwrap().contains("downscaled to 32x32"));
-        assert!(decode(&bytes, "t.png", 20).unwrap_err().contains("texture budget"));
+        // Odd sizes halve to ⌈w/2⌉: 5 × 3 texels become 3 × 2 (24 bytes, 32 with mipmaps).
+        let odd = png(&[[1, 2, 3, 255]; 15], 5);
+        let (image, _) = decode(&odd, "t.png", 32).unwrap();
+        assert_eq!((image.width, image.height), (3, 2));
+        let (image, _) = decode(&odd, "t.png", 31).unwrap();
+        assert_eq!((image.width, image.height), (2, 1));
+        // Even one texel (4 bytes, 5 with its "mipmap") is over a budget of 4.
+        assert!(decode(&bytes, "t.png", 4).unwrap_err().contains("texture budget"));
     }
 
     #[test]
