@@ -93,9 +93,12 @@ pub async fn handle(
                 };
                 if let Input::Settings { settings } = &message.input {
                     // Refused here, so the error reaches the connection that sent them.
-                    let checked = settings.validate().map_err(|e| e.to_string());
-                    if let Err(e) = checked.and_then(|()| budget.check(settings).map_err(|e| e.to_string())) {
-                        lock(&pending).errors.push(e);
+                    let refused = match settings.validate() {
+                        Err(e) => Some(e.to_string()),
+                        Ok(()) => budget.check(settings).err().map(|e| e.to_string()),
+                    };
+                    if let Some(why) = refused {
+                        lock(&pending).errors.push(why);
                         continue;
                     }
                 }

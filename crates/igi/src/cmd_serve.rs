@@ -19,7 +19,9 @@ pub struct ServeArgs {
     /// settings. The default allows the panel's whole ranges at 640x480.
     #[arg(long, default_value_t = FrameBudget::DEFAULT.max_mrays, value_parser = clap::value_parser!(u64).range(1..))]
     pub max_frame_mrays: u64,
-    /// Connections open at once (page loads and viewers); more are closed when accepted.
+    /// Connections open at once (page loads and viewers); more are closed when accepted. A
+    /// client also has 10 s to send a request's headers, and an HTTP connection closes after
+    /// 10 s without a request (an open viewer's WebSocket does not).
     #[arg(long, default_value_t = Limits::MAX_CONNECTIONS as u64, value_parser = clap::value_parser!(u64).range(1..=4096))]
     pub max_connections: u64,
     /// Scene and frame options.
