@@ -7,7 +7,7 @@ use crate::master::Master;
 use crate::protocol::{FrameJob, PixelFormat};
 use crate::transport::Transport;
 use igi_render::output::to_srgb8;
-use igi_render::{FrameState, PreparedScene};
+use igi_render::{CancelToken, FrameState, PreparedScene};
 use igi_session::{FrameSource, ScenePose, SourceError, SourceFrame};
 
 /// What to do when the cluster fails mid-session: end the job (an MPI abort, so no rank is
@@ -34,12 +34,16 @@ impl<T: Transport> ClusterSource<T> {
 }
 
 impl<T: Transport> FrameSource for ClusterSource<T> {
-    fn render(
+    fn render_cancellable(
         &mut self,
         _scene: &PreparedScene,
         pose: &ScenePose,
         frame: &FrameState,
         linear: bool,
+        // Rank 0 cannot abandon a frame yet (`Master` gathers every tile of the frame it
+        // began), so the frame completes; the nodes do drop their queued tiles when a newer
+        // job or a shutdown comes.
+        _cancel: &CancelToken,
     ) -> Result<SourceFrame, SourceError> {
         let job = FrameJob {
             id: 0,
@@ -50,7 +54,7 @@ impl<T: Transport> FrameSource for ClusterSource<T> {
         };
         let out = self.master.render(job).map_err(|e| {
             (self.on_failure)(&e);
-            SourceError(e.to_string())
+            SourceError::Failed(e.to_string())
         })?;
         let srgb8 = match (out.srgb8, &out.film) {
             (Some(bytes), _) => bytes,

@@ -5,7 +5,9 @@
 //! Render threads take tiles from a local queue that rank 0 keeps k tiles deep per thread, so
 //! a thread never waits for the network between tiles. The calling thread alone talks to the
 //! transport (MPI's "funneled" threading): it forwards finished tiles, queues new tile numbers
-//! and sends a heartbeat twice a second, also while a long tile renders.
+//! and sends a heartbeat twice a second, also while a long tile renders. When a newer job or a
+//! shutdown comes, it cancels the job's [`CancelToken`]: the render threads take no further
+//! tile of it (each finishes the one it is in) and the queued tiles are dropped.
 
 use crate::error::ClusterError;
 use crate::protocol::{
@@ -15,7 +17,7 @@ use crate::transport::Transport;
 use igi_render::scheduler::TileScheduler;
 use igi_render::tile_pipeline::{TileOutput, TilePipeline, TileScratch};
 use igi_render::vpl::VplSets;
-use igi_render::{PreparedScene, TileGrid};
+use igi_render::{CancelToken, PreparedScene, TileGrid};
 use igi_scene::Scene;
 use std::collections::VecDeque;
 use std::sync::mpsc::{RecvTimeoutError, channel};
@@ -127,34 +129,38 @@ fn unexpected(rank: usize, message: &Message, expected: &str) -> ClusterError {
     ClusterError::Protocol { rank, message: format!("sent {} where {expected} was expected", message.kind()) }
 }
 
-/// The tile queue the render threads share with the transport thread.
+/// The tile queue the render threads share with the transport thread, and the job's token.
 struct LocalQueue {
-    tiles: Mutex<(VecDeque<u32>, bool)>,
+    tiles: Mutex<VecDeque<u32>>,
     ready: Condvar,
+    cancel: CancelToken,
 }
 
 impl LocalQueue {
-    /// The next tile, waiting for one; `None` once closed.
+    /// The next tile, waiting for one; `None` once the job is cancelled.
     fn pop(&self) -> Option<u32> {
-        let mut guard = self.tiles.lock().unwrap_or_else(|e| e.into_inner());
+        let mut tiles = self.tiles.lock().unwrap_or_else(|e| e.into_inner());
         loop {
-            if guard.1 {
+            if self.cancel.is_cancelled() {
                 return None;
             }
-            if let Some(tile) = guard.0.pop_front() {
+            if let Some(tile) = tiles.pop_front() {
                 return Some(tile);
             }
-            guard = self.ready.wait(guard).unwrap_or_else(|e| e.into_inner());
+            tiles = self.ready.wait(tiles).unwrap_or_else(|e| e.into_inner());
         }
     }
 
     fn push(&self, tiles: &[u32]) {
-        self.tiles.lock().unwrap_or_else(|e| e.into_inner()).0.extend(tiles);
+        self.tiles.lock().unwrap_or_else(|e| e.into_inner()).extend(tiles);
         self.ready.notify_all();
     }
 
-    fn close(&self) {
-        self.tiles.lock().unwrap_or_else(|e| e.into_inner()).1 = true;
+    /// Cancels the job and wakes the threads waiting for tiles.
+    fn cancel(&self) {
+        self.cancel.cancel();
+        // Under the lock, so no thread is between its look at the token and its wait.
+        let _tiles = self.tiles.lock().unwrap_or_else(|e| e.into_inner());
         self.ready.notify_all();
     }
 }
@@ -202,7 +208,8 @@ fn render_job<T: Transport>(
     let s = &job.state.settings;
     let grid = TileGrid::new(s.width, s.height, s.tile_size);
     let pipeline = TilePipeline::new(scene, &job.state, &vpls);
-    let queue = LocalQueue { tiles: Mutex::new((VecDeque::new(), false)), ready: Condvar::new() };
+    let queue =
+        LocalQueue { tiles: Mutex::new(VecDeque::new()), ready: Condvar::new(), cancel: CancelToken::new() };
     let (done_tx, done_rx) = channel::<TileOutput>();
     let mut rendered = 0;
 
@@ -220,14 +227,15 @@ fn render_job<T: Transport>(
             });
         }
         drop(done_tx);
-        // Closes the queue however this thread leaves, so the render threads end.
-        struct CloseOnExit<'q>(&'q LocalQueue);
-        impl Drop for CloseOnExit<'_> {
+        // Cancels the job however this thread leaves (a newer job, a shutdown, an error), so
+        // the render threads end after the tile they are in.
+        struct CancelOnExit<'q>(&'q LocalQueue);
+        impl Drop for CancelOnExit<'_> {
             fn drop(&mut self) {
-                self.0.close();
+                self.0.cancel();
             }
         }
-        let _close = CloseOnExit(&queue);
+        let _cancel = CancelOnExit(&queue);
         loop {
             // Every message waiting first (the tiles of a new frame come right behind it),
             // then wait on the render threads: one probe per wait, so this thread takes next

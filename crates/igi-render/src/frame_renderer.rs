@@ -2,11 +2,14 @@
 //! VPLs, hands the tiles on demand to its persistent worker threads ([`TileScheduler`]), each
 //! running the [`TilePipeline`], and combines the finished tiles and their luminance
 //! statistics in tile order (paper 3.4), so the result is the same at any thread count.
+//! [`FrameRenderer::render_cancellable`] stops between tiles when its [`CancelToken`] says so
+//! and then returns no image at all.
 //!
 //! [`FrameRenderer::render_accumulated`] averages frames with fresh VPL sets and sample
 //! patterns: the progressive mode of a still scene, converging to the instant-radiosity
 //! solution (unclamped with `clamp` 0).
 
+use crate::cancel::{CancelToken, Cancelled};
 use crate::film::Film;
 use crate::frame::{FrameState, SettingsError};
 use crate::prepared::PreparedScene;
@@ -42,6 +45,17 @@ pub struct FrameOutput {
     pub frames: u32,
 }
 
+/// Why [`FrameRenderer::render_cancellable`] returned no frame.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum FrameError {
+    /// A setting is out of range.
+    #[error(transparent)]
+    Settings(#[from] SettingsError),
+    /// The frame was cancelled between tiles.
+    #[error(transparent)]
+    Cancelled(#[from] Cancelled),
+}
+
 /// Renders frames on a pool of persistent worker threads.
 #[derive(Debug)]
 pub struct FrameRenderer {
@@ -71,6 +85,21 @@ impl FrameRenderer {
         frame: &FrameState,
         progress: &(dyn Fn(u32, u32) + Sync),
     ) -> Result<FrameOutput, SettingsError> {
+        self.render_cancellable(scene, frame, &CancelToken::new(), progress).map_err(|e| match e {
+            FrameError::Settings(e) => e,
+            FrameError::Cancelled(_) => unreachable!("nobody else holds the token"),
+        })
+    }
+
+    /// Renders one frame unless `cancel` stops it between two tiles; `progress(done, total)`
+    /// is called after each tile.
+    pub fn render_cancellable(
+        &self,
+        scene: &PreparedScene,
+        frame: &FrameState,
+        cancel: &CancelToken,
+        progress: &(dyn Fn(u32, u32) + Sync),
+    ) -> Result<FrameOutput, FrameError> {
         frame.settings.validate()?;
         let start = Instant::now();
         let mut times = PhaseTimes::default();
@@ -82,10 +111,11 @@ impl FrameRenderer {
         let pipeline = TilePipeline::new(scene, frame, &vpls);
         let tiles = self.scheduler.run(
             &grid,
+            cancel,
             TileScratch::default,
             |scratch, tile| pipeline.render_tile(tile, scratch),
             progress,
-        );
+        )?;
 
         let mut film = Film::new(s.width, s.height);
         let mut srgb8 = vec![0u8; 3 * s.width as usize * s.height as usize];

@@ -17,6 +17,7 @@
 //! - [`discontinuity`]: the discontinuity-buffer filter.
 //! - [`tile`], [`scheduler`] and [`frame_renderer`]: tiles, persistent worker threads taking
 //!   tiles on demand, and [`FrameRenderer`], which puts a frame together.
+//! - [`cancel`]: [`CancelToken`], which abandons a frame between tiles.
 //! - [`path_tracer`]: the reference path tracer.
 //! - [`stats`], [`film`], [`tonemap`] and [`output`]: costs, the framebuffer, tone mapping,
 //!   EXR and PNG files.
@@ -38,6 +39,7 @@
 //! ```
 
 pub mod camera;
+pub mod cancel;
 pub mod discontinuity;
 pub mod environment;
 pub mod film;
@@ -58,9 +60,10 @@ pub mod vpl;
 pub mod vpl_lighting;
 
 pub use camera::{PinholeCamera, default_camera};
+pub use cancel::{CancelToken, Cancelled};
 pub use film::Film;
 pub use frame::{FrameState, IgiSettings};
-pub use frame_renderer::{FrameOutput, FrameRenderer};
+pub use frame_renderer::{FrameError, FrameOutput, FrameRenderer};
 pub use output::{OutputError, write_exr, write_image, write_png};
 pub use prepared::{PreparedScene, SurfacePoint};
 pub use stats::{Phase, PhaseTimes, RayCounts};

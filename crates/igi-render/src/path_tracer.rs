@@ -94,6 +94,7 @@
 //! pixel) alone, the same bit for bit at any thread count and tile size.
 
 use crate::camera::PinholeCamera;
+use crate::cancel::CancelToken;
 use crate::film::Film;
 use crate::frame::{FrameState, SettingsError};
 use crate::lights::{self, luminance};
@@ -443,6 +444,7 @@ pub fn render_path_traced(
     let grid = TileGrid::new(width, height, frame.settings.tile_size);
     let tiles = scheduler.run(
         &grid,
+        &CancelToken::new(),
         || (),
         |(), tile| {
             let mut pixels = Vec::new();
@@ -451,6 +453,7 @@ pub fn render_path_traced(
         },
         progress,
     );
+    let Ok(tiles) = tiles else { unreachable!("nobody else holds the token") };
     let mut film = Film::new(width, height);
     let mut rays = 0;
     for (tile, (pixels, n)) in grid.tiles().zip(&tiles) {

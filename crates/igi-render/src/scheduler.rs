@@ -4,8 +4,10 @@
 //! does not pay for thread start-up, and each keeps its scratch state across tiles.
 //!
 //! The results come back in tile order whatever thread rendered them, so anything combined
-//! from them (the image, luminance statistics) is the same at any thread count.
+//! from them (the image, luminance statistics) is the same at any thread count. A
+//! [`CancelToken`] stops the hand-out: each thread looks at it before taking a tile.
 
+use crate::cancel::{CancelToken, Cancelled};
 use crate::tile::{Tile, TileGrid};
 use std::sync::atomic::{AtomicU32, Ordering};
 
@@ -41,14 +43,17 @@ impl TileScheduler {
 
     /// Renders every tile of `grid`: each worker makes its scratch state with `init` once,
     /// then calls `render(&mut scratch, tile)` for tile after tile taken from a shared
-    /// counter, and `progress(done, total)` after each. Returns the results in tile order.
+    /// counter, and `progress(done, total)` after each. Returns the results in tile order, or
+    /// [`Cancelled`] if `cancel` stopped the threads before the last tile (each finishes the
+    /// tile it is in).
     pub fn run<S, T, I, R>(
         &self,
         grid: &TileGrid,
+        cancel: &CancelToken,
         init: I,
         render: R,
         progress: &(dyn Fn(u32, u32) + Sync),
-    ) -> Vec<T>
+    ) -> Result<Vec<T>, Cancelled>
     where
         T: Send,
         I: Fn() -> S + Sync,
@@ -60,7 +65,7 @@ impl TileScheduler {
         let parts: Vec<Vec<(u32, T)>> = self.pool.broadcast(|_| {
             let mut scratch = init();
             let mut finished = Vec::new();
-            loop {
+            while !cancel.is_cancelled() {
                 let index = next.fetch_add(1, Ordering::Relaxed);
                 if index >= total {
                     break;
@@ -71,8 +76,11 @@ impl TileScheduler {
             finished
         });
         let mut all: Vec<(u32, T)> = parts.into_iter().flatten().collect();
+        if all.len() < total as usize {
+            return Err(Cancelled);
+        }
         all.sort_unstable_by_key(|(index, _)| *index);
-        all.into_iter().map(|(_, t)| t).collect()
+        Ok(all.into_iter().map(|(_, t)| t).collect())
     }
 }
 
@@ -88,6 +96,7 @@ mod tests {
             assert_eq!(scheduler.threads(), threads);
             let out = scheduler.run(
                 &grid,
+                &CancelToken::new(),
                 || 0u32,
                 |n, t| {
                     *n += 1;
@@ -95,7 +104,32 @@ mod tests {
                 },
                 &|_, _| {},
             );
-            assert_eq!(out, (0..grid.len()).collect::<Vec<_>>());
+            assert_eq!(out, Ok((0..grid.len()).collect::<Vec<_>>()));
+        }
+    }
+
+    #[test]
+    fn no_tile_is_handed_out_once_cancelled() {
+        let grid = TileGrid::new(256, 256, 8);
+        for threads in [1, 3] {
+            let scheduler = TileScheduler::new(threads);
+            let cancel = CancelToken::new();
+            let rendered = AtomicU32::new(0);
+            let out = scheduler.run(
+                &grid,
+                &cancel,
+                || (),
+                |(), _| {
+                    if rendered.fetch_add(1, Ordering::SeqCst) + 1 == 10 {
+                        cancel.cancel();
+                    }
+                },
+                &|_, _| {},
+            );
+            assert_eq!(out, Err(Cancelled));
+            // The tenth tile, and at most one tile each other thread took before the cancel.
+            let rendered = rendered.into_inner();
+            assert!(rendered < 10 + threads as u32, "{rendered} of {} tiles rendered", grid.len());
         }
     }
 }

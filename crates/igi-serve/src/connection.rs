@@ -2,6 +2,7 @@
 //! encoded frame goes out whenever the previous send has completed (see the crate doc for the
 //! wire format). A bad message closes this connection only.
 
+use crate::budget::FrameBudget;
 use crate::encoder::EncodedFrame;
 use axum::extract::ws::{CloseFrame, Message, WebSocket, close_code};
 use futures_util::{SinkExt, StreamExt};
@@ -58,6 +59,7 @@ pub async fn handle(
     socket: WebSocket,
     render_loop: Arc<RenderLoop>,
     mut frames: watch::Receiver<Option<Arc<EncodedFrame>>>,
+    budget: FrameBudget,
 ) {
     let (mut sink, mut stream) = socket.split();
     let pending = Arc::new(Mutex::new(Pending::default()));
@@ -91,8 +93,12 @@ pub async fn handle(
                 };
                 if let Input::Settings { settings } = &message.input {
                     // Refused here, so the error reaches the connection that sent them.
-                    if let Err(e) = settings.validate() {
-                        lock(&pending).errors.push(e.to_string());
+                    let refused = match settings.validate() {
+                        Err(e) => Some(e.to_string()),
+                        Ok(()) => budget.check(settings).err().map(|e| e.to_string()),
+                    };
+                    if let Some(why) = refused {
+                        lock(&pending).errors.push(why);
                         continue;
                     }
                 }

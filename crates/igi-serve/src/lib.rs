@@ -17,13 +17,20 @@
 //! once the view is still. Newest frame wins: a connection is sent the newest frame when its
 //! previous send has completed, so a slow client gets fewer frames and nothing queues up.
 //!
+//! Settings a client sends are checked on its connection: invalid ones, and ones whose frame
+//! would cost more than the server's [`FrameBudget`], are refused with the reason in the
+//! `errors` of that connection's next frame.
+//!
 //! Modules: [`encoder`] (frames to JPEG/PNG once for all connections), [`connection`] (one
-//! WebSocket), [`server`] (routes, start and shutdown).
+//! WebSocket), [`budget`] (the most a frame may cost), [`server`] (routes, connection limits,
+//! start and shutdown).
 
 pub mod access;
+pub mod budget;
 pub mod connection;
 pub mod encoder;
 pub mod server;
 
+pub use budget::FrameBudget;
 pub use connection::{ClientMessage, FrameHeader, MAX_MESSAGE_BYTES};
-pub use server::{run, serve};
+pub use server::{Limits, run, serve};

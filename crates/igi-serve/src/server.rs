@@ -1,8 +1,16 @@
 //! The HTTP side: `GET /` serves the page, `GET /ws` the stream; nothing else exists (404).
 //! One render loop and one encoder serve every connection, so several browsers watch and
 //! steer the same session.
+//!
+//! Connections are bounded ([`Limits`]): a client has [`Limits::header_timeout`] to send a
+//! request's headers, and as long between requests on a kept-alive connection (hyper's header
+//! read timeout covers both), and at most [`Limits::max_connections`] sockets are open at once,
+//! WebSockets included; one more is closed as soon as it is accepted. So half-open requests
+//! cannot take every file descriptor of the process. An open WebSocket has no timeout: a
+//! viewer may watch a still image for hours.
 
 use crate::access;
+use crate::budget::FrameBudget;
 use crate::connection::{self, MAX_MESSAGE_BYTES};
 use crate::encoder::{EncodedFrame, Encoder};
 use anyhow::Context;
@@ -12,12 +20,53 @@ use axum::extract::ws::WebSocketUpgrade;
 use axum::http::{HeaderMap, StatusCode};
 use axum::response::{Html, IntoResponse, Response};
 use axum::routing::get;
+use hyper_util::rt::{TokioIo, TokioTimer};
+use hyper_util::service::TowerToHyperService;
 use igi_session::{RenderLoop, Session};
 use std::future::Future;
+use std::io;
 use std::net::SocketAddr;
+use std::pin::Pin;
 use std::sync::Arc;
-use tokio::net::TcpListener;
-use tokio::sync::watch;
+use std::task::{Context as TaskContext, Poll};
+use std::time::Duration;
+use tokio::io::{AsyncRead, AsyncWrite, ReadBuf};
+use tokio::net::{TcpListener, TcpStream};
+use tokio::sync::{OwnedSemaphorePermit, Semaphore, watch};
+
+/// How long the server waits before accepting again after `accept` failed (out of file
+/// descriptors, say), instead of spinning.
+const ACCEPT_RETRY: Duration = Duration::from_millis(100);
+
+/// What the server allows its clients.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limits {
+    /// The most one frame may cost; settings from a browser beyond it are refused.
+    pub frame: FrameBudget,
+    /// Connections open at once, WebSockets included.
+    pub max_connections: usize,
+    /// How long a client may take to send a request's headers, and may leave an HTTP
+    /// connection idle between requests.
+    pub header_timeout: Duration,
+}
+
+impl Limits {
+    /// Default of [`Limits::max_connections`]: many viewers, well below a process's usual
+    /// 1024 file descriptors (or the 256 of a tight `ulimit -n`).
+    pub const MAX_CONNECTIONS: usize = 64;
+    /// Default of [`Limits::header_timeout`].
+    pub const HEADER_TIMEOUT: Duration = Duration::from_secs(10);
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Self {
+            frame: FrameBudget::DEFAULT,
+            max_connections: Self::MAX_CONNECTIONS,
+            header_timeout: Self::HEADER_TIMEOUT,
+        }
+    }
+}
 
 /// The viewer page: HTML, CSS and JavaScript in one file, compiled into the binary.
 const PAGE: &str = include_str!("../page/index.html");
@@ -28,22 +77,97 @@ struct AppState {
     frames: watch::Receiver<Option<Arc<EncodedFrame>>>,
     /// The server listens on a loopback address: it answers to loopback names only.
     loopback: bool,
+    budget: FrameBudget,
 }
 
-/// Serves the viewer of `render_loop` on `listener` until `shutdown` completes.
+/// Serves the viewer of `render_loop` on `listener` within `limits` until `shutdown`
+/// completes.
 pub async fn serve(
     render_loop: Arc<RenderLoop>,
     listener: TcpListener,
+    limits: Limits,
     shutdown: impl Future<Output = ()> + Send + 'static,
-) -> std::io::Result<()> {
+) -> io::Result<()> {
     let loopback = listener.local_addr()?.ip().is_loopback();
     let encoder = Encoder::spawn(render_loop.clone());
-    let state = AppState { render_loop, frames: encoder.subscribe(), loopback };
+    let state = AppState { render_loop, frames: encoder.subscribe(), loopback, budget: limits.frame };
     let app = Router::new().route("/", get(page)).route("/ws", get(stream)).with_state(state);
     // Open WebSockets would hold a graceful shutdown forever: stop serving at once instead.
     tokio::select! {
-        result = axum::serve(listener, app) => result,
+        () = accept(listener, app, limits) => Ok(()),
         () = shutdown => Ok(()),
+    }
+}
+
+/// Accepts connections and serves each on its own task, HTTP/1.1 with upgrades (the
+/// WebSocket), within `limits`.
+async fn accept(listener: TcpListener, app: Router, limits: Limits) {
+    let places = Arc::new(Semaphore::new(limits.max_connections));
+    let mut http = hyper::server::conn::http1::Builder::new();
+    http.timer(TokioTimer::new()).header_read_timeout(limits.header_timeout);
+    loop {
+        let (stream, peer) = match listener.accept().await {
+            Ok(accepted) => accepted,
+            Err(e) => {
+                tracing::warn!("cannot accept a connection: {e}");
+                tokio::time::sleep(ACCEPT_RETRY).await;
+                continue;
+            }
+        };
+        let Ok(place) = places.clone().try_acquire_owned() else {
+            tracing::debug!("closing a connection from {peer}: {} are open", limits.max_connections);
+            continue;
+        };
+        let io = TokioIo::new(Counted { stream, _place: place });
+        let connection = http.serve_connection(io, TowerToHyperService::new(app.clone())).with_upgrades();
+        tokio::spawn(async move {
+            if let Err(e) = connection.await {
+                tracing::debug!("connection from {peer}: {e}");
+            }
+        });
+    }
+}
+
+/// A connection's socket, holding its place among [`Limits::max_connections`] until it
+/// closes. A WebSocket keeps the socket it was upgraded from, and so the place.
+struct Counted {
+    stream: TcpStream,
+    _place: OwnedSemaphorePermit,
+}
+
+impl AsyncRead for Counted {
+    fn poll_read(
+        self: Pin<&mut Self>,
+        cx: &mut TaskContext<'_>,
+        buf: &mut ReadBuf<'_>,
+    ) -> Poll<io::Result<()>> {
+        Pin::new(&mut self.get_mut().stream).poll_read(cx, buf)
+    }
+}
+
+impl AsyncWrite for Counted {
+    fn poll_write(self: Pin<&mut Self>, cx: &mut TaskContext<'_>, buf: &[u8]) -> Poll<io::Result<usize>> {
+        Pin::new(&mut self.get_mut().stream).poll_write(cx, buf)
+    }
+
+    fn poll_write_vectored(
+        self: Pin<&mut Self>,
+        cx: &mut TaskContext<'_>,
+        bufs: &[io::IoSlice<'_>],
+    ) -> Poll<io::Result<usize>> {
+        Pin::new(&mut self.get_mut().stream).poll_write_vectored(cx, bufs)
+    }
+
+    fn is_write_vectored(&self) -> bool {
+        self.stream.is_write_vectored()
+    }
+
+    fn poll_flush(self: Pin<&mut Self>, cx: &mut TaskContext<'_>) -> Poll<io::Result<()>> {
+        Pin::new(&mut self.get_mut().stream).poll_flush(cx)
+    }
+
+    fn poll_shutdown(self: Pin<&mut Self>, cx: &mut TaskContext<'_>) -> Poll<io::Result<()>> {
+        Pin::new(&mut self.get_mut().stream).poll_shutdown(cx)
     }
 }
 
@@ -58,12 +182,14 @@ async fn stream(upgrade: WebSocketUpgrade, headers: HeaderMap, State(state): Sta
     upgrade
         .max_message_size(MAX_MESSAGE_BYTES)
         .max_frame_size(MAX_MESSAGE_BYTES)
-        .on_upgrade(move |socket| connection::handle(socket, state.render_loop, state.frames))
+        .on_upgrade(move |socket| connection::handle(socket, state.render_loop, state.frames, state.budget))
         .into_response()
 }
 
-/// Runs the browser viewer of `session` on `listen` until Ctrl-C.
-pub fn run(session: Session, listen: SocketAddr) -> anyhow::Result<()> {
+/// Runs the browser viewer of `session` on `listen` within `limits` until SIGINT (Ctrl-C) or
+/// SIGTERM. Settings over the frame budget are refused from the start.
+pub fn run(session: Session, listen: SocketAddr, limits: Limits) -> anyhow::Result<()> {
+    limits.frame.check(session.settings()).context("the starting settings are over the frame budget")?;
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
         .enable_all()
@@ -80,10 +206,29 @@ pub fn run(session: Session, listen: SocketAddr) -> anyhow::Result<()> {
             );
         }
         let render_loop = Arc::new(RenderLoop::spawn(session));
-        serve(render_loop, listener, async {
-            let _ = tokio::signal::ctrl_c().await;
-        })
-        .await
-        .context("the server failed")
+        serve(render_loop, listener, limits, stop_signal()).await.context("the server failed")
     })
+}
+
+/// Completes on SIGINT or SIGTERM (on Unix; Ctrl-C elsewhere). Dropping the render loop then
+/// cancels the frame in progress, so the process ends within a second whatever it renders.
+async fn stop_signal() {
+    #[cfg(unix)]
+    {
+        use tokio::signal::unix::{SignalKind, signal};
+        match signal(SignalKind::terminate()) {
+            Ok(mut terminate) => {
+                tokio::select! {
+                    _ = tokio::signal::ctrl_c() => {}
+                    _ = terminate.recv() => {}
+                }
+            }
+            Err(e) => {
+                tracing::warn!("cannot listen for SIGTERM: {e}");
+                let _ = tokio::signal::ctrl_c().await;
+            }
+        }
+    }
+    #[cfg(not(unix))]
+    let _ = tokio::signal::ctrl_c().await;
 }

@@ -136,6 +136,37 @@ async fn frames_inputs_settings_and_bad_messages() {
     frame_where(&mut viewer, |f| f.header["acked"] == 11).await;
 }
 
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn settings_over_the_frame_budget_are_refused_to_their_sender() {
+    let server = common::start(160, 120);
+    let mut viewer = connect(&server).await;
+    let first = next_frame(&mut viewer).await;
+    let mut settings = first.header["stats"]["settings"].clone();
+
+    // The probe's frame of hours: 4K UHD, 64 AA samples, 4096 VPLs per pixel. Each value is
+    // valid; their product is not within the default budget.
+    settings["width"] = json!(3840);
+    settings["height"] = json!(2160);
+    settings["aa"] = json!(64);
+    settings["vpls_per_pixel"] = json!(4096);
+    let message = json!({"id": 1, "input": {"type": "settings", "settings": settings}});
+    viewer.send(Message::Text(message.to_string().into())).await.unwrap();
+    let nudge = json!({"id": 2, "input": {"type": "drag", "dx": 5, "dy": 0, "button": "primary"}});
+    viewer.send(Message::Text(nudge.to_string().into())).await.unwrap();
+    let mut errors = Vec::new();
+    let after = frame_where(&mut viewer, |f| {
+        errors.extend(f.header["errors"].as_array().into_iter().flatten().map(|e| e.to_string()));
+        f.header["acked"] == 2
+    })
+    .await;
+    assert!(errors.iter().any(|e| e.contains("--max-frame-mrays")), "{errors:?}");
+    assert_eq!(after.image.dimensions(), (160, 120), "the settings did not change");
+    assert_eq!(
+        after.header["stats"]["settings"]["vpls_per_pixel"],
+        first.header["stats"]["settings"]["vpls_per_pixel"]
+    );
+}
+
 /// A raw HTTP GET; returns the status line and the body.
 fn get(address: std::net::SocketAddr, path: &str) -> (String, String) {
     let mut stream = std::net::TcpStream::connect(address).unwrap();

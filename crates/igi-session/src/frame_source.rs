@@ -6,7 +6,7 @@
 use glam::Affine3A;
 use igi_render::stats::{PhaseTimes, RayCounts};
 use igi_render::tonemap::LuminanceStats;
-use igi_render::{Film, FrameRenderer, FrameState, PreparedScene};
+use igi_render::{CancelToken, Cancelled, Film, FrameError, FrameRenderer, FrameState, PreparedScene};
 
 /// Where the scene stands for a frame: the clock and the instances a user moved (their world
 /// transforms), as [`PreparedScene::place`] takes them. A remote renderer poses its own copy
@@ -37,37 +37,62 @@ pub struct SourceFrame {
     pub vpls: usize,
 }
 
-/// Why a source could not render a frame.
+/// Why a source returned no frame.
 #[derive(Debug, thiserror::Error)]
-#[error("{0}")]
-pub struct SourceError(pub String);
+pub enum SourceError {
+    /// The source could not render it; the message says why.
+    #[error("{0}")]
+    Failed(String),
+    /// The frame was cancelled between tiles (it is not wanted any more).
+    #[error(transparent)]
+    Cancelled(#[from] Cancelled),
+}
 
 /// Renders frames of a session's scene.
 pub trait FrameSource: Send + std::fmt::Debug {
-    /// Renders `frame` of `scene` posed at `pose`; the session has already posed `scene`
-    /// itself. With `linear` the result carries the linear film.
+    /// Renders `frame` of `scene` posed at `pose`, unless `cancel` stops it between tiles;
+    /// the session has already posed `scene` itself. With `linear` the result carries the
+    /// linear film.
+    fn render_cancellable(
+        &mut self,
+        scene: &PreparedScene,
+        pose: &ScenePose,
+        frame: &FrameState,
+        linear: bool,
+        cancel: &CancelToken,
+    ) -> Result<SourceFrame, SourceError>;
+
+    /// [`FrameSource::render_cancellable`] with nothing that could cancel the frame.
     fn render(
         &mut self,
         scene: &PreparedScene,
         pose: &ScenePose,
         frame: &FrameState,
         linear: bool,
-    ) -> Result<SourceFrame, SourceError>;
+    ) -> Result<SourceFrame, SourceError> {
+        self.render_cancellable(scene, pose, frame, linear, &CancelToken::new())
+    }
 
     /// Render threads in all (for the per-phase times of the statistics).
     fn threads(&self) -> usize;
 }
 
 impl FrameSource for FrameRenderer {
-    fn render(
+    fn render_cancellable(
         &mut self,
         scene: &PreparedScene,
         _pose: &ScenePose,
         frame: &FrameState,
         _linear: bool,
+        cancel: &CancelToken,
     ) -> Result<SourceFrame, SourceError> {
         let out =
-            FrameRenderer::render(self, scene, frame, &|_, _| {}).map_err(|e| SourceError(e.to_string()))?;
+            FrameRenderer::render_cancellable(self, scene, frame, cancel, &|_, _| {}).map_err(
+                |e| match e {
+                    FrameError::Settings(e) => SourceError::Failed(e.to_string()),
+                    FrameError::Cancelled(c) => SourceError::Cancelled(c),
+                },
+            )?;
         Ok(SourceFrame {
             film: Some(out.film),
             srgb8: out.srgb8,

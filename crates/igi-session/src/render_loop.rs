@@ -2,14 +2,29 @@
 //! frame; the loop renders the next frame while the viewer shows the current one, and a
 //! viewer that is slower than the renderer simply skips frames (newest frame wins, nothing
 //! queues up).
+//!
+//! A frame that takes long is not waited for: once an input is waiting and the frame has run
+//! [`PATIENCE`] times as long as the last finished frame took, its [`CancelToken`] stops it
+//! between tiles and the next frame, with the input, starts at once. Frames of the usual
+//! length finish (a user dragging the view still sees every frame), while a frame of minutes
+//! that new settings started gives way to the next input within a tile. Dropping the loop
+//! cancels the frame in progress the same way.
 
+use crate::frame_source::SourceError;
 use crate::input::Input;
 use crate::session::{Frame, Session};
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::mpsc::{Receiver, Sender, TryRecvError};
-use std::sync::{Arc, Condvar, Mutex};
+use igi_render::CancelToken;
+use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
+
+/// How many times the last finished frame's duration a frame may run while an input waits.
+pub const PATIENCE: u32 = 2;
+
+/// How long dropping a [`RenderLoop`] waits for the render threads to finish their tiles; a
+/// longer tile is left to finish on its own (or to the end of the process), so that a viewer
+/// closes, or ends on a signal, within a second whatever the frame costs.
+pub const STOP_WAIT: Duration = Duration::from_millis(500);
 
 /// The newest frame, shared between the render thread and any number of viewers.
 #[derive(Debug, Default)]
@@ -43,41 +58,81 @@ impl LatestFrame {
 /// A session rendering on a background thread.
 #[derive(Debug)]
 pub struct RenderLoop {
-    inputs: Sender<Input>,
-    sent: AtomicU64,
+    shared: Arc<Shared>,
     latest: Arc<LatestFrame>,
-    errors: Arc<Mutex<Vec<String>>>,
-    stop: Arc<AtomicBool>,
-    idle: Arc<AtomicBool>,
     thread: Option<JoinHandle<()>>,
+}
+
+/// What the viewers and the render thread share.
+#[derive(Debug, Default)]
+struct Shared {
+    state: Mutex<State>,
+    /// Signalled when an input or the stop request comes, and when the thread ends.
+    changed: Condvar,
+}
+
+#[derive(Debug, Default)]
+struct State {
+    /// Inputs not yet handled, oldest first.
+    inputs: Vec<Input>,
+    /// Inputs posted so far.
+    sent: u64,
+    /// Messages of refused inputs not yet taken.
+    errors: Vec<String>,
+    /// The frame being rendered, if any.
+    frame: Option<FrameInFlight>,
+    /// The loop waits for input with nothing to render.
+    idle: bool,
+    /// The loop is asked to end.
+    stop: bool,
+    /// The render thread has ended (and dropped the session).
+    ended: bool,
+}
+
+#[derive(Debug)]
+struct FrameInFlight {
+    cancel: CancelToken,
+    /// Until when an input may wait for this frame.
+    patience_ends: Instant,
+}
+
+impl Shared {
+    fn lock(&self) -> MutexGuard<'_, State> {
+        self.state.lock().unwrap_or_else(|e| e.into_inner())
+    }
 }
 
 impl RenderLoop {
     /// Starts rendering `session` on a new thread.
     pub fn spawn(session: Session) -> Self {
-        let (inputs, receiver) = std::sync::mpsc::channel();
+        let shared = Arc::new(Shared::default());
         let latest = Arc::new(LatestFrame::default());
-        let errors = Arc::new(Mutex::new(Vec::new()));
-        let stop = Arc::new(AtomicBool::new(false));
-        let idle = Arc::new(AtomicBool::new(false));
         let thread = {
-            let (latest, errors, stop, idle) = (latest.clone(), errors.clone(), stop.clone(), idle.clone());
+            let (shared, latest) = (shared.clone(), latest.clone());
             std::thread::Builder::new()
                 .name("igi-render-loop".into())
-                .spawn(move || run(session, &receiver, &latest, &errors, &stop, &idle))
+                .spawn(move || {
+                    run(session, &shared, &latest);
+                    shared.lock().ended = true;
+                    shared.changed.notify_all();
+                })
                 .expect("spawning the render thread")
         };
-        Self { inputs, sent: AtomicU64::new(0), latest, errors, stop, idle, thread: Some(thread) }
+        Self { shared, latest, thread: Some(thread) }
     }
 
     /// Posts an input; returns its sequence number: the first frame whose
     /// [`FrameStats::input_seq`](crate::FrameStats::input_seq) is at least this number
-    /// includes it.
+    /// includes it. A frame in progress that has run out of patience is cancelled.
     pub fn send(&self, input: Input) -> u64 {
-        let seq = self.sent.fetch_add(1, Ordering::SeqCst) + 1;
-        // The thread only ends when the loop is dropped, so a send cannot fail before that.
-        let _ = self.inputs.send(input);
-        seq
+        let mut state = self.shared.lock();
+        state.inputs.push(input);
+        state.sent += 1;
+        if let Some(frame) = &state.frame {
+            frame.cancel.cancel_at(frame.patience_ends);
+        }
+        self.shared.changed.notify_all();
+        state.sent
     }
 
     /// The newest frame and its waiting.
@@ -88,71 +143,89 @@ impl RenderLoop {
     /// True while the loop waits for input with nothing to render (a still view whose
     /// accumulation is off or complete): no newer frame comes until an input arrives.
     pub fn is_idle(&self) -> bool {
-        self.idle.load(Ordering::SeqCst)
+        self.shared.lock().idle
     }
 
     /// Messages of refused inputs (invalid settings) since the last call.
     pub fn take_errors(&self) -> Vec<String> {
-        std::mem::take(&mut *self.errors.lock().unwrap_or_else(|e| e.into_inner()))
+        std::mem::take(&mut self.shared.lock().errors)
     }
 }
 
 impl Drop for RenderLoop {
+    /// Cancels the frame in progress and waits up to [`STOP_WAIT`] for the thread to end.
     fn drop(&mut self) {
-        self.stop.store(true, Ordering::SeqCst);
-        // Wake a thread waiting for input.
-        let (dummy, _) = std::sync::mpsc::channel();
-        drop(std::mem::replace(&mut self.inputs, dummy));
-        if let Some(thread) = self.thread.take() {
-            let _ = thread.join();
+        let mut state = self.shared.lock();
+        state.stop = true;
+        if let Some(frame) = &state.frame {
+            frame.cancel.cancel();
+        }
+        self.shared.changed.notify_all();
+        let (state, _) = self
+            .shared
+            .changed
+            .wait_timeout_while(state, STOP_WAIT, |s| !s.ended)
+            .unwrap_or_else(|e| e.into_inner());
+        let ended = state.ended;
+        drop(state);
+        match self.thread.take() {
+            Some(thread) if ended => {
+                let _ = thread.join();
+            }
+            _ => tracing::warn!("the render thread is still in a tile; it ends by itself"),
         }
     }
 }
 
-fn run(
-    mut session: Session,
-    inputs: &Receiver<Input>,
-    latest: &LatestFrame,
-    errors: &Mutex<Vec<String>>,
-    stop: &AtomicBool,
-    idle: &AtomicBool,
-) {
+fn run(mut session: Session, shared: &Shared, latest: &LatestFrame) {
     let mut last = Instant::now();
-    while !stop.load(Ordering::SeqCst) {
-        // Take every pending input; when nothing needs rendering, sleep until one comes.
-        loop {
-            let input = if session.needs_frame() {
-                match inputs.try_recv() {
-                    Ok(input) => input,
-                    Err(TryRecvError::Empty) => break,
-                    Err(TryRecvError::Disconnected) => return,
+    // The wall time of the last finished frame: how long an input waits for the next one.
+    let mut frame_time = Duration::ZERO;
+    let mut state = shared.lock();
+    while !state.stop {
+        // Every pending input goes into the next frame; when nothing needs rendering, sleep
+        // until one comes.
+        let inputs = std::mem::take(&mut state.inputs);
+        if !inputs.is_empty() {
+            drop(state);
+            for input in &inputs {
+                if let Err(e) = session.handle(input) {
+                    shared.lock().errors.push(e.to_string());
                 }
-            } else {
-                idle.store(true, Ordering::SeqCst);
-                let received = inputs.recv();
-                idle.store(false, Ordering::SeqCst);
-                match received {
-                    Ok(input) => {
-                        // Idle time is not animation time.
-                        last = Instant::now();
-                        input
-                    }
-                    Err(_) => return,
-                }
-            };
-            if let Err(e) = session.handle(&input) {
-                errors.lock().unwrap_or_else(|e| e.into_inner()).push(e.to_string());
             }
+            state = shared.lock();
+            continue;
         }
-        if stop.load(Ordering::SeqCst) {
-            return;
+        if !session.needs_frame() {
+            state.idle = true;
+            state = shared
+                .changed
+                .wait_while(state, |s| s.inputs.is_empty() && !s.stop)
+                .unwrap_or_else(|e| e.into_inner());
+            state.idle = false;
+            // Idle time is not animation time.
+            last = Instant::now();
+            continue;
         }
-        let now = Instant::now();
-        let dt = now.duration_since(last).as_secs_f32();
-        last = now;
-        match session.render(dt) {
-            Ok(frame) => latest.publish(frame),
-            Err(e) => errors.lock().unwrap_or_else(|e| e.into_inner()).push(e.to_string()),
+        // Set under the same lock as the (empty) input queue was seen: an input that comes
+        // from now on finds the frame's token.
+        let cancel = CancelToken::new();
+        let start = Instant::now();
+        state.frame =
+            Some(FrameInFlight { cancel: cancel.clone(), patience_ends: start + frame_time * PATIENCE });
+        drop(state);
+        let dt = start.duration_since(last).as_secs_f32();
+        last = start;
+        let result = session.render_cancellable(dt, &cancel);
+        state = shared.lock();
+        state.frame = None;
+        match result {
+            Ok(frame) => {
+                frame_time = start.elapsed();
+                latest.publish(frame);
+            }
+            Err(SourceError::Cancelled(_)) => {}
+            Err(e) => state.errors.push(e.to_string()),
         }
     }
 }

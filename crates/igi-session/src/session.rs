@@ -16,7 +16,9 @@ use glam::{Affine3A, Vec3};
 use igi_render::frame::SettingsError;
 use igi_render::output::to_srgb8;
 use igi_render::tonemap::LuminanceStats;
-use igi_render::{Film, FrameRenderer, FrameState, Phase, PinholeCamera, PreparedScene, ToneMapper};
+use igi_render::{
+    CancelToken, Film, FrameRenderer, FrameState, Phase, PinholeCamera, PreparedScene, ToneMapper,
+};
 use igi_scene::Camera;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -261,6 +263,13 @@ impl Session {
     /// Renders the next frame, `dt` seconds of wall-clock time after the previous one (the
     /// clock and held keys advance by it).
     pub fn render(&mut self, dt: f32) -> Result<Frame, SourceError> {
+        self.render_cancellable(dt, &CancelToken::new())
+    }
+
+    /// [`Session::render`], unless `cancel` stops the frame between tiles: then the error is
+    /// [`SourceError::Cancelled`], nothing is accumulated, and the next frame is rendered as
+    /// if this one had never started (the clock and held keys have still moved on).
+    pub fn render_cancellable(&mut self, dt: f32, cancel: &CancelToken) -> Result<Frame, SourceError> {
         let start = Instant::now();
         let dt = if dt.is_finite() { dt.clamp(0.0, 0.25) } else { 0.0 };
         if self.is_animating() {
@@ -295,7 +304,14 @@ impl Session {
         };
         // Linear radiance only where it is averaged: a cluster sends 8-bit pixels otherwise.
         let linear = self.settings.accumulate && !changed;
-        let out = self.renderer.render(&self.scene, &pose, &frame, linear)?;
+        let out = match self.renderer.render_cancellable(&self.scene, &pose, &frame, linear, cancel) {
+            Ok(out) => out,
+            Err(e) => {
+                // The change still has to be shown.
+                self.changed |= changed;
+                return Err(e);
+            }
+        };
         match &out.film {
             Some(film) => self.accumulator.add(film),
             None => self.accumulator.reset(),

@@ -6,9 +6,12 @@
 //!
 //! - [`app`]: the eframe application (image, input, screenshots, F12 snapshots).
 //! - [`panel`]: the side panel (settings widgets, statistics, plot).
+//! - `signals` (Unix): SIGINT and SIGTERM close the window.
 
 pub mod app;
 pub mod panel;
+#[cfg(unix)]
+pub mod signals;
 
 use anyhow::{Context, Result, bail};
 use igi_session::{RenderLoop, Session};
@@ -27,7 +30,7 @@ pub struct ViewOptions {
     pub title: String,
 }
 
-/// Opens the window on `session` and runs until it is closed.
+/// Opens the window on `session` and runs until it is closed (or SIGINT or SIGTERM closes it).
 pub fn run(session: Session, options: ViewOptions) -> Result<()> {
     if let Some(path) = &options.screenshot {
         igi_render::output::check_writable(path).context("--screenshot")?;
@@ -52,12 +55,22 @@ pub fn run(session: Session, options: ViewOptions) -> Result<()> {
     };
     let title = options.title.clone();
     let app_loop = render_loop.clone();
+    #[cfg(unix)]
+    let signals = signals::StopSignals::catch().context("cannot catch SIGINT and SIGTERM")?;
+    #[cfg(unix)]
+    let signal_handle = signals.handle();
     let result = eframe::run_native(
         &title,
         native,
-        Box::new(move |cc| Ok(Box::new(app::ViewerApp::new(cc, app_loop, options)))),
+        Box::new(move |cc| {
+            #[cfg(unix)]
+            signals.close_window(cc.egui_ctx.clone())?;
+            Ok(Box::new(app::ViewerApp::new(cc, app_loop, options)))
+        }),
     )
     .map_err(|e| anyhow::anyhow!("cannot open the window: {e} (is there a display with OpenGL?)"));
+    #[cfg(unix)]
+    signal_handle.close();
     end_session(render_loop);
     result
 }

@@ -26,7 +26,14 @@ impl Drop for TestServer {
 
 /// Serves the animated room, `width` × `height`, paused and without accumulation (a frame
 /// changes only when an input changes it), on its own runtime thread.
+#[allow(dead_code)] // Not every test file uses every helper.
 pub fn start(width: u32, height: u32) -> TestServer {
+    start_with(width, height, igi_serve::Limits::default())
+}
+
+/// [`start`] within `limits`.
+#[allow(dead_code)] // Not every test file uses every helper.
+pub fn start_with(width: u32, height: u32, limits: igi_serve::Limits) -> TestServer {
     let scene = PreparedScene::new(igi_scene::builtin("animated-room").unwrap());
     let camera = *scene.camera().unwrap();
     let settings = ViewSettings {
@@ -46,7 +53,7 @@ pub fn start(width: u32, height: u32) -> TestServer {
             let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
             ready.send(listener.local_addr().unwrap()).unwrap();
             let render_loop = Arc::new(RenderLoop::spawn(session));
-            igi_serve::serve(render_loop, listener, async {
+            igi_serve::serve(render_loop, listener, limits, async {
                 let _ = stopped.await;
             })
             .await
