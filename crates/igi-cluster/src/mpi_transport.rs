@@ -155,4 +155,8 @@ impl Transport for MpiTransport {
             nap = (nap * 2).min(MAX_NAP);
         }
     }
+
+    fn abort(&mut self, code: i32) {
+        self.world.abort(code)
+    }
 }
