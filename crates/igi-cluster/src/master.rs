@@ -386,7 +386,7 @@ impl<T: Transport> Master<T> {
     /// Node `i`, silent for a while, answers again: it gets the frame in flight (unless it has
     /// it) and tiles.
     fn rejoin(&mut self, i: usize) -> Result<(), ClusterError> {
-        tracing::warn!("rank {} answers again and gets tiles again", self.nodes[i].rank);
+        tracing::warn!("rank {} answers again", self.nodes[i].rank);
         let Some(active) = &mut self.active else { return Ok(()) };
         if i < self.in_use && self.nodes[i].job != active.job.id {
             let bytes = Message::Frame(Box::new(active.job.clone())).encode();
@@ -401,9 +401,9 @@ impl<T: Transport> Master<T> {
         ClusterError::NodeLost { rank: self.nodes[lost.node].rank, silent: lost.silent }
     }
 
-    /// The position of `rank` in `nodes`.
+    /// The position of `rank` in `nodes` (which holds ranks 1, 2, … in order).
     fn index(&self, rank: usize) -> Option<usize> {
-        self.nodes.iter().position(|n| n.rank == rank)
+        rank.checked_sub(1).filter(|&i| i < self.nodes.len())
     }
 
     fn receive(&mut self) -> Result<Option<(usize, Message)>, ClusterError> {
