@@ -205,6 +205,6 @@ impl Transport for MpiTransport {
     }
 
     fn abort(&mut self, code: i32) {
-        self.world.abort(code)
+        abort_job(code)
     }
 }
