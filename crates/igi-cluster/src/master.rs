@@ -133,6 +133,9 @@ pub struct Master<T: Transport> {
     in_use: usize,
     /// Which nodes are silent, in the order of `nodes`.
     detector: FailureDetector,
+    /// When rank 0 last looked for silent nodes and overdue tiles: kept across frames, so
+    /// frames shorter than [`SWEEP`] are looked at too.
+    swept: Instant,
 }
 
 impl<T: Transport> Master<T> {
@@ -149,6 +152,7 @@ impl<T: Transport> Master<T> {
             last_frame: Duration::ZERO,
             in_use: 0,
             detector: FailureDetector::new(0, config.suspect_after, config.silence_limit),
+            swept: Instant::now(),
         };
         if size < 2 {
             return Err(ClusterError::NoWorkers);
@@ -256,7 +260,6 @@ impl<T: Transport> Master<T> {
 
     /// Handles messages until every tile of the frame in flight is in.
     fn gather(&mut self) -> Result<(), ClusterError> {
-        let mut last_sweep = Instant::now();
         loop {
             let Some(active) = &self.active else {
                 return Err(ClusterError::Protocol {
@@ -272,8 +275,8 @@ impl<T: Transport> Master<T> {
             }
             // Silence and deadlines are a second or more: looking every few milliseconds is
             // enough. Once no tile is waiting, copies of overdue tiles go to nodes with room.
-            if last_sweep.elapsed() >= SWEEP {
-                last_sweep = Instant::now();
+            if self.swept.elapsed() >= SWEEP {
+                self.swept = Instant::now();
                 self.watch()?;
                 if self.active.as_ref().is_some_and(|a| a.queue.waiting() == 0) {
                     for i in 0..self.in_use {
