@@ -46,8 +46,8 @@ pub enum ClusterError {
         /// Its reason.
         message: String,
     },
-    /// A node holding tiles has not been heard from for too long: it died or hangs.
-    #[error("rank {rank} has not answered for {:.1} s while holding tiles: it died or hangs", silent.as_secs_f64())]
+    /// A node has not been heard from for too long: it died or hangs.
+    #[error("rank {rank} has not answered for {:.1} s: it died or hangs", silent.as_secs_f64())]
     NodeLost {
         /// The node.
         rank: usize,

@@ -6,13 +6,16 @@
 //! - [`protocol`]: the messages and their encoding.
 //! - [`transport`]: [`Transport`], and the in-process transport the tests run on.
 //! - `mpi_transport` (feature `mpi`): the same over MPI, as `mpirun` or `srun` start it.
-//! - [`tile_queue`]: which tile goes where, deadlines and copies of late tiles.
+//! - [`tile_queue`]: which tile goes where, tiles of silent nodes, deadlines and copies of late
+//!   tiles.
+//! - [`failure_detector`]: which nodes are silent, and which are lost.
 //! - [`master`]: rank 0's side ([`Master`]).
 //! - [`worker`]: a render node's side ([`run_worker`]).
 //! - [`cluster_source`]: a viewer session rendered by the cluster ([`ClusterSource`]).
 
 pub mod cluster_source;
 pub mod error;
+pub mod failure_detector;
 pub mod master;
 #[cfg(feature = "mpi")]
 pub mod mpi_transport;

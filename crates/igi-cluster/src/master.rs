@@ -4,14 +4,19 @@
 //! luminance statistics in tile order, so the image and the next frame's tone map never depend
 //! on timing (paper 3.4).
 //!
-//! Faults: a tile held past the deadline (the previous frame's duration, at least a second) is
-//! copied to another node and the first copy back counts; a node silent for longer than the
-//! heartbeat timeout while it holds tiles ends the job with an error naming its rank.
+//! Faults (ARCHITECTURE.md, "Demand-driven tiles; a silent node's tiles go to the others"): a
+//! node silent for a second (no tile, no heartbeat; it beats twice a second) is suspected: it
+//! gets no more tiles and the ones it holds go to the other nodes at once, so the job carries on
+//! at their rate; as soon as it is heard from again it gets the frame in flight and tiles. A
+//! node silent for longer than the silence limit ends the job with an error naming its rank. A
+//! tile held past the deadline (the previous frame's duration, at least a second) by a node
+//! that still answers is copied to another node and the first copy back counts.
 //!
 //! Frames pipeline: [`Master::finish`] returns as soon as the last tile of a frame is in, and
 //! the caller starts the next frame with [`Master::begin`] before it shows or writes this one.
 
 use crate::error::ClusterError;
+use crate::failure_detector::{FailureDetector, Lost};
 use crate::protocol::{FrameJob, Message, PixelFormat, Ready, Setup, TilePixels, TileResult};
 use crate::tile_queue::TileQueue;
 use crate::transport::Transport;
@@ -26,7 +31,10 @@ use std::time::{Duration, Instant};
 pub struct MasterConfig {
     /// Tiles each render thread of a node holds in advance (k ≥ 2 hides a round trip).
     pub tiles_ahead: u32,
-    /// A node holding tiles and silent for this long is given up for dead.
+    /// A node silent for this long (while rank 0 listens) gets no tiles, and the ones it holds
+    /// go to the other nodes, until it is heard from again.
+    pub suspect_after: Duration,
+    /// A node silent for this long is given up for lost: the job ends.
     pub silence_limit: Duration,
     /// The shortest deadline after which a tile is copied to another node.
     pub min_deadline: Duration,
@@ -38,7 +46,13 @@ impl Default for MasterConfig {
     fn default() -> Self {
         Self {
             tiles_ahead: 4,
-            silence_limit: 6 * HEARTBEAT,
+            // Two heartbeats missed: a node that answers sends far more often than that, and a
+            // false suspicion costs only a few tiles rendered twice.
+            suspect_after: 2 * HEARTBEAT,
+            // While a node is silent the job runs at the other nodes' rate, so waiting costs
+            // little; ending is for good (an MPI job cannot take a node back), so a node gets
+            // ten seconds to come back from a pause (a stopped or swapping process).
+            silence_limit: 20 * HEARTBEAT,
             min_deadline: Duration::from_secs(1),
             setup_limit: Duration::from_secs(600),
         }
@@ -48,7 +62,7 @@ impl Default for MasterConfig {
 /// How long rank 0 waits on the transport before it checks deadlines and heartbeats.
 const POLL: Duration = Duration::from_millis(2);
 
-/// How often rank 0 looks for overdue tiles to copy.
+/// How often rank 0 looks for silent nodes and overdue tiles to copy.
 const SWEEP: Duration = Duration::from_millis(10);
 
 /// A render node as rank 0 sees it.
@@ -56,7 +70,8 @@ const SWEEP: Duration = Duration::from_millis(10);
 struct Node {
     rank: usize,
     threads: u32,
-    last_heard: Instant,
+    /// Id of the last frame job sent to it.
+    job: u64,
 }
 
 /// The frame in flight.
@@ -116,6 +131,11 @@ pub struct Master<T: Transport> {
     last_frame: Duration,
     /// Nodes that take part in frames: the first `in_use` (for scaling measurements).
     in_use: usize,
+    /// Which nodes are silent, in the order of `nodes`.
+    detector: FailureDetector,
+    /// When rank 0 last looked for silent nodes and overdue tiles: kept across frames, so
+    /// frames shorter than [`SWEEP`] are looked at too.
+    swept: Instant,
 }
 
 impl<T: Transport> Master<T> {
@@ -131,6 +151,8 @@ impl<T: Transport> Master<T> {
             active: None,
             last_frame: Duration::ZERO,
             in_use: 0,
+            detector: FailureDetector::new(0, config.suspect_after, config.silence_limit),
+            swept: Instant::now(),
         };
         if size < 2 {
             return Err(ClusterError::NoWorkers);
@@ -161,11 +183,11 @@ impl<T: Transport> Master<T> {
                 other => return Err(protocol(rank, &other)),
             }
         }
-        let now = Instant::now();
-        master.nodes = (1..size)
-            .map(|rank| Node { rank, threads: threads[rank].unwrap_or(1), last_heard: now })
-            .collect();
+        master.nodes =
+            (1..size).map(|rank| Node { rank, threads: threads[rank].unwrap_or(1), job: 0 }).collect();
         master.in_use = master.nodes.len();
+        master.detector =
+            FailureDetector::new(master.nodes.len(), config.suspect_after, config.silence_limit);
         Ok(master)
     }
 
@@ -185,8 +207,8 @@ impl<T: Transport> Master<T> {
         self.nodes.len()
     }
 
-    /// Starts a frame: sends every node the job (its `id` is assigned here) and its first
-    /// tiles. A frame still in flight is finished first.
+    /// Starts a frame: sends every node in use that is not silent the job (its `id` is
+    /// assigned here) and its first tiles. A frame still in flight is finished first.
     pub fn begin(&mut self, mut job: FrameJob) -> Result<(), ClusterError> {
         if self.active.is_some() {
             self.finish()?;
@@ -198,9 +220,12 @@ impl<T: Transport> Master<T> {
         let grid = TileGrid::new(s.width, s.height, s.tile_size);
         let bytes = Message::Frame(Box::new(job.clone())).encode();
         let mut bytes_out = 0;
-        for node in &self.nodes[..self.in_use] {
-            self.transport.send(node.rank, &bytes)?;
-            bytes_out += bytes.len() as u64;
+        for (i, node) in self.nodes[..self.in_use].iter_mut().enumerate() {
+            if !self.detector.is_suspected(i) {
+                self.transport.send(node.rank, &bytes)?;
+                node.job = job.id;
+                bytes_out += bytes.len() as u64;
+            }
         }
         self.active = Some(Active {
             job,
@@ -223,8 +248,18 @@ impl<T: Transport> Master<T> {
         let waiting = Instant::now();
         // Silence counts only while rank 0 listens: whatever nodes sent while it was busy
         // elsewhere (building its scene, writing the last frame) is still queued.
-        self.nodes.iter_mut().for_each(|n| n.last_heard = waiting);
-        let mut last_sweep = waiting;
+        self.detector.listen(waiting);
+        let gathered = self.gather();
+        self.detector.pause(Instant::now());
+        gathered?;
+        let wait = waiting.elapsed();
+        let active = self.active.take().unwrap_or_else(|| unreachable!("gather checked it"));
+        self.last_frame = active.started.elapsed();
+        Ok(assemble(active, self.nodes.len(), wait))
+    }
+
+    /// Handles messages until every tile of the frame in flight is in.
+    fn gather(&mut self) -> Result<(), ClusterError> {
         loop {
             let Some(active) = &self.active else {
                 return Err(ClusterError::Protocol {
@@ -233,52 +268,58 @@ impl<T: Transport> Master<T> {
                 });
             };
             if active.queue.is_complete() {
-                break;
+                return Ok(());
             }
-            self.check_silence()?;
             if let Some((rank, message, len)) = self.receive_sized()? {
-                let handling = Instant::now();
-                let active = self.active.as_mut().unwrap_or_else(|| unreachable!("checked above"));
-                active.bytes_in += len as u64;
-                match message {
-                    Message::Tile(result) => {
-                        let Some(node) = self.nodes.iter().position(|n| n.rank == rank) else {
-                            return Err(ClusterError::Protocol {
-                                rank,
-                                message: "a tile from an unknown rank".into(),
-                            });
-                        };
-                        if result.job == active.job.id {
-                            check_tile(rank, &active.job, &active.grid, &result)?;
-                            if active.queue.complete(result.tile, rank) {
-                                let slot = result.tile as usize;
-                                active.results[slot] = Some((node, *result));
-                            }
-                            self.hand_out(node)?;
-                        }
-                    }
-                    Message::Heartbeat => {}
-                    Message::Fatal(message) => return Err(ClusterError::NodeFailed { rank, message }),
-                    other => return Err(protocol(rank, &other)),
-                }
-                if let Some(active) = &mut self.active {
-                    active.busy += handling.elapsed();
-                }
+                self.handle(rank, message, len)?;
             }
-            // Once the fresh tiles are out, copies of overdue tiles go to nodes with room;
-            // deadlines are a second or more, so looking every few milliseconds is enough.
-            let fresh_left = self.active.as_ref().is_some_and(|a| a.queue.fresh() > 0);
-            if !fresh_left && last_sweep.elapsed() >= SWEEP {
-                last_sweep = Instant::now();
-                for i in 0..self.in_use {
-                    self.hand_out(i)?;
+            // Silence and deadlines are a second or more: looking every few milliseconds is
+            // enough. Once no tile is waiting, copies of overdue tiles go to nodes with room.
+            if self.swept.elapsed() >= SWEEP {
+                self.swept = Instant::now();
+                self.watch()?;
+                if self.active.as_ref().is_some_and(|a| a.queue.waiting() == 0) {
+                    for i in 0..self.in_use {
+                        self.hand_out(i)?;
+                    }
                 }
             }
         }
-        let wait = waiting.elapsed();
-        let active = self.active.take().unwrap_or_else(|| unreachable!("checked in the loop"));
-        self.last_frame = active.started.elapsed();
-        Ok(assemble(active, self.nodes.len(), wait))
+    }
+
+    /// A message from `rank` while a frame is in flight.
+    fn handle(&mut self, rank: usize, message: Message, len: usize) -> Result<(), ClusterError> {
+        let handling = Instant::now();
+        let node = self.index(rank);
+        let Some(active) = self.active.as_mut() else { return Ok(()) };
+        active.bytes_in += len as u64;
+        match message {
+            Message::Tile(result) => {
+                let Some(node) = node else {
+                    return Err(ClusterError::Protocol {
+                        rank,
+                        message: "a tile from an unknown rank".into(),
+                    });
+                };
+                // Tiles of earlier frames (late copies, or a node that was silent catching
+                // up) are dropped.
+                if result.job == active.job.id {
+                    check_tile(rank, &active.job, &active.grid, &result)?;
+                    if active.queue.complete(result.tile) {
+                        let slot = result.tile as usize;
+                        active.results[slot] = Some((node, *result));
+                    }
+                    self.hand_out(node)?;
+                }
+            }
+            Message::Heartbeat => {}
+            Message::Fatal(message) => return Err(ClusterError::NodeFailed { rank, message }),
+            other => return Err(protocol(rank, &other)),
+        }
+        if let Some(active) = &mut self.active {
+            active.busy += handling.elapsed();
+        }
+        Ok(())
     }
 
     /// [`Master::begin`] and [`Master::finish`]: one frame, not pipelined.
@@ -287,14 +328,23 @@ impl<T: Transport> Master<T> {
         self.finish()
     }
 
-    /// Tops node `i` up to its tiles in advance.
+    /// Tops node `i` up to its tiles in advance, if it works on the frame and answers.
     fn hand_out(&mut self, i: usize) -> Result<(), ClusterError> {
         let Some(active) = &mut self.active else { return Ok(()) };
         let node = self.nodes[i];
+        let working = |(i, n): (usize, &Node)| n.job == active.job.id && !self.detector.is_suspected(i);
+        if !working((i, &node)) {
+            return Ok(());
+        }
         // k tiles per thread ahead, fewer as the frame runs out (guided scheduling): a node
         // left holding a full queue at the end would finish its last tiles alone.
-        let threads: u32 = self.nodes[..self.in_use].iter().map(|n| n.threads).sum();
-        let share = (active.queue.fresh() * node.threads).div_ceil(threads.max(1));
+        let threads: u32 = self.nodes[..self.in_use]
+            .iter()
+            .enumerate()
+            .filter(|&n| working(n))
+            .map(|(_, n)| n.threads)
+            .sum();
+        let share = (active.queue.waiting() * node.threads).div_ceil(threads.max(1));
         let room = (node.threads * self.config.tiles_ahead).min(node.threads + share) as usize;
         let deadline = self.last_frame.max(self.config.min_deadline);
         let now = Instant::now();
@@ -313,17 +363,50 @@ impl<T: Transport> Master<T> {
         Ok(())
     }
 
-    /// A node that holds tiles and has been silent too long ends the job.
-    fn check_silence(&self) -> Result<(), ClusterError> {
-        let Some(active) = &self.active else { return Ok(()) };
+    /// Suspects the nodes that have fallen silent and hands the tiles they hold to the others;
+    /// a node silent past the limit ends the job.
+    fn watch(&mut self) -> Result<(), ClusterError> {
         let now = Instant::now();
-        for node in &self.nodes[..self.in_use] {
-            let silent = now.saturating_duration_since(node.last_heard);
-            if silent > self.config.silence_limit && active.queue.held_by(node.rank) > 0 {
-                return Err(ClusterError::NodeLost { rank: node.rank, silent });
-            }
+        let suspects = self.detector.check(now).map_err(|lost| self.lost(lost))?;
+        if suspects.is_empty() {
+            return Ok(());
+        }
+        for &i in &suspects {
+            let rank = self.nodes[i].rank;
+            let held = self.active.as_mut().map_or(0, |a| a.queue.withdraw(rank));
+            tracing::warn!(
+                "rank {rank} has not answered for {:.1} s: the other nodes render its {held} tile(s) and its share until it answers (at most {:.0} s)",
+                self.detector.silence(i, now).as_secs_f64(),
+                self.config.silence_limit.as_secs_f64()
+            );
+        }
+        for i in 0..self.in_use {
+            self.hand_out(i)?;
         }
         Ok(())
+    }
+
+    /// Node `i`, silent for a while, answers again: it gets the frame in flight (unless it has
+    /// it) and tiles.
+    fn rejoin(&mut self, i: usize) -> Result<(), ClusterError> {
+        tracing::warn!("rank {} answers again", self.nodes[i].rank);
+        let Some(active) = &mut self.active else { return Ok(()) };
+        if i < self.in_use && self.nodes[i].job != active.job.id {
+            let bytes = Message::Frame(Box::new(active.job.clone())).encode();
+            active.bytes_out += bytes.len() as u64;
+            self.transport.send(self.nodes[i].rank, &bytes)?;
+            self.nodes[i].job = active.job.id;
+        }
+        self.hand_out(i)
+    }
+
+    fn lost(&self, lost: Lost) -> ClusterError {
+        ClusterError::NodeLost { rank: self.nodes[lost.node].rank, silent: lost.silent }
+    }
+
+    /// The position of `rank` in `nodes` (which holds ranks 1, 2, … in order).
+    fn index(&self, rank: usize) -> Option<usize> {
+        rank.checked_sub(1).filter(|&i| i < self.nodes.len())
     }
 
     fn receive(&mut self) -> Result<Option<(usize, Message)>, ClusterError> {
@@ -331,11 +414,13 @@ impl<T: Transport> Master<T> {
     }
 
     /// The next message within [`POLL`], its sender and its length; the sender counts as
-    /// heard from.
+    /// heard from (and rejoins the frame if it was silent).
     fn receive_sized(&mut self) -> Result<Option<(usize, Message, usize)>, ClusterError> {
         let Some((rank, bytes)) = self.transport.recv(POLL)? else { return Ok(None) };
-        if let Some(node) = self.nodes.iter_mut().find(|n| n.rank == rank) {
-            node.last_heard = Instant::now();
+        if let Some(i) = self.index(rank) {
+            if self.detector.heard(i, Instant::now()) {
+                self.rejoin(i)?;
+            }
         }
         let message = Message::decode(&bytes).map_err(|error| ClusterError::Decode { rank, error })?;
         Ok(Some((rank, message, bytes.len())))
@@ -343,12 +428,48 @@ impl<T: Transport> Master<T> {
 }
 
 impl<T: Transport> Drop for Master<T> {
-    /// Every node stops when rank 0 does, whether the job ended or failed.
+    /// Every node stops when rank 0 does, whether the job ended or failed. A job ends only
+    /// once every rank does (`MPI_Finalize` waits for all), so rank 0 waits until every node
+    /// has said [`Message::Bye`]; a node silent for longer than the silence limit instead
+    /// (stopped, say) aborts the job with a message naming its rank, rather than leave it
+    /// hanging.
     fn drop(&mut self) {
+        self.active = None;
         let bytes = Message::Shutdown.encode();
         for rank in 1..self.transport.size() {
             let _ = self.transport.send(rank, &bytes);
         }
+        if let Err(lost) = self.await_byes() {
+            tracing::error!("{lost}");
+            self.transport.abort(1);
+        }
+    }
+}
+
+impl<T: Transport> Master<T> {
+    /// Listens until every node has said [`Message::Bye`]; one silent past the limit first is
+    /// lost. If the transport fails there is no one left to wait for.
+    fn await_byes(&mut self) -> Result<(), ClusterError> {
+        let mut staying = vec![true; self.nodes.len()];
+        self.detector.listen(Instant::now());
+        while staying.contains(&true) {
+            let now = Instant::now();
+            let silent = |i: usize| self.detector.silence(i, now);
+            if let Some(i) = (0..staying.len()).find(|&i| staying[i] && silent(i) > self.config.silence_limit)
+            {
+                return Err(ClusterError::NodeLost { rank: self.nodes[i].rank, silent: silent(i) });
+            }
+            match self.receive_sized() {
+                Ok(Some((rank, Message::Bye, _))) => {
+                    if let Some(i) = self.index(rank) {
+                        staying[i] = false;
+                    }
+                }
+                Ok(_) => {}
+                Err(_) => return Ok(()),
+            }
+        }
+        Ok(())
     }
 }
 

@@ -5,10 +5,13 @@
 //!
 //! Nothing blocks inside MPI: Open MPI's blocking calls spin (yielding, when oversubscribed,
 //! thousands of times a second), and a spinning rank 0 or a node's transport thread takes
-//! CPU from the render threads. Receiving polls `MPI_Improbe` with a short sleep between
-//! tries; sending posts `MPI_Isend` and the buffer is freed once a later call finds the send
-//! complete (measured: a node's transport thread spent 13 % of a core in `sched_yield` inside
-//! `MPI_Send`).
+//! CPU from the render threads. Sending posts `MPI_Isend` and the buffer is freed once a later
+//! call finds the send complete (measured: a node's transport thread spent 13 % of a core in
+//! `sched_yield` inside `MPI_Send`). Receiving polls `MPI_Improbe` with a short sleep between
+//! tries and starts `MPI_Imrecv` for each message it matches; a message is handed on once a
+//! later call finds it complete. A blocking receive would wait for the sender: a message
+//! beyond the eager limit (a tile of linear pixels) travels only while its sender runs, and
+//! rank 0 spun in `MPI_Mrecv` for as long as a node stopped halfway through sending one.
 
 use crate::transport::{MAX_MESSAGE, Transport, TransportError};
 use mpi::environment::Universe;
@@ -32,18 +35,41 @@ const VADER_EAGER_LIMIT: (&str, &str) = ("OMPI_MCA_btl_vader_eager_limit", "3276
 /// The longest sleep between two probes for a message.
 const MAX_NAP: Duration = Duration::from_micros(200);
 
-/// A send in flight: MPI reads `buffer` (leaked from a `Box<[u8]>`) until `request`
-/// completes, then the box is taken back.
-struct Outgoing {
+/// A send or receive in flight: MPI reads or writes `buffer` (from `Box::into_raw`) until
+/// `request` completes, then the box is taken back.
+struct InFlight {
     request: Request<'static, [u8], StaticScope>,
     buffer: *mut [u8],
+    /// The rank at the other end.
+    peer: usize,
+}
+
+impl InFlight {
+    /// The buffer, if the transfer is complete; else the transfer.
+    fn test(self) -> Result<Box<[u8]>, Self> {
+        match self.request.test() {
+            // SAFETY: the transfer is complete, so MPI no longer touches the buffer, and the
+            // pointer came from `Box::into_raw`.
+            Ok(_) => Ok(unsafe { Box::from_raw(self.buffer) }),
+            Err(request) => Err(Self { request, ..self }),
+        }
+    }
+
+    /// The buffer, once the transfer is complete.
+    fn wait(self) -> Box<[u8]> {
+        self.request.wait();
+        // SAFETY: as in `test`.
+        unsafe { Box::from_raw(self.buffer) }
+    }
 }
 
 /// This process's rank in `MPI_COMM_WORLD`. MPI is finalised when it is dropped, after every
-/// send has completed.
+/// send and receive in flight has completed.
 pub struct MpiTransport {
     world: SimpleCommunicator,
-    outgoing: Vec<Outgoing>,
+    outgoing: Vec<InFlight>,
+    /// Receives in flight, in the order their messages were matched.
+    incoming: Vec<InFlight>,
     // Dropped last: finalises MPI.
     _universe: Universe,
 }
@@ -52,22 +78,36 @@ impl MpiTransport {
     /// Frees the buffers of the sends that have completed.
     fn reap(&mut self) {
         for o in std::mem::take(&mut self.outgoing) {
-            match o.request.test() {
-                // SAFETY: the send is complete, so MPI no longer reads the buffer, and the
-                // pointer came from `Box::leak` in `send`.
-                Ok(_) => drop(unsafe { Box::from_raw(o.buffer) }),
-                Err(request) => self.outgoing.push(Outgoing { request, buffer: o.buffer }),
+            if let Err(o) = o.test() {
+                self.outgoing.push(o);
             }
         }
+    }
+
+    /// The first message received in full whose sender has no earlier message still arriving:
+    /// each rank's messages are handed on in the order it sent them, as MPI matches them.
+    fn arrived(&mut self) -> Option<(usize, Vec<u8>)> {
+        let mut arriving = Vec::new();
+        let mut i = 0;
+        while i < self.incoming.len() {
+            let peer = self.incoming[i].peer;
+            if !arriving.contains(&peer) {
+                match self.incoming.remove(i).test() {
+                    Ok(bytes) => return Some((peer, bytes.into_vec())),
+                    Err(transfer) => self.incoming.insert(i, transfer),
+                }
+                arriving.push(peer);
+            }
+            i += 1;
+        }
+        None
     }
 }
 
 impl Drop for MpiTransport {
     fn drop(&mut self) {
-        for o in self.outgoing.drain(..) {
-            o.request.wait();
-            // SAFETY: as in `reap`: the send is complete and the buffer was leaked by `send`.
-            drop(unsafe { Box::from_raw(o.buffer) });
+        for transfer in self.outgoing.drain(..).chain(self.incoming.drain(..)) {
+            drop(transfer.wait());
         }
     }
 }
@@ -96,7 +136,7 @@ impl MpiTransport {
             return Err(format!("the MPI library offers {threading:?} threading; igi needs Serialized"));
         }
         let world = universe.world();
-        Ok(Self { world, outgoing: Vec::new(), _universe: universe })
+        Ok(Self { world, outgoing: Vec::new(), incoming: Vec::new(), _universe: universe })
     }
 }
 
@@ -126,9 +166,11 @@ impl Transport for MpiTransport {
             return Err(TransportError::Closed(to));
         }
         self.reap();
-        let buffer: &'static [u8] = Box::leak(bytes.to_vec().into_boxed_slice());
-        let request = self.world.process_at_rank(rank).immediate_send_with_tag(StaticScope, buffer, TAG);
-        self.outgoing.push(Outgoing { request, buffer: std::ptr::from_ref(buffer).cast_mut() });
+        let buffer = Box::into_raw(bytes.to_vec().into_boxed_slice());
+        // SAFETY: the box is only taken back (`InFlight`) once the send is complete.
+        let data: &'static [u8] = unsafe { &*buffer };
+        let request = self.world.process_at_rank(rank).immediate_send_with_tag(StaticScope, data, TAG);
+        self.outgoing.push(InFlight { request, buffer, peer: to });
         Ok(())
     }
 
@@ -137,15 +179,21 @@ impl Transport for MpiTransport {
         let start = Instant::now();
         let mut nap = MIN_NAP;
         loop {
-            if let Some((message, status)) = self.world.any_process().immediate_matched_probe_with_tag(TAG) {
-                let rank = status.source_rank() as usize;
+            while let Some((message, status)) = self.world.any_process().immediate_matched_probe_with_tag(TAG)
+            {
+                let peer = status.source_rank() as usize;
                 let len = usize::try_from(status.count(u8::equivalent_datatype())).unwrap_or(usize::MAX);
                 if len > MAX_MESSAGE {
-                    return Err(TransportError::TooLarge { rank, len });
+                    return Err(TransportError::TooLarge { rank: peer, len });
                 }
-                let mut bytes = vec![0u8; len];
-                message.matched_receive_into(&mut bytes[..]);
-                return Ok(Some((rank, bytes)));
+                let buffer = Box::into_raw(vec![0u8; len].into_boxed_slice());
+                // SAFETY: the box is only taken back (`InFlight`) once the receive is complete.
+                let data: &'static mut [u8] = unsafe { &mut *buffer };
+                let request = message.immediate_matched_receive_into(StaticScope, data);
+                self.incoming.push(InFlight { request, buffer, peer });
+            }
+            if let Some(message) = self.arrived() {
+                return Ok(Some(message));
             }
             let left = timeout.saturating_sub(start.elapsed());
             if left.is_zero() {
@@ -154,5 +202,9 @@ impl Transport for MpiTransport {
             std::thread::sleep(nap.min(left));
             nap = (nap * 2).min(MAX_NAP);
         }
+    }
+
+    fn abort(&mut self, code: i32) {
+        abort_job(code)
     }
 }

@@ -15,7 +15,7 @@ use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
 /// The version of this protocol; a node of another build refuses to take part.
-pub const PROTOCOL_VERSION: u32 = 1;
+pub const PROTOCOL_VERSION: u32 = 2;
 
 /// What rank 0 tells a node before the first frame: which scene to load.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -137,6 +137,9 @@ pub enum Message {
     Fatal(String),
     /// Rank 0 → node: stop.
     Shutdown,
+    /// Node → rank 0: stopping, as told. Rank 0 ends the job once every node has said so (a
+    /// node that stays silent instead ends it with an error naming its rank).
+    Bye,
 }
 
 /// A message that does not decode.
@@ -159,6 +162,7 @@ impl Message {
             Self::Heartbeat => "Heartbeat",
             Self::Fatal(_) => "Fatal",
             Self::Shutdown => "Shutdown",
+            Self::Bye => "Bye",
         }
     }
 
@@ -198,6 +202,7 @@ mod tests {
             Message::Frame(Box::new(job)),
             Message::Tiles { job: 7, tiles: vec![0, 5] },
             Message::Heartbeat,
+            Message::Bye,
             Message::Tile(Box::new(TileResult {
                 job: 7,
                 tile: 5,

@@ -99,16 +99,19 @@ pub fn run_worker<T: Transport>(
                 let (tiles, after) = render_job(transport, &scheduler, &mut scene, &job, &mut last_beat)?;
                 summary.tiles += tiles;
                 match after {
-                    Some(Message::Shutdown) => return Ok(summary),
+                    Some(Message::Shutdown) => break,
                     other => next = other,
                 }
             }
-            Message::Shutdown => return Ok(summary),
+            Message::Shutdown => break,
             // Tile numbers of a job this node has left behind: rank 0 has moved on.
             Message::Tiles { .. } => {}
             other => return Err(unexpected(0, &other, "a frame")),
         }
     }
+    // Rank 0 ends the job once every node has said this (a stopped node ends it with an error).
+    transport.send(0, &Message::Bye.encode())?;
+    Ok(summary)
 }
 
 /// The next message from rank 0 within `timeout` (messages from other ranks are a protocol

@@ -1,12 +1,18 @@
 //! The cluster protocol and scheduling over the in-process transport: render nodes on
 //! threads give bit for bit the frames of the local renderer, late tiles are copied to other
-//! nodes, and a dead node or a node with other files ends the job with its rank named.
+//! nodes, a node that stops answering has its tiles rendered by the others until it answers
+//! again, and a node silent past the limit or a node with other files ends the job with its
+//! rank named.
 
 use igi_cluster::protocol::{Message, Ready};
-use igi_cluster::{ClusterError, FrameJob, InProcess, Master, MasterConfig, PixelFormat, Setup, Transport};
+use igi_cluster::transport::TransportError;
+use igi_cluster::{
+    ClusterError, FrameJob, InProcess, Master, MasterConfig, PixelFormat, Setup, Transport, WorkerSummary,
+};
 use igi_render::{
     FrameRenderer, FrameState, IgiSettings, PreparedScene, ToneMap, ToneMapper, default_camera,
 };
+use std::sync::{Arc, Condvar, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
@@ -23,8 +29,11 @@ fn setup(name: &str) -> Setup {
     }
 }
 
+/// A render node's thread.
+type Node = JoinHandle<Result<WorkerSummary, ClusterError>>;
+
 /// Starts `nodes` render nodes with one thread each; returns rank 0's transport.
-fn start(nodes: usize) -> (InProcess, Vec<JoinHandle<Result<igi_cluster::WorkerSummary, ClusterError>>>) {
+fn start(nodes: usize) -> (InProcess, Vec<Node>) {
     let mut ranks = igi_cluster::in_process(nodes + 1).into_iter();
     let root = ranks.next().unwrap();
     let handles = ranks
@@ -117,13 +126,18 @@ fn the_frame_is_independent_of_the_number_of_nodes() {
 }
 
 /// A fake node that loads nothing, answers the setup with `ready`, and then only sends
-/// heartbeats (`beat`) or nothing at all: it holds its tiles forever.
+/// heartbeats and its bye (`beat`) or nothing at all: it holds its tiles forever.
 fn stalled_node(mut t: InProcess, ready: Ready, beat: bool) -> JoinHandle<()> {
     std::thread::spawn(move || {
         t.send(0, &Message::Ready(ready).encode()).unwrap();
         loop {
             match t.recv(Duration::from_millis(100)) {
-                Ok(Some((_, bytes))) if Message::decode(&bytes).unwrap() == Message::Shutdown => return,
+                Ok(Some((_, bytes))) if Message::decode(&bytes).unwrap() == Message::Shutdown => {
+                    if beat {
+                        t.send(0, &Message::Bye.encode()).unwrap();
+                    }
+                    return;
+                }
                 Ok(_) if beat => t.send(0, &Message::Heartbeat.encode()).unwrap(),
                 Ok(_) => {}
                 Err(_) => return,
@@ -166,7 +180,11 @@ fn a_silent_node_ends_the_job_naming_its_rank() {
     let root = ranks.next().unwrap();
     let ready = Ready::Loaded { digest: load(name).digest(), threads: 1 };
     let dead = stalled_node(ranks.next().unwrap(), ready, false);
-    let config = MasterConfig { silence_limit: Duration::from_millis(300), ..MasterConfig::default() };
+    let config = MasterConfig {
+        suspect_after: Duration::from_millis(100),
+        silence_limit: Duration::from_millis(300),
+        ..MasterConfig::default()
+    };
     let mut master = Master::connect(root, &setup(name), config).unwrap();
     let start = Instant::now();
     let err = master.render(job(state, 0.0, PixelFormat::Srgb8)).unwrap_err();
@@ -175,6 +193,42 @@ fn a_silent_node_ends_the_job_naming_its_rank() {
     assert!(start.elapsed() < Duration::from_secs(5));
     drop(master);
     dead.join().unwrap();
+}
+
+#[test]
+fn the_job_carries_on_while_a_node_is_silent_and_ends_naming_it_once_silent_past_the_limit() {
+    let (root, nodes, switches) = start_stoppable(2);
+    let limit = Duration::from_secs(3);
+    let mut master = Master::connect(root, &setup("animated-room"), stop_config(limit)).unwrap();
+    let mut animation = Animation::new();
+    // Frames of two small tiles, over in far less time than rank 0 takes between two looks
+    // for silent nodes: the silence is still found.
+    animation.state.settings.width = 32;
+    animation.state.settings.height = 8;
+    animation.state.settings.tile_size = 16;
+    animation.frame(&mut master).unwrap();
+    switches[1].stop();
+    let stopped = Instant::now();
+    let mut frames_while_silent = 0;
+    let err = loop {
+        match animation.frame(&mut master) {
+            Ok(tiles) => {
+                assert_eq!(tiles[1], 0);
+                frames_while_silent += 1;
+            }
+            Err(e) => break e,
+        }
+        assert!(stopped.elapsed() < Duration::from_secs(60), "rank 2 silent for a minute, the job goes on");
+    };
+    assert!(frames_while_silent > 0, "no frame was finished while rank 2 was silent");
+    let ClusterError::NodeLost { rank, silent } = err else { panic!("{err}") };
+    assert_eq!(rank, 2, "{err}");
+    // Rank 0 looks every 10 ms while it listens, short frames or not.
+    assert!(silent > limit && silent < limit + Duration::from_secs(1), "{err}");
+    assert!(err.to_string().contains("rank 2"), "{err}");
+    drop(master);
+    switches[1].resume();
+    nodes.into_iter().for_each(|n| drop(n.join().unwrap()));
 }
 
 #[test]
@@ -205,4 +259,201 @@ fn a_node_that_cannot_load_the_scene_says_why() {
         "{err}"
     );
     assert!(handle.join().unwrap().is_err());
+}
+
+/// Stops a node's transport as SIGSTOP stops its process: while stopped, the node neither
+/// sends nor receives (its next send or receive waits), and rank 0 hears nothing from it.
+#[derive(Clone, Default)]
+struct Switch(Arc<(Mutex<bool>, Condvar)>);
+
+impl Switch {
+    fn stop(&self) {
+        *self.0.0.lock().unwrap() = true;
+    }
+
+    fn resume(&self) {
+        *self.0.0.lock().unwrap() = false;
+        self.0.1.notify_all();
+    }
+
+    fn wait_while_stopped(&self) {
+        let mut stopped = self.0.0.lock().unwrap();
+        while *stopped {
+            stopped = self.0.1.wait(stopped).unwrap();
+        }
+    }
+}
+
+/// A node's transport with a [`Switch`].
+struct Stoppable {
+    inner: InProcess,
+    switch: Switch,
+}
+
+impl Transport for Stoppable {
+    fn rank(&self) -> usize {
+        self.inner.rank()
+    }
+    fn size(&self) -> usize {
+        self.inner.size()
+    }
+    fn send(&mut self, to: usize, bytes: &[u8]) -> Result<(), TransportError> {
+        self.switch.wait_while_stopped();
+        self.inner.send(to, bytes)
+    }
+    fn recv(&mut self, timeout: Duration) -> Result<Option<(usize, Vec<u8>)>, TransportError> {
+        self.switch.wait_while_stopped();
+        self.inner.recv(timeout)
+    }
+    fn abort(&mut self, code: i32) {
+        self.inner.abort(code);
+    }
+}
+
+/// Starts `nodes` render nodes of one thread, each with a switch; returns rank 0's transport.
+fn start_stoppable(nodes: usize) -> (InProcess, Vec<Node>, Vec<Switch>) {
+    let mut ranks = igi_cluster::in_process(nodes + 1).into_iter();
+    let root = ranks.next().unwrap();
+    let switches: Vec<Switch> = (0..nodes).map(|_| Switch::default()).collect();
+    let handles = ranks
+        .zip(&switches)
+        .map(|(inner, switch)| {
+            let mut t = Stoppable { inner, switch: switch.clone() };
+            std::thread::spawn(move || {
+                igi_cluster::run_worker(&mut t, 1, |s| {
+                    igi_scene::load_named(&s.scene).map_err(|e| e.to_string())
+                })
+            })
+        })
+        .collect();
+    (root, handles, switches)
+}
+
+/// An animation of `animated-room`: frame `k` at 0.1 k s, rendered by the cluster and checked
+/// against the local renderer byte for byte (a tile of another frame would show).
+struct Animation {
+    scene: PreparedScene,
+    state: FrameState,
+    renderer: FrameRenderer,
+    next: u32,
+}
+
+impl Animation {
+    fn new() -> Self {
+        let scene = PreparedScene::new(load("animated-room"));
+        let mut state = first_frame(&scene);
+        state.settings.width = 64;
+        state.settings.height = 48;
+        Self { state, scene, renderer: FrameRenderer::new(1), next: 0 }
+    }
+
+    /// The next frame from `master`, checked; its tiles per node, or the cluster's error.
+    fn frame(&mut self, master: &mut Master<InProcess>) -> Result<Vec<u32>, ClusterError> {
+        let t = 0.1 * self.next as f32;
+        self.next += 1;
+        let remote = master.render(job(self.state, t, PixelFormat::Srgb8))?;
+        self.scene.set_time(t);
+        let local = self.renderer.render(&self.scene, &self.state, &|_, _| {}).unwrap();
+        assert!(
+            remote.srgb8.unwrap() == local.srgb8,
+            "frame {} differs from the local renderer's",
+            self.next - 1
+        );
+        Ok(remote.tiles_per_node)
+    }
+}
+
+/// Silence as the tests below set it: suspected after 200 ms; no deadline copies (an hour),
+/// so only reassignment can finish a frame whose node stopped.
+fn stop_config(silence_limit: Duration) -> MasterConfig {
+    MasterConfig {
+        suspect_after: Duration::from_millis(200),
+        silence_limit,
+        min_deadline: Duration::from_secs(3600),
+        ..MasterConfig::default()
+    }
+}
+
+#[test]
+fn a_node_that_stops_answering_has_its_tiles_rendered_by_the_others_at_once() {
+    let (root, nodes, switches) = start_stoppable(2);
+    let mut master =
+        Master::connect(root, &setup("animated-room"), stop_config(Duration::from_secs(60))).unwrap();
+    let mut animation = Animation::new();
+    let both = animation.frame(&mut master).unwrap();
+    assert_eq!(both.iter().sum::<u32>(), 12);
+    switches[1].stop();
+    // Rank 2 holds tiles of the next frame when it stops; the deadline is an hour and the
+    // silence limit a minute, so only handing its tiles to rank 1 finishes these frames.
+    for k in 0..4 {
+        let tiles =
+            animation.frame(&mut master).unwrap_or_else(|e| panic!("frame {k} while rank 2 is stopped: {e}"));
+        assert_eq!(tiles, vec![12, 0], "frame {k} while rank 2 is stopped");
+    }
+    switches[1].resume();
+    drop(master);
+    nodes.into_iter().for_each(|n| assert!(n.join().unwrap().is_ok(), "nodes end cleanly"));
+}
+
+#[test]
+fn a_node_that_answers_again_is_given_tiles_again_and_its_stale_tiles_are_dropped() {
+    let (root, nodes, switches) = start_stoppable(2);
+    let mut master =
+        Master::connect(root, &setup("animated-room"), stop_config(Duration::from_secs(60))).unwrap();
+    let mut animation = Animation::new();
+    animation.frame(&mut master).unwrap();
+    switches[1].stop();
+    for _ in 0..2 {
+        assert_eq!(animation.frame(&mut master).unwrap()[1], 0);
+    }
+    // Rank 2 catches up on the frames it missed (their tiles are of no use any more: they
+    // would show in the images, which are checked) and then takes part again.
+    switches[1].resume();
+    let back = (0..50).any(|_| animation.frame(&mut master).unwrap()[1] > 0);
+    assert!(back, "rank 2 rendered nothing in 50 frames after it answered again");
+    drop(master);
+    nodes.into_iter().for_each(|n| assert!(n.join().unwrap().is_ok(), "nodes end cleanly"));
+}
+
+#[test]
+fn a_node_still_silent_at_the_end_of_the_job_is_waited_for_then_the_job_is_aborted() {
+    let (root, nodes, switches) = start_stoppable(2);
+    let limit = Duration::from_secs(3);
+    let mut master = Master::connect(root, &setup("animated-room"), stop_config(limit)).unwrap();
+    let mut animation = Animation::new();
+    animation.frame(&mut master).unwrap();
+    switches[1].stop();
+    animation.frame(&mut master).unwrap();
+    // Over MPI the job could end only once rank 2 does: rank 0 waits for it up to the limit,
+    // then aborts the job rather than hang.
+    let ending = Instant::now();
+    drop(master);
+    assert!(ending.elapsed() < Duration::from_secs(30), "the end of the job waits for the stopped node");
+    switches[1].resume();
+    let mut results = nodes.into_iter().map(|n| n.join().unwrap());
+    drop(results.next());
+    let rank2 = results.next().unwrap();
+    assert!(
+        matches!(rank2, Err(ClusterError::Transport(TransportError::Aborted))),
+        "rank 2 finds the job aborted: {rank2:?}"
+    );
+}
+
+#[test]
+fn a_node_that_answers_while_the_job_ends_ends_with_it() {
+    let (root, nodes, switches) = start_stoppable(2);
+    let mut master =
+        Master::connect(root, &setup("animated-room"), stop_config(Duration::from_secs(60))).unwrap();
+    let mut animation = Animation::new();
+    animation.frame(&mut master).unwrap();
+    switches[1].stop();
+    animation.frame(&mut master).unwrap();
+    let switch = switches[1].clone();
+    let resume = std::thread::spawn(move || {
+        std::thread::sleep(Duration::from_millis(300));
+        switch.resume();
+    });
+    drop(master);
+    resume.join().unwrap();
+    nodes.into_iter().for_each(|n| assert!(n.join().unwrap().is_ok(), "nodes end cleanly"));
 }
