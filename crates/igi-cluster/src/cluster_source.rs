@@ -7,7 +7,7 @@ use crate::master::Master;
 use crate::protocol::{FrameJob, PixelFormat};
 use crate::transport::Transport;
 use igi_render::output::to_srgb8;
-use igi_render::{CancelToken, FrameState, PreparedScene};
+use igi_render::{CancelToken, Cancelled, FrameState, PreparedScene};
 use igi_session::{FrameSource, ScenePose, SourceError, SourceFrame};
 
 /// What to do when the cluster fails mid-session: end the job (an MPI abort, so no rank is
@@ -40,10 +40,7 @@ impl<T: Transport> FrameSource for ClusterSource<T> {
         pose: &ScenePose,
         frame: &FrameState,
         linear: bool,
-        // Rank 0 cannot abandon a frame yet (`Master` gathers every tile of the frame it
-        // began), so the frame completes; the nodes do drop their queued tiles when a newer
-        // job or a shutdown comes.
-        _cancel: &CancelToken,
+        cancel: &CancelToken,
     ) -> Result<SourceFrame, SourceError> {
         let job = FrameJob {
             id: 0,
@@ -52,10 +49,14 @@ impl<T: Transport> FrameSource for ClusterSource<T> {
             moved: pose.moved.clone(),
             pixels: if linear { PixelFormat::Linear } else { PixelFormat::Srgb8 },
         };
-        let out = self.master.render(job).map_err(|e| {
+        let fail = |e: ClusterError| {
             (self.on_failure)(&e);
             SourceError::Failed(e.to_string())
-        })?;
+        };
+        self.master.begin(job).map_err(fail)?;
+        // A cancelled frame is abandoned on rank 0; the nodes drop its tiles with the next job.
+        let out =
+            self.master.finish_cancellable(cancel).map_err(fail)?.ok_or(SourceError::Cancelled(Cancelled))?;
         let srgb8 = match (out.srgb8, &out.film) {
             (Some(bytes), _) => bytes,
             (None, Some(film)) => to_srgb8(film, &frame.tone_map),

@@ -23,7 +23,7 @@ use crate::transport::Transport;
 use crate::worker::HEARTBEAT;
 use igi_render::stats::{PhaseTimes, RayCounts};
 use igi_render::tonemap::LuminanceStats;
-use igi_render::{Film, TileGrid};
+use igi_render::{CancelToken, Film, TileGrid};
 use std::time::{Duration, Instant};
 
 /// How rank 0 schedules.
@@ -245,21 +245,32 @@ impl<T: Transport> Master<T> {
 
     /// Waits for the last tile of the frame in flight and puts the frame together.
     pub fn finish(&mut self) -> Result<ClusterFrame, ClusterError> {
+        let frame = self.finish_cancellable(&CancelToken::new())?;
+        Ok(frame.unwrap_or_else(|| unreachable!("nothing cancels the frame")))
+    }
+
+    /// [`Master::finish`], unless `cancel` ends the wait first: then the frame is abandoned
+    /// and `None` returned. Its tiles still on their way are dropped when they come (they
+    /// carry its job id), and the nodes drop the tiles they hold when the next job comes.
+    pub fn finish_cancellable(&mut self, cancel: &CancelToken) -> Result<Option<ClusterFrame>, ClusterError> {
         let waiting = Instant::now();
         // Silence counts only while rank 0 listens: whatever nodes sent while it was busy
         // elsewhere (building its scene, writing the last frame) is still queued.
         self.detector.listen(waiting);
-        let gathered = self.gather();
+        let gathered = self.gather(cancel);
         self.detector.pause(Instant::now());
-        gathered?;
-        let wait = waiting.elapsed();
+        let complete = gathered?;
         let active = self.active.take().unwrap_or_else(|| unreachable!("gather checked it"));
+        if !complete {
+            return Ok(None);
+        }
         self.last_frame = active.started.elapsed();
-        Ok(assemble(active, self.nodes.len(), wait))
+        Ok(Some(assemble(active, self.nodes.len(), waiting.elapsed())))
     }
 
-    /// Handles messages until every tile of the frame in flight is in.
-    fn gather(&mut self) -> Result<(), ClusterError> {
+    /// Handles messages until every tile of the frame in flight is in (`true`) or `cancel`
+    /// asks to stop waiting (`false`).
+    fn gather(&mut self, cancel: &CancelToken) -> Result<bool, ClusterError> {
         loop {
             let Some(active) = &self.active else {
                 return Err(ClusterError::Protocol {
@@ -268,7 +279,10 @@ impl<T: Transport> Master<T> {
                 });
             };
             if active.queue.is_complete() {
-                return Ok(());
+                return Ok(true);
+            }
+            if cancel.is_cancelled() {
+                return Ok(false);
             }
             if let Some((rank, message, len)) = self.receive_sized()? {
                 self.handle(rank, message, len)?;

@@ -63,3 +63,52 @@ fn a_cluster_session_shows_the_local_sessions_frames() {
     drop(cluster);
     nodes.into_iter().for_each(|n| assert!(n.join().unwrap().is_ok()));
 }
+
+/// The probe's frame of hours on one node (3840x2160, 64 AA samples, 4096 VPLs per pixel) is
+/// given up on rank 0 too when new input comes: the input's frame comes in seconds, and the
+/// long frame is never shown.
+#[test]
+fn a_cluster_viewer_gives_up_a_long_frame_for_new_input() {
+    use igi_session::{Input, RenderLoop};
+    use std::time::Duration;
+    let mut ranks = igi_cluster::in_process(2).into_iter();
+    let root = ranks.next().unwrap();
+    let node = ranks
+        .map(|mut t| {
+            std::thread::spawn(move || {
+                igi_cluster::run_worker(&mut t, 1, |s| {
+                    igi_scene::load_named(&s.scene).map_err(|e| e.to_string())
+                })
+            })
+        })
+        .next()
+        .unwrap();
+    let setup = Setup {
+        version: igi_cluster::protocol::PROTOCOL_VERSION,
+        scene: "cornell-box".into(),
+        files: vec![],
+        digest: igi_scene::builtin("cornell-box").unwrap().digest(),
+    };
+    let master = Master::connect(root, &setup, MasterConfig::default()).unwrap();
+    let source = ClusterSource::new(master, Box::new(|e| panic!("the cluster failed: {e}")));
+    let session = session(Some(Box::new(source)));
+    let fast = ViewSettings { accumulate: false, ..session.settings().clone() };
+    let slow = ViewSettings { width: 3840, height: 2160, vpls_per_pixel: 4096, aa: 64, ..fast.clone() };
+    let render_loop = RenderLoop::spawn(session);
+    render_loop.send(Input::Settings { settings: fast.clone() });
+    render_loop.latest().wait_newer(0, Duration::from_secs(30)).expect("a first frame");
+    render_loop.send(Input::Settings { settings: slow });
+    // Let the long frame start.
+    std::thread::sleep(Duration::from_secs(1));
+    let seq = render_loop.send(Input::Settings { settings: fast.clone() });
+    let mut frame = render_loop.latest().get().unwrap();
+    while frame.stats.input_seq < seq {
+        let Some(newer) = render_loop.latest().wait_newer(frame.stats.id, Duration::from_secs(20)) else {
+            panic!("no frame within 20 s of the input: rank 0 waited for the long frame");
+        };
+        assert_eq!(newer.stats.settings, fast, "frame {} has the long frame's settings", newer.stats.id);
+        frame = newer;
+    }
+    drop(render_loop);
+    assert!(node.join().unwrap().is_ok());
+}
