@@ -21,7 +21,7 @@ pub enum ColorSpace {
 }
 
 /// The texels of an [`Image`], row-major, row 0 at the top, RGBA.
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub enum Texels {
     /// 8 bits per channel as the file stored them: R, G and B in `space`, alpha linear.
     Rgba8 {
@@ -39,6 +39,17 @@ pub enum Texels {
     },
     /// Linear-light floats.
     RgbaF32(Arc<Vec<[f32; 4]>>),
+}
+
+/// Names the storage and counts the texels: a texture's millions of values help no message.
+impl std::fmt::Debug for Texels {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Rgba8 { texels, space } => write!(f, "Rgba8({} texels, {space:?})", texels.len()),
+            Self::Rgba16 { texels, space } => write!(f, "Rgba16({} texels, {space:?})", texels.len()),
+            Self::RgbaF32(texels) => write!(f, "RgbaF32({} texels)", texels.len()),
+        }
+    }
 }
 
 /// A grid of texels: a decoded image, or one level of a mipmap.
