@@ -3,9 +3,10 @@
 //! accumulate, one frame behind the local session (whose first frame had linear pixels too),
 //! and give the same images byte for byte.
 
-use igi_cluster::{ClusterSource, Master, MasterConfig, Setup};
+use igi_cluster::{ClusterError, ClusterSource, InProcess, Master, MasterConfig, Setup, WorkerSummary};
 use igi_render::PreparedScene;
 use igi_session::{Session, ViewSettings};
+use std::thread::JoinHandle;
 
 fn session(source: Option<Box<dyn igi_session::FrameSource>>) -> Session {
     let scene = PreparedScene::new(igi_scene::builtin("cornell-box").unwrap());
@@ -22,11 +23,12 @@ fn session(source: Option<Box<dyn igi_session::FrameSource>>) -> Session {
     }
 }
 
-#[test]
-fn a_cluster_session_shows_the_local_sessions_frames() {
-    let mut ranks = igi_cluster::in_process(3).into_iter();
+/// A cluster of `nodes` one-thread render nodes (threads over the in-process transport) on
+/// the Cornell box, as a session's frame source, and the nodes' threads.
+fn cluster(nodes: usize) -> (ClusterSource<InProcess>, Vec<JoinHandle<Result<WorkerSummary, ClusterError>>>) {
+    let mut ranks = igi_cluster::in_process(nodes + 1).into_iter();
     let root = ranks.next().unwrap();
-    let nodes: Vec<_> = ranks
+    let nodes = ranks
         .map(|mut t| {
             std::thread::spawn(move || {
                 igi_cluster::run_worker(&mut t, 1, |s| {
@@ -42,7 +44,12 @@ fn a_cluster_session_shows_the_local_sessions_frames() {
         digest: igi_scene::builtin("cornell-box").unwrap().digest(),
     };
     let master = Master::connect(root, &setup, MasterConfig::default()).unwrap();
-    let source = ClusterSource::new(master, Box::new(|e| panic!("the cluster failed: {e}")));
+    (ClusterSource::new(master, Box::new(|e| panic!("the cluster failed: {e}"))), nodes)
+}
+
+#[test]
+fn a_cluster_session_shows_the_local_sessions_frames() {
+    let (source, nodes) = cluster(2);
     let mut cluster = session(Some(Box::new(source)));
     let mut local = session(None);
 
@@ -71,26 +78,7 @@ fn a_cluster_session_shows_the_local_sessions_frames() {
 fn a_cluster_viewer_gives_up_a_long_frame_for_new_input() {
     use igi_session::{Input, RenderLoop};
     use std::time::Duration;
-    let mut ranks = igi_cluster::in_process(2).into_iter();
-    let root = ranks.next().unwrap();
-    let node = ranks
-        .map(|mut t| {
-            std::thread::spawn(move || {
-                igi_cluster::run_worker(&mut t, 1, |s| {
-                    igi_scene::load_named(&s.scene).map_err(|e| e.to_string())
-                })
-            })
-        })
-        .next()
-        .unwrap();
-    let setup = Setup {
-        version: igi_cluster::protocol::PROTOCOL_VERSION,
-        scene: "cornell-box".into(),
-        files: vec![],
-        digest: igi_scene::builtin("cornell-box").unwrap().digest(),
-    };
-    let master = Master::connect(root, &setup, MasterConfig::default()).unwrap();
-    let source = ClusterSource::new(master, Box::new(|e| panic!("the cluster failed: {e}")));
+    let (source, nodes) = cluster(1);
     let session = session(Some(Box::new(source)));
     let fast = ViewSettings { accumulate: false, ..session.settings().clone() };
     let slow = ViewSettings { width: 3840, height: 2160, vpls_per_pixel: 4096, aa: 64, ..fast.clone() };
@@ -110,5 +98,5 @@ fn a_cluster_viewer_gives_up_a_long_frame_for_new_input() {
         frame = newer;
     }
     drop(render_loop);
-    assert!(node.join().unwrap().is_ok());
+    nodes.into_iter().for_each(|n| assert!(n.join().unwrap().is_ok()));
 }
