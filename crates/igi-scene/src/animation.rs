@@ -13,7 +13,7 @@
 //! Catmull-Rom tangents (Catmull & Rom 1974), computed for uneven key spacing, and zero
 //! tangents at the first and last key, so a motion eases in and out there.
 
-use crate::model::Light;
+use crate::light::Light;
 use glam::{Affine3A, EulerRot, Quat, Vec3};
 
 /// How a track interpolates between two keys.

@@ -54,7 +54,8 @@ use gltf::mesh::Mode;
 
 use crate::animation::{AnimatedInstance, AnimatedLight, AnimationNode, RotationTrack, Track};
 use crate::error::{Location, SceneError};
-use crate::model::{Camera, Instance, Light, Material, MaterialKind, Scene, Wrap};
+use crate::light::Light;
+use crate::model::{Camera, Instance, Material, MaterialKind, Scene, Wrap};
 use crate::report::LoadReport;
 use crate::resources;
 use crate::texels::ColorSpace;

@@ -107,7 +107,8 @@ use crate::animation::{
 };
 use crate::environment::Environment;
 use crate::error::{Location, SceneError};
-use crate::model::{Camera, Instance, Light, Material, Mesh, Scene};
+use crate::light::Light;
+use crate::model::{Camera, Instance, Material, Mesh, Scene};
 use crate::report::LoadReport;
 use crate::resources;
 use crate::shader::{Pattern, ShaderDesc};
