@@ -89,21 +89,6 @@ const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_transmission",
 ];
 
-/// Loads a `.gltf` or `.glb` file and the buffers and images it references.
-pub fn load(path: &Path, report: &mut LoadReport) -> Result<Scene, SceneError> {
-    TextureSet::default().owning(|textures| load_into(path, textures, report))
-}
-
-/// Loads a glTF file whose textures go into `textures` (the scene's).
-pub(crate) fn load_into(
-    path: &Path,
-    textures: &mut TextureSet,
-    report: &mut LoadReport,
-) -> Result<Scene, SceneError> {
-    let bytes = resources::read(path, report)?;
-    parse_file(&bytes, path, Some(&resources::base_dir(path)), textures, report)
-}
-
 /// Parses a glTF document or GLB container held in memory; `name` is used in messages.
 /// External buffers and images are looked up in `base_dir`; with `None` only embedded data
 /// (GLB chunks, `data:` URIs) is available and an external buffer is an error.
@@ -116,7 +101,9 @@ pub fn parse(
     TextureSet::default().owning(|textures| parse_file(bytes, Path::new(name), base_dir, textures, report))
 }
 
-fn parse_file(
+/// Parses the glTF document or GLB container of `file`, whose external buffers and images
+/// are looked up in `base_dir` and whose textures go into `textures` (the scene's).
+pub(crate) fn parse_file(
     bytes: &[u8],
     file: &Path,
     base_dir: Option<&Path>,

@@ -41,21 +41,6 @@ use crate::validate::{MeshBuilder, Part};
 /// Name of the single `mtllib` statement `prepare` writes; its loader ignores the name.
 const HOISTED_LIBRARY: &str = "materials";
 
-/// Loads an OBJ file and the material libraries and textures it references.
-pub fn load(path: &Path, report: &mut LoadReport) -> Result<Scene, SceneError> {
-    TextureSet::default().owning(|textures| load_into(path, textures, report))
-}
-
-/// Loads an OBJ file whose textures go into `textures` (the scene's).
-pub(crate) fn load_into(
-    path: &Path,
-    textures: &mut TextureSet,
-    report: &mut LoadReport,
-) -> Result<Scene, SceneError> {
-    let bytes = resources::read(path, report)?;
-    parse_file(&bytes, path, Some(&resources::base_dir(path)), textures, report)
-}
-
 /// Parses OBJ text. `name` is used in messages. Material libraries and textures are looked up
 /// in `base_dir`; with `None` nothing is read from disk and materials fall back to defaults.
 pub fn parse(
@@ -67,7 +52,9 @@ pub fn parse(
     TextureSet::default().owning(|textures| parse_file(bytes, Path::new(name), base_dir, textures, report))
 }
 
-fn parse_file(
+/// Parses the OBJ text of `file`, whose material libraries and textures are looked up in
+/// `base_dir` and whose textures go into `textures` (the scene's).
+pub(crate) fn parse_file(
     bytes: &[u8],
     file: &Path,
     base_dir: Option<&Path>,

@@ -24,21 +24,15 @@ use ply_rs_bw::ply::{
 use crate::error::{Location, SceneError};
 use crate::model::{Instance, Material, Scene};
 use crate::report::LoadReport;
-use crate::resources;
 use crate::validate::{MeshBuilder, Part};
-
-/// Loads a PLY file.
-pub fn load(path: &Path, report: &mut LoadReport) -> Result<Scene, SceneError> {
-    let bytes = resources::read(path, report)?;
-    parse_file(&bytes, path, report)
-}
 
 /// Parses a PLY file held in memory; `name` is used in messages and as the mesh name.
 pub fn parse(bytes: &[u8], name: &str, report: &mut LoadReport) -> Result<Scene, SceneError> {
     parse_file(bytes, Path::new(name), report)
 }
 
-fn parse_file(bytes: &[u8], file: &Path, report: &mut LoadReport) -> Result<Scene, SceneError> {
+/// Parses the PLY bytes of `file`.
+pub(crate) fn parse_file(bytes: &[u8], file: &Path, report: &mut LoadReport) -> Result<Scene, SceneError> {
     let mut reader = Reader::new(bytes);
     let header = Parser::<Skip>::new().read_header(&mut reader).map_err(|e| {
         SceneError::parse(file, e.line().map_or(Location::File, Location::Line), message_of(&e))

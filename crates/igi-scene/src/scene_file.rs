@@ -107,6 +107,7 @@ use crate::animation::{
 };
 use crate::environment::Environment;
 use crate::error::{Location, SceneError};
+use crate::format;
 use crate::light::Light;
 use crate::model::{Camera, Instance, Material, Mesh, Scene};
 use crate::report::LoadReport;
@@ -114,11 +115,7 @@ use crate::resources;
 use crate::shader::{Pattern, ShaderDesc};
 use crate::texels::ColorSpace;
 use crate::texture::TextureSet;
-
-/// Loads a scene file and every mesh file it names.
-pub fn load(path: &Path, report: &mut LoadReport) -> Result<Scene, SceneError> {
-    TextureSet::default().owning(|textures| load_into(path, textures, report))
-}
+use crate::validate::MAX_INSTANCES;
 
 /// Loads a scene file whose textures (those of every mesh file and the sky's) go into
 /// `textures`, so each image is decoded once for the whole scene and within one budget.
@@ -645,14 +642,11 @@ fn parse_file(
         let sub = load_mesh_file(&check, dir, index, &mesh.file, textures, report)?;
         let count =
             placements.len().saturating_mul(sub.instances.len()).saturating_add(scene.instances.len());
-        if count > crate::MAX_INSTANCES {
+        if count > MAX_INSTANCES {
             return Err(check.error(
                 &span,
                 format!("{path}instances"),
-                format!(
-                    "the scene would have {count} instances; it may have at most {}",
-                    crate::MAX_INSTANCES
-                ),
+                format!("the scene would have {count} instances; it may have at most {}", MAX_INSTANCES),
             ));
         }
         append(&mut scene, sub, &placements, &own, material);
@@ -767,14 +761,14 @@ fn load_mesh_file(
         at: at(),
         missing: dir.join(name),
     })?;
-    if !crate::is_model_file(&path) {
+    if !format::is_model_file(&path) {
         return Err(SceneError::unsupported(
             check.file,
             at(),
             format!("`{name}` is not an .obj, .gltf, .glb or .ply file"),
         ));
     }
-    crate::load_model_file(&path, textures, report)
+    format::load_model_file(&path, textures, report)
 }
 
 fn material_override(
@@ -1208,11 +1202,11 @@ fn camera_from(check: &Checker, camera: &Spanned<CameraSpec>) -> Result<Camera, 
 
 /// 1-based line of a byte offset.
 /// Largest scene file. Scene files place and light meshes that live in files of their own;
-/// a scene of [`MAX_INSTANCES`](crate::MAX_INSTANCES) instances takes a few MiB.
+/// a scene of [`MAX_INSTANCES`] instances takes a few MiB.
 const MAX_SCENE_FILE_BYTES: usize = 16 << 20;
 /// Most inline tables (`{ ... }`) a scene file may hold: one per instance, and as many again
 /// for keyframes and materials.
-const MAX_INLINE_TABLES: usize = 2 * crate::MAX_INSTANCES;
+const MAX_INLINE_TABLES: usize = 2 * MAX_INSTANCES;
 
 /// Bounds what parsing `text` can take before it is parsed. `toml` holds each inline table of a
 /// document in a map of about a kilobyte, so a file of ten million short `{}` entries would
@@ -1231,7 +1225,7 @@ fn check_size(text: &str, file: &Path) -> Result<(), SceneError> {
         return refuse(format!(
             "{tables} inline tables (`{{ ... }}`); a scene file may have at most {MAX_INLINE_TABLES} \
              (a scene at most {} instances)",
-            crate::MAX_INSTANCES
+            MAX_INSTANCES
         ));
     }
     Ok(())

@@ -1,5 +1,6 @@
-//! Mesh validation shared by every loader: [`MeshBuilder`] turns the raw pieces a parser
-//! produced into a [`Mesh`] that keeps the model's promises.
+//! Validation shared by every loader: [`MeshBuilder`] turns the raw pieces a parser produced
+//! into a [`Mesh`] that keeps the model's promises, and [`MAX_INSTANCES`] bounds a scene's
+//! instances.
 //!
 //! Those promises (see [`Mesh`]) are what lets the BVH builder and the shaders skip checks on
 //! their hot paths: every coordinate finite, every index in range, every triangle of non-zero
@@ -10,10 +11,29 @@
 
 use std::collections::HashMap;
 use std::fmt;
+use std::path::Path;
 
 use glam::{DVec3, Vec2, Vec3};
 
+use crate::error::{Location, SceneError};
 use crate::model::Mesh;
+
+/// Most instances a scene may have. Far above real scenes (the paper's largest has four), it
+/// bounds what a hostile file can cost: every ray may meet every instance when they overlap,
+/// and 100,000 coincident instances still render a small frame in seconds.
+pub const MAX_INSTANCES: usize = 100_000;
+
+/// Refuses a scene of more than [`MAX_INSTANCES`] instances.
+pub(crate) fn check_instance_count(file: &Path, count: usize) -> Result<(), SceneError> {
+    if count <= MAX_INSTANCES {
+        return Ok(());
+    }
+    Err(SceneError::invalid(
+        file,
+        Location::File,
+        format!("{count} instances; a scene may have at most {MAX_INSTANCES}"),
+    ))
+}
 
 /// One piece of a mesh with a single material: an OBJ material group, a glTF primitive, a PLY
 /// file. Indices are local to the part.
