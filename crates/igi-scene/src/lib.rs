@@ -37,6 +37,7 @@ mod report;
 mod resources;
 pub mod scene_file;
 mod shader;
+mod statements;
 mod texels;
 mod texture;
 mod validate;

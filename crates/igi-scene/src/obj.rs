@@ -28,13 +28,14 @@
 use std::collections::HashSet;
 use std::path::Path;
 
-use glam::{Affine3A, Vec2, Vec3};
+use glam::{Vec2, Vec3};
 
 use crate::error::{Location, SceneError};
-use crate::model::{Instance, Material, Scene};
-use crate::mtl::{self, split_keyword, strip_comment};
+use crate::model::{Material, Scene};
+use crate::mtl;
 use crate::report::LoadReport;
 use crate::resources;
+use crate::statements::{Statement, statements};
 use crate::texture::TextureSet;
 use crate::validate::{MeshBuilder, Part};
 
@@ -116,15 +117,7 @@ pub(crate) fn parse_file(
     if built.normals_dropped {
         report.warn(file, "normals dropped: only some faces have them");
     }
-
-    let mut scene = Scene { materials, ..Scene::default() };
-    if built.mesh.indices.is_empty() {
-        report.warn(file, "no triangles");
-    } else {
-        scene.meshes.push(built.mesh);
-        scene.instances.push(Instance { mesh: 0, transform: Affine3A::IDENTITY });
-    }
-    Ok(scene)
+    Ok(built.into_scene(materials, file, report))
 }
 
 /// Name of the mesh of `file`: its stem.
@@ -219,11 +212,8 @@ fn prepare(text: &str, file: &Path) -> Result<Prepared, SceneError> {
     let mut seen_names = HashSet::new();
     let mut counts = Counts::default();
     let mut body = String::with_capacity(text.len());
-    for (index, raw) in text.lines().enumerate() {
-        let line_number = index + 1;
+    for Statement { line: line_number, keyword, rest, .. } in statements(text) {
         let error = |message: String| SceneError::parse(file, Location::Line(line_number), message);
-        let line = strip_comment(raw).trim();
-        let (keyword, rest) = split_keyword(line);
         match keyword {
             "v" => {
                 let tokens: Vec<&str> = rest.split_whitespace().collect();
@@ -354,6 +344,8 @@ fn check_face_vertex(token: &str, counts: &Counts) -> Result<(), String> {
 #[cfg(test)]
 mod tests {
     use std::collections::HashMap;
+
+    use glam::Affine3A;
 
     use super::*;
 

@@ -15,14 +15,14 @@
 use std::io::BufRead;
 use std::path::Path;
 
-use glam::{Affine3A, Vec2, Vec3};
+use glam::{Vec2, Vec3};
 use ply_rs_bw::parser::{Parser, Reader};
 use ply_rs_bw::ply::{
     ElementDef, Encoding, Header, PropertyAccess, PropertyAccessResult, PropertyType, ScalarType,
 };
 
 use crate::error::{Location, SceneError};
-use crate::model::{Instance, Material, Scene};
+use crate::model::{Material, Scene};
 use crate::report::LoadReport;
 use crate::validate::{MeshBuilder, Part};
 
@@ -124,15 +124,7 @@ pub(crate) fn parse_file(bytes: &[u8], file: &Path, report: &mut LoadReport) -> 
     })?;
     let built = builder.finish();
     report.degenerate(file, short_faces + built.degenerate);
-
-    let mut scene = Scene { materials: vec![Material::default()], ..Scene::default() };
-    if built.mesh.indices.is_empty() {
-        report.warn(file, "no triangles");
-    } else {
-        scene.meshes.push(built.mesh);
-        scene.instances.push(Instance { mesh: 0, transform: Affine3A::IDENTITY });
-    }
-    Ok(scene)
+    Ok(built.into_scene(vec![Material::default()], file, report))
 }
 
 /// `ply-rs-bw` messages start with "Line N:" when they know a line; the line goes into the
