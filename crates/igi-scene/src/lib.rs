@@ -44,7 +44,7 @@ mod validate;
 
 use std::path::Path;
 
-pub use animation::{Animation, Interpolation, Pose, Track};
+pub use animation::{Animation, Pose, Track};
 pub use builtin::{builtin, builtin_names};
 pub use environment::Environment;
 pub use error::{Location, SceneError};

@@ -1,5 +1,5 @@
-//! Wavefront OBJ files, parsed by `tobj`, become one [`Mesh`](crate::Mesh) (all objects and groups merged,
-//! a material per triangle) placed by one identity [`Instance`].
+//! Wavefront OBJ files, parsed by `tobj`, become one [`Mesh`](crate::Mesh) (all objects and
+//! groups merged, a material per triangle) placed by one identity [`Instance`](crate::Instance).
 //!
 //! `tobj` is used for what it does well (grouping by material, building unique vertices from
 //! the separate `v/vt/vn` index streams, triangulating). It is not fed the file directly,

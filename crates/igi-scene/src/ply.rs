@@ -1,5 +1,6 @@
 //! Stanford PLY files (ascii, binary little and big endian), parsed by `ply-rs-bw`, become one
-//! [`Mesh`](crate::Mesh) with one grey default material, placed by one identity [`Instance`].
+//! [`Mesh`](crate::Mesh) with one grey default material, placed by one identity
+//! [`Instance`](crate::Instance).
 //!
 //! Read from the `vertex` element: `x y z` of any numeric type, `nx ny nz` if all three are
 //! present, texture coordinates from `u v`, `s t` or `texture_u texture_v` (v flipped to the
