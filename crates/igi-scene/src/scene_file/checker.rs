@@ -47,7 +47,7 @@ impl Checker<'_> {
     }
 
     /// [`Checker::vector`] with the path formatted only for a message.
-    pub(super) fn vector_at(
+    fn vector_at(
         &self,
         span: &Range<usize>,
         path: impl FnOnce() -> String,
