@@ -71,6 +71,21 @@ impl Checker<'_> {
         };
         track.map(Some).map_err(|e| self.error(span, format!("{path}keys"), format!("`{field}` keys: {e}")))
     }
+
+    /// The track of a position or angles field (`translate`, `rotate`, `position`), read from
+    /// each key by `value`: finite vectors.
+    pub(super) fn vector_track(
+        &self,
+        span: &Range<usize>,
+        path: &str,
+        spec: &AnimationSpec,
+        field: &str,
+        value: impl Fn(&KeySpec) -> Option<[f32; 3]>,
+    ) -> Result<Option<Track<Vec3>>, SceneError> {
+        self.track(span, path, spec, field, |key, at| {
+            value(key).map(|v| self.vector(span, at, v)).transpose()
+        })
+    }
 }
 
 /// Makes the tracks of one entry repeat with the entry's period (the last key time of any of

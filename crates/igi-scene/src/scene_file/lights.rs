@@ -123,12 +123,8 @@ fn quad_node(
 ) -> Result<AnimationNode, SceneError> {
     let path = format!("{path}animation.");
     check.keys(span, &path, spec, LightKind::Quad.keyed_fields(), "a quad light")?;
-    let translation = check.track(span, &path, spec, "position", |key, at| {
-        key.position.map(|v| check.vector(span, at, v)).transpose()
-    })?;
-    let rotation = check.track(span, &path, spec, "rotate", |key, at| {
-        key.rotate.map(|v| check.vector(span, at, v)).transpose()
-    })?;
+    let translation = check.vector_track(span, &path, spec, "position", |key| key.position)?;
+    let rotation = check.vector_track(span, &path, spec, "rotate", |key| key.rotate)?;
     let [translation, rotation] = looped([translation, rotation], spec);
     Ok(AnimationNode {
         translation,
@@ -148,9 +144,7 @@ fn light_animation(
 ) -> Result<AnimatedLight, SceneError> {
     let path = format!("{path}animation.");
     check.keys(span, &path, spec, kind.keyed_fields(), &format!("a {} light", kind.name()))?;
-    let position = check.track(span, &path, spec, "position", |key, at| {
-        key.position.map(|v| check.vector(span, at, v)).transpose()
-    })?;
+    let position = check.vector_track(span, &path, spec, "position", |key| key.position)?;
     let direction = check.track(span, &path, spec, "direction", |key, at| {
         key.direction.map(|v| check.direction(span, at, v)).transpose()
     })?;

@@ -87,12 +87,8 @@ fn mesh_node(
     };
     let path = format!("{path}animation.");
     check.keys(span, &path, spec, &["translate", "rotate", "scale"], "a mesh")?;
-    let translation = check.track(span, &path, spec, "translate", |key, at| {
-        key.translate.map(|v| check.vector(span, at, v)).transpose()
-    })?;
-    let rotation = check.track(span, &path, spec, "rotate", |key, at| {
-        key.rotate.map(|v| check.vector(span, at, v)).transpose()
-    })?;
+    let translation = check.vector_track(span, &path, spec, "translate", |key| key.translate)?;
+    let rotation = check.vector_track(span, &path, spec, "rotate", |key| key.rotate)?;
     let scale = check.track(span, &path, spec, "scale", |key, at| {
         key.scale.map(|v| check.scale(span, || at, v)).transpose()
     })?;
