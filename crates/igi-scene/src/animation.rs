@@ -13,12 +13,12 @@
 //! Catmull-Rom tangents (Catmull & Rom 1974), computed for uneven key spacing, and zero
 //! tangents at the first and last key, so a motion eases in and out there.
 
-use crate::model::Light;
+use crate::light::Light;
 use glam::{Affine3A, EulerRot, Quat, Vec3};
 
 /// How a track interpolates between two keys.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Interpolation {
+enum Interpolation {
     /// The earlier key's value, until the next key.
     Step,
     /// Linear (slerp for rotations).
@@ -222,16 +222,6 @@ impl<T: Keyable> Track<T> {
     /// Time of the last key.
     pub fn end(&self) -> f32 {
         *self.times.last().expect("a track has keys")
-    }
-
-    /// The period, if the track repeats.
-    pub fn period(&self) -> Option<f32> {
-        self.period
-    }
-
-    /// The interpolation between keys.
-    pub fn interpolation(&self) -> Interpolation {
-        self.interpolation
     }
 
     /// The value at time `t` (seconds). Before the first key the first value holds, after the

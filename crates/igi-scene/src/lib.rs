@@ -26,7 +26,9 @@ mod builtin;
 mod digest;
 mod environment;
 mod error;
+mod format;
 pub mod gltf_loader;
+mod light;
 mod model;
 pub mod mtl;
 pub mod obj;
@@ -35,78 +37,29 @@ mod report;
 mod resources;
 pub mod scene_file;
 mod shader;
+mod statements;
 mod texels;
 mod texture;
 mod validate;
 
 use std::path::Path;
 
-pub use animation::{Animation, Interpolation, Pose, Track};
+pub use animation::{Animation, Pose, Track};
 pub use builtin::{builtin, builtin_names};
 pub use environment::Environment;
 pub use error::{Location, SceneError};
+use format::{Format, format_of};
+pub use light::Light;
 pub use model::CameraDefect;
-pub use model::{Bounds, Camera, Instance, Light, Material, MaterialKind, Mesh, Scene, Texture, Wrap};
+pub use model::{Bounds, Camera, Instance, Material, MaterialKind, Mesh, Scene, Texture, Wrap};
 pub use report::LoadReport;
 pub use resources::read_regular_file;
 pub use shader::{Pattern, ShaderDesc};
 pub use texels::{ColorSpace, Image, Texels, srgb_to_linear};
 pub use texture::DEFAULT_TEXTURE_BUDGET;
 use texture::TextureSet;
-
-/// The file formats [`load`] reads, by extension.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Format {
-    Obj,
-    Gltf,
-    Ply,
-    SceneFile,
-}
-
-fn format_of(path: &Path) -> Option<Format> {
-    let extension = path.extension()?.to_str()?.to_ascii_lowercase();
-    match extension.as_str() {
-        "obj" => Some(Format::Obj),
-        "gltf" | "glb" => Some(Format::Gltf),
-        "ply" => Some(Format::Ply),
-        "toml" => Some(Format::SceneFile),
-        _ => None,
-    }
-}
-
-/// Refuses a scene of more than [`MAX_INSTANCES`] instances.
-pub(crate) fn check_instance_count(file: &Path, count: usize) -> Result<(), SceneError> {
-    if count <= MAX_INSTANCES {
-        return Ok(());
-    }
-    Err(SceneError::invalid(
-        file,
-        Location::File,
-        format!("{count} instances; a scene may have at most {MAX_INSTANCES}"),
-    ))
-}
-
-/// True if `path` names a mesh file (`.obj`, `.gltf`, `.glb`, `.ply`).
-pub(crate) fn is_model_file(path: &Path) -> bool {
-    matches!(format_of(path), Some(Format::Obj | Format::Gltf | Format::Ply))
-}
-
-/// Loads a mesh file (`.obj`, `.gltf`, `.glb`, `.ply`): what a scene file may place. Its
-/// textures go into `textures` (the scene's).
-pub(crate) fn load_model_file(
-    path: &Path,
-    textures: &mut TextureSet,
-    report: &mut LoadReport,
-) -> Result<Scene, SceneError> {
-    match format_of(path) {
-        Some(Format::Obj) => obj::load_into(path, textures, report),
-        Some(Format::Gltf) => gltf_loader::load_into(path, textures, report),
-        Some(Format::Ply) => ply::load(path, report),
-        Some(Format::SceneFile) | None => {
-            Err(SceneError::UnknownFormat { file: path.to_path_buf(), builtin_hint: false })
-        }
-    }
-}
+pub use validate::MAX_INSTANCES;
+use validate::check_instance_count;
 
 /// Loads a scene from a file, choosing the format by extension: `.obj`, `.gltf`, `.glb`,
 /// `.ply` or `.toml` (scene file). Warnings are logged through `tracing`; use
@@ -119,11 +72,6 @@ pub fn load(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
 pub fn load_with_report(path: impl AsRef<Path>) -> Result<(Scene, LoadReport), SceneError> {
     load_with(path.as_ref(), &LoadOptions::default())
 }
-
-/// Most instances a scene may have. Far above real scenes (the paper's largest has four), it
-/// bounds what a hostile file can cost: every ray may meet every instance when they overlap,
-/// and 100,000 coincident instances still render a small frame in seconds.
-pub const MAX_INSTANCES: usize = 100_000;
 
 /// What a load may take.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -148,7 +96,7 @@ pub fn load_with(path: &Path, options: &LoadOptions) -> Result<(Scene, LoadRepor
         if format_of(path) == Some(Format::SceneFile) {
             scene_file::load_into(path, textures, &mut report)
         } else {
-            load_model_file(path, textures, &mut report)
+            format::load_model_file(path, textures, &mut report)
         }
     })?;
     check_instance_count(path, scene.instances.len())?;

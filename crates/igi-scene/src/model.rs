@@ -1,12 +1,14 @@
 //! The scene model every loader produces and every renderer consumes: triangle meshes,
 //! materials, textures, lights, a camera and instances of meshes.
 //!
-//! Conventions (DESIGN.md section 4): right-handed, +Y up, linear RGB radiometric quantities.
-//! Area lights are not a separate type: any triangle whose material has a non-zero `emission`
-//! is an area light, and a `quad` light of a scene file becomes two such triangles.
+//! Conventions: right-handed, +Y up, linear RGB radiometric quantities. Area lights are not a
+//! separate type: any triangle whose material has a non-zero `emission` is an area light, and a
+//! `quad` light of a scene file becomes two such triangles; punctual and distant lights are
+//! [`Light`]s.
 
 use crate::animation::Animation;
 use crate::environment::Environment;
+use crate::light::Light;
 use crate::shader::ShaderDesc;
 use crate::texels::{Image, Texels};
 use glam::{Affine3A, Vec2, Vec3};
@@ -154,36 +156,6 @@ pub enum Wrap {
     Clamp,
     /// The image tiles the plane, every other copy mirrored.
     MirroredRepeat,
-}
-
-/// A punctual or distant light source. Area lights are emissive triangles (see the module doc).
-#[derive(Clone, Debug, PartialEq)]
-pub enum Light {
-    /// Isotropic point light with radiant intensity `intensity` in W/sr.
-    Point {
-        /// Position in world space.
-        position: Vec3,
-        /// Radiant intensity I in W/sr.
-        intensity: Vec3,
-    },
-    /// Spot light: a point light restricted to a cone around `direction`.
-    Spot {
-        /// Position in world space.
-        position: Vec3,
-        /// Unit direction of the cone axis.
-        direction: Vec3,
-        /// Full opening angle of the cone in degrees.
-        angle_deg: f32,
-        /// Radiant intensity I in W/sr inside the cone.
-        intensity: Vec3,
-    },
-    /// Distant light (a sun): parallel light travelling along `direction`.
-    Directional {
-        /// Unit direction the light travels in (pointing away from the light).
-        direction: Vec3,
-        /// Irradiance E in W/m² on a surface facing the light.
-        irradiance: Vec3,
-    },
 }
 
 /// A pinhole camera.

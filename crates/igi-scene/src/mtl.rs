@@ -31,6 +31,7 @@ use glam::Vec3;
 use crate::error::{Location, SceneError};
 use crate::model::{Material, MaterialKind};
 use crate::report::LoadReport;
+use crate::statements::{Statement, statements};
 use crate::texels::ColorSpace;
 use crate::texture::TextureSet;
 
@@ -66,11 +67,8 @@ fn is_map_statement(keyword: &str) -> bool {
 /// checked, texture options stripped.
 fn normalise(text: &str, file: &Path, report: &mut LoadReport) -> Result<String, SceneError> {
     let mut out = String::with_capacity(text.len());
-    for (index, raw) in text.lines().enumerate() {
-        let line_number = index + 1;
+    for Statement { line: line_number, text: line, keyword, rest } in statements(text) {
         let error = |message: String| SceneError::parse(file, Location::Line(line_number), message);
-        let line = strip_comment(raw).trim();
-        let (keyword, rest) = split_keyword(line);
         match keyword {
             "" => {}
             "Ka" | "Kd" | "Ks" | "Ke" | "Tf" => match colour(rest) {
@@ -116,24 +114,6 @@ fn normalise(text: &str, file: &Path, report: &mut LoadReport) -> Result<String,
         out.push('\n');
     }
     Ok(out)
-}
-
-/// Cuts a `#` comment: at the start of the line or after white space, so that a `#` inside a
-/// file name (`wall#2.png`) survives.
-pub(crate) fn strip_comment(line: &str) -> &str {
-    let bytes = line.as_bytes();
-    match (0..bytes.len()).find(|&i| bytes[i] == b'#' && (i == 0 || bytes[i - 1].is_ascii_whitespace())) {
-        Some(i) => &line[..i],
-        None => line,
-    }
-}
-
-/// Splits a trimmed line into its first word and the trimmed rest.
-pub(crate) fn split_keyword(line: &str) -> (&str, &str) {
-    match line.split_once(|c: char| c.is_whitespace()) {
-        Some((keyword, rest)) => (keyword, rest.trim()),
-        None => (line, ""),
-    }
 }
 
 fn finite_number(token: &str) -> Result<f32, String> {
@@ -274,8 +254,6 @@ mod tests {
         assert_eq!(texture_file("-s 2 2 1 -bm 0.5 wall 1.png"), "wall 1.png");
         assert_eq!(texture_file("-o 0.5 wall.png"), "wall.png");
         assert_eq!(texture_file("-clamp on a.jpg"), "a.jpg");
-        assert_eq!(strip_comment("map_Kd a#1.png # old"), "map_Kd a#1.png ");
-        assert_eq!(strip_comment("#Ke 1 1 1"), "");
     }
 
     #[test]

@@ -1,5 +1,5 @@
-//! Wavefront OBJ files, parsed by `tobj`, become one [`Mesh`](crate::Mesh) (all objects and groups merged,
-//! a material per triangle) placed by one identity [`Instance`].
+//! Wavefront OBJ files, parsed by `tobj`, become one [`Mesh`](crate::Mesh) (all objects and
+//! groups merged, a material per triangle) placed by one identity [`Instance`](crate::Instance).
 //!
 //! `tobj` is used for what it does well (grouping by material, building unique vertices from
 //! the separate `v/vt/vn` index streams, triangulating). It is not fed the file directly,
@@ -28,33 +28,19 @@
 use std::collections::HashSet;
 use std::path::Path;
 
-use glam::{Affine3A, Vec2, Vec3};
+use glam::{Vec2, Vec3};
 
 use crate::error::{Location, SceneError};
-use crate::model::{Instance, Material, Scene};
-use crate::mtl::{self, split_keyword, strip_comment};
+use crate::model::{Material, Scene};
+use crate::mtl;
 use crate::report::LoadReport;
 use crate::resources;
+use crate::statements::{Statement, statements};
 use crate::texture::TextureSet;
 use crate::validate::{MeshBuilder, Part};
 
 /// Name of the single `mtllib` statement `prepare` writes; its loader ignores the name.
 const HOISTED_LIBRARY: &str = "materials";
-
-/// Loads an OBJ file and the material libraries and textures it references.
-pub fn load(path: &Path, report: &mut LoadReport) -> Result<Scene, SceneError> {
-    TextureSet::default().owning(|textures| load_into(path, textures, report))
-}
-
-/// Loads an OBJ file whose textures go into `textures` (the scene's).
-pub(crate) fn load_into(
-    path: &Path,
-    textures: &mut TextureSet,
-    report: &mut LoadReport,
-) -> Result<Scene, SceneError> {
-    let bytes = resources::read(path, report)?;
-    parse_file(&bytes, path, Some(&resources::base_dir(path)), textures, report)
-}
 
 /// Parses OBJ text. `name` is used in messages. Material libraries and textures are looked up
 /// in `base_dir`; with `None` nothing is read from disk and materials fall back to defaults.
@@ -67,7 +53,9 @@ pub fn parse(
     TextureSet::default().owning(|textures| parse_file(bytes, Path::new(name), base_dir, textures, report))
 }
 
-fn parse_file(
+/// Parses the OBJ text of `file`, whose material libraries and textures are looked up in
+/// `base_dir` and whose textures go into `textures` (the scene's).
+pub(crate) fn parse_file(
     bytes: &[u8],
     file: &Path,
     base_dir: Option<&Path>,
@@ -129,15 +117,7 @@ fn parse_file(
     if built.normals_dropped {
         report.warn(file, "normals dropped: only some faces have them");
     }
-
-    let mut scene = Scene { materials, ..Scene::default() };
-    if built.mesh.indices.is_empty() {
-        report.warn(file, "no triangles");
-    } else {
-        scene.meshes.push(built.mesh);
-        scene.instances.push(Instance { mesh: 0, transform: Affine3A::IDENTITY });
-    }
-    Ok(scene)
+    Ok(built.into_scene(materials, file, report))
 }
 
 /// Name of the mesh of `file`: its stem.
@@ -232,11 +212,8 @@ fn prepare(text: &str, file: &Path) -> Result<Prepared, SceneError> {
     let mut seen_names = HashSet::new();
     let mut counts = Counts::default();
     let mut body = String::with_capacity(text.len());
-    for (index, raw) in text.lines().enumerate() {
-        let line_number = index + 1;
+    for Statement { line: line_number, keyword, rest, .. } in statements(text) {
         let error = |message: String| SceneError::parse(file, Location::Line(line_number), message);
-        let line = strip_comment(raw).trim();
-        let (keyword, rest) = split_keyword(line);
         match keyword {
             "v" => {
                 let tokens: Vec<&str> = rest.split_whitespace().collect();
@@ -367,6 +344,8 @@ fn check_face_vertex(token: &str, counts: &Counts) -> Result<(), String> {
 #[cfg(test)]
 mod tests {
     use std::collections::HashMap;
+
+    use glam::Affine3A;
 
     use super::*;
 

@@ -1,5 +1,6 @@
 //! Stanford PLY files (ascii, binary little and big endian), parsed by `ply-rs-bw`, become one
-//! [`Mesh`](crate::Mesh) with one grey default material, placed by one identity [`Instance`].
+//! [`Mesh`](crate::Mesh) with one grey default material, placed by one identity
+//! [`Instance`](crate::Instance).
 //!
 //! Read from the `vertex` element: `x y z` of any numeric type, `nx ny nz` if all three are
 //! present, texture coordinates from `u v`, `s t` or `texture_u texture_v` (v flipped to the
@@ -15,30 +16,24 @@
 use std::io::BufRead;
 use std::path::Path;
 
-use glam::{Affine3A, Vec2, Vec3};
+use glam::{Vec2, Vec3};
 use ply_rs_bw::parser::{Parser, Reader};
 use ply_rs_bw::ply::{
     ElementDef, Encoding, Header, PropertyAccess, PropertyAccessResult, PropertyType, ScalarType,
 };
 
 use crate::error::{Location, SceneError};
-use crate::model::{Instance, Material, Scene};
+use crate::model::{Material, Scene};
 use crate::report::LoadReport;
-use crate::resources;
 use crate::validate::{MeshBuilder, Part};
-
-/// Loads a PLY file.
-pub fn load(path: &Path, report: &mut LoadReport) -> Result<Scene, SceneError> {
-    let bytes = resources::read(path, report)?;
-    parse_file(&bytes, path, report)
-}
 
 /// Parses a PLY file held in memory; `name` is used in messages and as the mesh name.
 pub fn parse(bytes: &[u8], name: &str, report: &mut LoadReport) -> Result<Scene, SceneError> {
     parse_file(bytes, Path::new(name), report)
 }
 
-fn parse_file(bytes: &[u8], file: &Path, report: &mut LoadReport) -> Result<Scene, SceneError> {
+/// Parses the PLY bytes of `file`.
+pub(crate) fn parse_file(bytes: &[u8], file: &Path, report: &mut LoadReport) -> Result<Scene, SceneError> {
     let mut reader = Reader::new(bytes);
     let header = Parser::<Skip>::new().read_header(&mut reader).map_err(|e| {
         SceneError::parse(file, e.line().map_or(Location::File, Location::Line), message_of(&e))
@@ -130,15 +125,7 @@ fn parse_file(bytes: &[u8], file: &Path, report: &mut LoadReport) -> Result<Scen
     })?;
     let built = builder.finish();
     report.degenerate(file, short_faces + built.degenerate);
-
-    let mut scene = Scene { materials: vec![Material::default()], ..Scene::default() };
-    if built.mesh.indices.is_empty() {
-        report.warn(file, "no triangles");
-    } else {
-        scene.meshes.push(built.mesh);
-        scene.instances.push(Instance { mesh: 0, transform: Affine3A::IDENTITY });
-    }
-    Ok(scene)
+    Ok(built.into_scene(vec![Material::default()], file, report))
 }
 
 /// `ply-rs-bw` messages start with "Line N:" when they know a line; the line goes into the

@@ -8,7 +8,8 @@ use std::fs;
 use std::io::{self, Read};
 use std::path::{Component, Path, PathBuf};
 
-use crate::{LoadReport, SceneError};
+use crate::error::SceneError;
+use crate::report::LoadReport;
 
 /// Reads a whole regular file and lists it in the report's files. Scene files are read
 /// whatever their size (a scene's geometry can take gigabytes); see [`read_regular_file`].

@@ -23,7 +23,7 @@ use std::sync::Arc;
 use glam::{DVec3, Vec3};
 use image::{ColorType, ImageDecoder, ImageFormat, ImageReader, Limits};
 
-use crate::SceneError;
+use crate::error::SceneError;
 use crate::model::{Scene, Texture, Wrap};
 use crate::report::LoadReport;
 use crate::resources;

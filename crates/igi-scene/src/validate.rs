@@ -1,5 +1,6 @@
-//! Mesh validation shared by every loader: [`MeshBuilder`] turns the raw pieces a parser
-//! produced into a [`Mesh`] that keeps the model's promises.
+//! Validation shared by every loader: [`MeshBuilder`] turns the raw pieces a parser produced
+//! into a [`Mesh`] that keeps the model's promises, and [`MAX_INSTANCES`] bounds a scene's
+//! instances.
 //!
 //! Those promises (see [`Mesh`]) are what lets the BVH builder and the shaders skip checks on
 //! their hot paths: every coordinate finite, every index in range, every triangle of non-zero
@@ -10,10 +11,30 @@
 
 use std::collections::HashMap;
 use std::fmt;
+use std::path::Path;
 
-use glam::{DVec3, Vec2, Vec3};
+use glam::{Affine3A, DVec3, Vec2, Vec3};
 
-use crate::model::Mesh;
+use crate::error::{Location, SceneError};
+use crate::model::{Instance, Material, Mesh, Scene};
+use crate::report::LoadReport;
+
+/// Most instances a scene may have. Far above real scenes (the paper's largest has four), it
+/// bounds what a hostile file can cost: every ray may meet every instance when they overlap,
+/// and 100,000 coincident instances still render a small frame in seconds.
+pub const MAX_INSTANCES: usize = 100_000;
+
+/// Refuses a scene of more than [`MAX_INSTANCES`] instances.
+pub(crate) fn check_instance_count(file: &Path, count: usize) -> Result<(), SceneError> {
+    if count <= MAX_INSTANCES {
+        return Ok(());
+    }
+    Err(SceneError::invalid(
+        file,
+        Location::File,
+        format!("{count} instances; a scene may have at most {MAX_INSTANCES}"),
+    ))
+}
 
 /// One piece of a mesh with a single material: an OBJ material group, a glTF primitive, a PLY
 /// file. Indices are local to the part.
@@ -102,6 +123,21 @@ pub(crate) struct Built {
     /// True if some parts had normals and others did not, so the mesh has none (a mesh carries
     /// normals for all of its vertices or for none).
     pub normals_dropped: bool,
+}
+
+impl Built {
+    /// The scene of a file that is one mesh (OBJ, PLY): this mesh with `materials`, placed once
+    /// by an identity [`Instance`], or no mesh (with a warning) if no triangle is left.
+    pub fn into_scene(self, materials: Vec<Material>, file: &Path, report: &mut LoadReport) -> Scene {
+        let mut scene = Scene { materials, ..Scene::default() };
+        if self.mesh.indices.is_empty() {
+            report.warn(file, "no triangles");
+        } else {
+            scene.meshes.push(self.mesh);
+            scene.instances.push(Instance { mesh: 0, transform: Affine3A::IDENTITY });
+        }
+        scene
+    }
 }
 
 /// Accumulates [`Part`]s into one [`Mesh`], validating each on the way in.

@@ -1,22 +1,11 @@
 //! Keyframes in scene files: animated meshes (with their instances) and lights take the
 //! values computed by hand at known times, and bad keys name the file, line and field.
 
-use std::fs;
-use std::path::PathBuf;
+mod common;
 
+use common::directory;
 use glam::{Affine3A, Vec3};
 use igi_scene::{Light, LoadReport, SceneError, load, scene_file};
-
-/// A fresh directory holding `files` (name, contents).
-fn directory(test: &str, files: &[(&str, &str)]) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("igi-scene-anim-{test}-{}", std::process::id()));
-    let _ = fs::remove_dir_all(&dir);
-    fs::create_dir_all(&dir).unwrap();
-    for (name, contents) in files {
-        fs::write(dir.join(name), contents).unwrap();
-    }
-    dir
-}
 
 const TRIANGLE: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
 
@@ -46,7 +35,7 @@ keys = [
 [[mesh]]
 file = "tri.obj"
 "#;
-    let dir = directory("mesh", &[("tri.obj", TRIANGLE), ("scene.toml", toml)]);
+    let dir = directory("anim-mesh", &[("tri.obj", TRIANGLE), ("scene.toml", toml)]);
     let scene = load(dir.join("scene.toml")).unwrap();
     assert_eq!(scene.instances.len(), 3);
     let animated: Vec<u32> = scene.animation.instances.iter().map(|a| a.instance).collect();

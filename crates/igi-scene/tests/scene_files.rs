@@ -4,22 +4,10 @@
 mod common;
 
 use std::fs;
-use std::path::PathBuf;
 
-use common::{assert_bounds, gltf_document, scenes_dir};
+use common::{assert_bounds, directory, gltf_document, scenes_dir};
 use glam::Vec3;
 use igi_scene::{Light, SceneError, load, load_with_report};
-
-/// A fresh directory holding `files` (name, contents).
-fn directory(test: &str, files: &[(&str, &str)]) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("igi-scene-{test}-{}", std::process::id()));
-    let _ = fs::remove_dir_all(&dir);
-    fs::create_dir_all(&dir).unwrap();
-    for (name, contents) in files {
-        fs::write(dir.join(name), contents).unwrap();
-    }
-    dir
-}
 
 /// A unit cube's corners, [0, 1]³, as one OBJ face list (only the bounds matter here).
 const CUBE: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\

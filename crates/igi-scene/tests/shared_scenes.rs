@@ -13,6 +13,14 @@ fn load(test: &str, relative: &str) -> Option<(Scene, LoadReport)> {
     Some(load_with_report(&path).unwrap_or_else(|e| panic!("{e}")))
 }
 
+/// Loads `name` from the repository's `scenes/` (scene files that place the shared scenes), or
+/// `None` if the shared scenes are absent.
+fn load_repository_scene(test: &str, name: &str) -> Option<(Scene, LoadReport)> {
+    scenes_dir(test)?;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes").join(name);
+    Some(load_with_report(&path).unwrap_or_else(|e| panic!("{e}")))
+}
+
 fn material<'a>(scene: &'a Scene, name: &str) -> &'a igi_scene::Material {
     scene.materials.iter().rev().find(|m| m.name == name).unwrap_or_else(|| panic!("no material {name}"))
 }
@@ -295,11 +303,10 @@ fn gltf_hierarchies_cameras_lights_and_emission() {
 fn repository_conference_scene_file_lights_the_room_from_below_the_ceiling() {
     // `scenes/conference.toml` (in the repository) references the shared OBJ; its quad light
     // must face down into the room (a light wound upwards would light only the ceiling).
-    if scenes_dir("repository_conference_scene_file").is_none() {
+    let Some((scene, _)) = load_repository_scene("repository_conference_scene_file", "conference.toml")
+    else {
         return;
-    }
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/conference.toml");
-    let (scene, _) = load_with_report(&path).unwrap_or_else(|e| panic!("{e}"));
+    };
     assert_eq!(scene.triangle_count(), 331_179 + 2);
     assert_eq!(scene.emissive_triangle_count(), 2);
     let mesh = scene
@@ -317,11 +324,9 @@ fn repository_conference_scene_file_lights_the_room_from_below_the_ceiling() {
 #[test]
 fn repository_sponza_scene_file_has_a_sun_through_the_roof_and_a_blue_sky() {
     // `scenes/sponza.toml` (in the repository) references the shared OBJ.
-    if scenes_dir("repository_sponza_scene_file").is_none() {
+    let Some((scene, report)) = load_repository_scene("repository_sponza_scene_file", "sponza.toml") else {
         return;
-    }
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/sponza.toml");
-    let (scene, report) = load_with_report(&path).unwrap_or_else(|e| panic!("{e}"));
+    };
     assert_eq!(scene.triangle_count() + report.degenerate_dropped, 66_450);
     assert_eq!(scene.lights.len(), 1);
     let igi_scene::Light::Directional { direction, irradiance } = scene.lights[0] else {

@@ -20,7 +20,8 @@ use glam::{Affine3A, Vec3};
 
 use super::shapes::{cuboid, quad, sphere};
 use crate::animation::{AnimatedInstance, AnimatedLight, Animation, AnimationNode, RotationTrack, Track};
-use crate::model::{Camera, Instance, Light, Material, Scene};
+use crate::light::Light;
+use crate::model::{Camera, Instance, Material, Scene};
 use crate::validate::{MeshBuilder, Part};
 
 const WHITE: u32 = 0;

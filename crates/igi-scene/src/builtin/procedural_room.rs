@@ -24,7 +24,8 @@
 use glam::Vec3;
 
 use super::shapes::{assemble, cuboid, quad, sphere};
-use crate::model::{Camera, Light, Material, Scene};
+use crate::light::Light;
+use crate::model::{Camera, Material, Scene};
 use crate::shader::{Pattern, ShaderDesc};
 
 const WHITE: u32 = 0;

@@ -21,7 +21,7 @@ use gltf::animation::util::ReadOutputs;
 use gltf::animation::{Interpolation, Property};
 use gltf::json::validation::Checked;
 
-use super::check_accessor;
+use super::accessors::{VEC3, check_accessor};
 use crate::animation::{Finite, Keyable, Track};
 use crate::report::LoadReport;
 
@@ -54,7 +54,6 @@ impl Channel {
 }
 
 const TIMES: &[(DataType, Dimensions)] = &[(DataType::F32, Dimensions::Scalar)];
-const VEC3: &[(DataType, Dimensions)] = &[(DataType::F32, Dimensions::Vec3)];
 /// Rotation outputs may also be normalized integers (glTF 3.11, "Animation samplers").
 const ROTATIONS: &[(DataType, Dimensions)] = &[
     (DataType::F32, Dimensions::Vec4),

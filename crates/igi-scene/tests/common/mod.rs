@@ -3,6 +3,7 @@
 // Every test crate includes this module and uses a different part of it.
 #![allow(dead_code)]
 
+use std::fs;
 use std::path::PathBuf;
 
 use glam::Vec3;
@@ -18,6 +19,17 @@ pub fn scenes_dir(test: &str) -> Option<PathBuf> {
         println!("{test}: skipped, {} not found", dir.display());
         None
     }
+}
+
+/// A fresh directory holding `files` (name, contents), named after `test`.
+pub fn directory(test: &str, files: &[(&str, &str)]) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("igi-scene-{test}-{}", std::process::id()));
+    let _ = fs::remove_dir_all(&dir);
+    fs::create_dir_all(&dir).unwrap();
+    for (name, contents) in files {
+        fs::write(dir.join(name), contents).unwrap();
+    }
+    dir
 }
 
 /// Asserts that `bounds` equals `min`..`max` to within `tolerance` per coordinate.
