@@ -6,7 +6,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo build -q --release --features mpi --bin igi
-igi=$PWD/target/release/igi
+igi=${CARGO_TARGET_DIR:-$PWD/target}/release/igi
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 small=(--width 96 --height 64)
