@@ -236,7 +236,7 @@ fn render_job<T: Transport>(
                 self.0.cancel();
             }
         }
-        let _cancel = CancelOnExit(&queue);
+        let _cancel = CancelOnExit(queue);
         loop {
             // Every message waiting first (the tiles of a new frame come right behind it),
             // then wait on the render threads: one probe per wait, so this thread takes next

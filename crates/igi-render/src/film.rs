@@ -72,7 +72,13 @@ impl Film {
 
 /// Copies a tile's values (row-major within the tile, `per_pixel` values each) into a
 /// row-major image whose rows are `row_len` values long: the one way tiles become images.
-pub(crate) fn copy_tile<T: Copy>(image: &mut [T], row_len: usize, tile: &Tile, values: &[T], per_pixel: usize) {
+pub(crate) fn copy_tile<T: Copy>(
+    image: &mut [T],
+    row_len: usize,
+    tile: &Tile,
+    values: &[T],
+    per_pixel: usize,
+) {
     let w = tile.width() as usize * per_pixel;
     assert_eq!(values.len(), w * tile.height() as usize, "tile pixel count");
     for (row, src) in values.chunks_exact(w).enumerate() {

@@ -153,6 +153,14 @@ impl FrameImage {
     }
 
     /// The linear radiance, if the frame asked for it.
+    pub fn into_film(self) -> Option<Film> {
+        match self {
+            Self::Srgb8 { .. } => None,
+            Self::Linear { film, .. } => Some(film),
+        }
+    }
+
+    /// The linear radiance, if the frame asked for it.
     pub fn film(&self) -> Option<&Film> {
         match self {
             Self::Srgb8 { .. } => None,

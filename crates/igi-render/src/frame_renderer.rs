@@ -12,8 +12,8 @@
 use crate::cancel::{CancelToken, Cancelled};
 use crate::frame::{FrameState, SettingsError};
 use crate::frame_image::{FrameImage, PixelFormat};
-use crate::progressive::{Progressive, Shown};
 use crate::prepared::PreparedScene;
+use crate::progressive::{Progressive, Shown};
 use crate::scheduler::TileScheduler;
 use crate::stats::{Phase, PhaseTimes, RayCounts};
 use crate::tile::TileGrid;

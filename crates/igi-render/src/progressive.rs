@@ -91,7 +91,8 @@ impl Progressive {
                 self.sum.iter_mut().zip(film.pixels()).for_each(|(s, p)| *s += *p);
                 self.frames += 1;
                 let scale = 1.0 / self.frames as f32;
-                let mean = Film::from_pixels(self.width, self.height, self.sum.iter().map(|&s| s * scale).collect());
+                let mean =
+                    Film::from_pixels(self.width, self.height, self.sum.iter().map(|&s| s * scale).collect());
                 let stats = LuminanceStats::of_pixels(mean.pixels());
                 Shown { image: FrameImage::from_film(mean, &ToneMapper::new(self.tone_map, &stats)), stats }
             }

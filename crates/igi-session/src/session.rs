@@ -282,7 +282,11 @@ impl Session {
                 moved: self.moved.iter().map(|(&i, &v)| (i, Affine3A::from_translation(v))).collect(),
             },
             tone_map: self.progressive.tone_mapper(),
-            pixels: if self.renderer.prefers_srgb8() && !averaged { PixelFormat::Srgb8 } else { PixelFormat::Linear },
+            pixels: if self.renderer.prefers_srgb8() && !averaged {
+                PixelFormat::Srgb8
+            } else {
+                PixelFormat::Linear
+            },
             frame: self.progressive.frames(),
             seed: self.seed,
         };

@@ -138,13 +138,14 @@ impl ViewerApp {
         let base = PathBuf::from(format!("igi-{stamp}"));
         let png = base.with_extension("png");
         let exr = base.with_extension("exr");
-        let result = save_png(&png, frame.image.srgb8(), frame.stats.width, frame.stats.height).and_then(|()| {
-            frame
-                .image
-                .film()
-                .map(|film| igi_render::write_exr(film, &exr).map_err(|e| e.to_string()))
-                .transpose()
-        });
+        let result =
+            save_png(&png, frame.image.srgb8(), frame.stats.width, frame.stats.height).and_then(|()| {
+                frame
+                    .image
+                    .film()
+                    .map(|film| igi_render::write_exr(film, &exr).map_err(|e| e.to_string()))
+                    .transpose()
+            });
         self.panel.message = match result {
             Ok(Some(())) => format!("saved {} and {}", png.display(), exr.display()),
             // A cluster sends 8-bit pixels while the view moves; linear ones once it is still.

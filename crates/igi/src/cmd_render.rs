@@ -10,8 +10,8 @@ use igi_render::output::{ImageFormat, check_writable, write_png_rgb8};
 use igi_render::path_tracer::render_path_traced;
 use igi_render::sampling::MAX_SAMPLES;
 use igi_render::{
-    Film, FrameImage, FrameState, IgiSettings, PixelFormat, PreparedScene, Progressive, ScenePose, Shown, ToneMap,
-    ToneMapper, write_exr, write_image,
+    Film, FrameImage, FrameState, IgiSettings, PixelFormat, PreparedScene, Progressive, ScenePose, Shown,
+    ToneMap, ToneMapper, write_exr, write_image,
 };
 use igi_session::FrameSource;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -154,7 +154,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         Mode::Igi => {
             let out = renderer.render_accumulated(&mut prepared, &frame, args.frames, &progress)?;
             let summary = igi_summary(&out, args.frames, &frame.settings);
-            let FrameImage::Linear { film, .. } = out.image else { unreachable!("an accumulated frame is linear") };
+            let FrameImage::Linear { film, .. } = out.image else {
+                unreachable!("an accumulated frame is linear")
+            };
             (film, out.stats, summary)
         }
         Mode::Path => {
