@@ -363,7 +363,7 @@ mod tests {
         let a = args(&["igi", "render", "/no/such/scene.obj", "-o", "/nonexistent-igi/x.png"]);
         let err = format!("{:#}", run(&a).unwrap_err());
         assert!(err.contains("cannot create files in the folder /nonexistent-igi"), "{err}");
-        let folder = std::env::temp_dir().join(format!("igi-cmd-render-{}.png", std::process::id()));
+        let folder = std::env::temp_dir().join(format!("igi-cmd-render-folder-{}.png", std::process::id()));
         std::fs::create_dir_all(&folder).unwrap();
         let a = args(&["igi", "render", "/no/such/scene.obj", "-o", folder.to_str().unwrap()]);
         let err = format!("{:#}", run(&a).unwrap_err());
