@@ -21,9 +21,9 @@ pub mod render_loop;
 pub mod session;
 pub mod settings;
 
-pub use camera_control::{CameraController, CameraMode};
+pub use camera_control::CameraController;
 pub use frame_source::{FrameSource, SourceError};
-pub use input::{Button, Input, Key};
+pub use input::{Button, CameraMode, Input, Key};
 pub use render_loop::{LatestFrame, RenderLoop};
 pub use session::{Frame, FrameStats, Session};
 pub use settings::ViewSettings;

@@ -7,9 +7,9 @@
 //! does not flicker; while nothing changes, it renders further frames with fresh VPL sets
 //! and shows their running mean, which converges (progressive refinement).
 
-use crate::camera_control::{CameraController, CameraMode};
+use crate::camera_control::CameraController;
 use crate::frame_source::{FrameSource, SourceError};
-use crate::input::{Button, Input};
+use crate::input::{Button, CameraMode, Input};
 use crate::settings::{MAX_ACCUMULATION, ViewSettings};
 use glam::{Affine3A, Vec3};
 use igi_render::frame::SettingsError;
