@@ -4,11 +4,10 @@
 
 use crate::error::ClusterError;
 use crate::master::Master;
-use crate::protocol::{FrameJob, PixelFormat};
+use crate::protocol::FrameJob;
 use crate::transport::Transport;
-use igi_render::output::to_srgb8;
-use igi_render::{CancelToken, Cancelled, FrameState, PreparedScene};
-use igi_session::{FrameSource, ScenePose, SourceError, SourceFrame};
+use igi_render::{CancelToken, Cancelled, FrameOutput, FrameState, PreparedScene};
+use igi_session::{FrameSource, SourceError};
 
 /// What to do when the cluster fails mid-session: end the job (an MPI abort, so no rank is
 /// left waiting) after the message is shown.
@@ -36,43 +35,29 @@ impl<T: Transport> ClusterSource<T> {
 impl<T: Transport> FrameSource for ClusterSource<T> {
     fn render_cancellable(
         &mut self,
-        _scene: &PreparedScene,
-        pose: &ScenePose,
+        scene: &mut PreparedScene,
         frame: &FrameState,
-        linear: bool,
         cancel: &CancelToken,
-    ) -> Result<SourceFrame, SourceError> {
-        let job = FrameJob {
-            id: 0,
-            state: *frame,
-            time: pose.time,
-            moved: pose.moved.clone(),
-            pixels: if linear { PixelFormat::Linear } else { PixelFormat::Srgb8 },
-        };
+    ) -> Result<FrameOutput, SourceError> {
         let fail = |e: ClusterError| {
             (self.on_failure)(&e);
             SourceError::Failed(e.to_string())
         };
-        self.master.begin(job).map_err(fail)?;
+        self.master.begin(FrameJob { id: 0, frame: frame.clone() }).map_err(fail)?;
+        // Rank 0's copy of the scene answers the session's picks: it stands where the nodes'
+        // copies do.
+        scene.pose(&frame.pose);
         // A cancelled frame is abandoned on rank 0; the nodes drop its tiles with the next job.
         let out =
             self.master.finish_cancellable(cancel).map_err(fail)?.ok_or(SourceError::Cancelled(Cancelled))?;
-        let srgb8 = match (out.srgb8, &out.film) {
-            (Some(bytes), _) => bytes,
-            (None, Some(film)) => to_srgb8(film, &frame.tone_map),
-            (None, None) => unreachable!("a frame has one of the two images"),
-        };
-        Ok(SourceFrame {
-            film: out.film,
-            srgb8,
-            stats: out.stats,
-            rays: out.rays,
-            times: out.times,
-            vpls: out.vpls,
-        })
+        Ok(out.output)
     }
 
     fn threads(&self) -> usize {
         self.master.threads()
+    }
+
+    fn prefers_srgb8(&self) -> bool {
+        true
     }
 }

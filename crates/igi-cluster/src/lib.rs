@@ -29,6 +29,6 @@ pub use error::ClusterError;
 pub use master::{ClusterFrame, Master, MasterConfig};
 #[cfg(feature = "mpi")]
 pub use mpi_transport::{MpiTransport, abort_job};
-pub use protocol::{FrameJob, PixelFormat, Setup};
+pub use protocol::{FrameJob, Setup};
 pub use transport::{InProcess, Transport, in_process};
 pub use worker::{WorkerSummary, run_worker};

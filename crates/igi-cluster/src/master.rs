@@ -17,13 +17,13 @@
 
 use crate::error::ClusterError;
 use crate::failure_detector::{FailureDetector, Lost};
-use crate::protocol::{FrameJob, Message, PixelFormat, Ready, Setup, TilePixels, TileResult};
+use crate::protocol::{FrameJob, Message, Ready, Setup, TileResult};
 use crate::tile_queue::TileQueue;
 use crate::transport::Transport;
 use crate::worker::HEARTBEAT;
 use igi_render::stats::{PhaseTimes, RayCounts};
 use igi_render::tonemap::LuminanceStats;
-use igi_render::{CancelToken, Film, TileGrid};
+use igi_render::{CancelToken, FrameImage, FrameOutput, Pixels, TileGrid};
 use std::time::{Duration, Instant};
 
 /// How rank 0 schedules.
@@ -88,31 +88,18 @@ struct Active {
     busy: Duration,
 }
 
-/// A frame gathered from the nodes.
+/// A frame gathered from the nodes, and what the cluster did for it.
 #[derive(Clone, Debug)]
 pub struct ClusterFrame {
-    /// The job it answers.
-    pub job: FrameJob,
-    /// The tone-mapped 8-bit image ([`PixelFormat::Srgb8`] jobs), rows top to bottom.
-    pub srgb8: Option<Vec<u8>>,
-    /// The linear image ([`PixelFormat::Linear`] jobs).
-    pub film: Option<Film>,
-    /// Luminance statistics, combined in tile order.
-    pub stats: LuminanceStats,
-    /// Rays traced on all nodes.
-    pub rays: RayCounts,
-    /// Render time per phase, summed over all nodes' threads.
-    pub times: PhaseTimes,
-    /// VPLs of the frame.
-    pub vpls: usize,
+    /// The frame (its `elapsed`: from [`Master::begin`] to the last tile; its times: summed
+    /// over all nodes' threads).
+    pub output: FrameOutput,
     /// Tiles each node contributed (index 0 is rank 1).
     pub tiles_per_node: Vec<u32>,
     /// Bytes of messages received for this frame (tiles, heartbeats).
     pub bytes_in: u64,
     /// Bytes of messages sent for this frame (frame jobs, tile numbers).
     pub bytes_out: u64,
-    /// From [`Master::begin`] to the last tile.
-    pub elapsed: Duration,
     /// Time rank 0 spent in [`Master::finish`] waiting for tiles.
     pub wait: Duration,
     /// Rank 0's own work on the frame: handling its messages and putting the image together.
@@ -213,10 +200,10 @@ impl<T: Transport> Master<T> {
         if self.active.is_some() {
             self.finish()?;
         }
-        job.state.settings.validate()?;
+        job.frame.settings.validate()?;
         job.id = self.next_id;
         self.next_id += 1;
-        let s = &job.state.settings;
+        let s = &job.frame.settings;
         let grid = TileGrid::new(s.width, s.height, s.tile_size);
         let bytes = Message::Frame(Box::new(job.clone())).encode();
         let mut bytes_out = 0;
@@ -498,10 +485,8 @@ fn check_tile(rank: usize, job: &FrameJob, grid: &TileGrid, result: &TileResult)
         return bad(format!("tile {} of a frame of {} tiles", result.tile, grid.len()));
     }
     let expected = grid.tile(result.tile).pixel_count();
-    let format_ok = matches!(
-        (&result.pixels, job.pixels),
-        (TilePixels::Srgb8(b), PixelFormat::Srgb8) if b.len() % 3 == 0
-    ) || matches!((&result.pixels, job.pixels), (TilePixels::Linear(_), PixelFormat::Linear));
+    let whole_pixels = !matches!(&result.pixels, Pixels::Srgb8(b) if b.len() % 3 != 0);
+    let format_ok = whole_pixels && result.pixels.format() == job.frame.pixels;
     if !format_ok || result.pixels.len() != expected {
         return bad(format!(
             "tile {} with {} pixels of the wrong kind or count ({expected} expected)",
@@ -515,48 +500,30 @@ fn check_tile(rank: usize, job: &FrameJob, grid: &TileGrid, result: &TileResult)
 /// The frame from its tiles, in tile order.
 fn assemble(active: Active, nodes: usize, wait: Duration) -> ClusterFrame {
     let assembling = Instant::now();
-    let s = &active.job.state.settings;
-    let (width, height) = (s.width as usize, s.height as usize);
-    let mut srgb8 = (active.job.pixels == PixelFormat::Srgb8).then(|| vec![0u8; 3 * width * height]);
-    let mut film = (active.job.pixels == PixelFormat::Linear).then(|| Film::new(s.width, s.height));
+    let frame = &active.job.frame;
     let mut stats = LuminanceStats::default();
     let mut rays = RayCounts::default();
     let mut times = PhaseTimes::default();
     let mut vpls = 0;
     let mut tiles_per_node = vec![0u32; nodes];
+    let mut pixels = Vec::with_capacity(active.results.len());
     for (index, slot) in active.results.into_iter().enumerate() {
         let Some((node, result)) = slot else { unreachable!("the queue is complete") };
-        let tile = active.grid.tile(index as u32);
-        match (&result.pixels, &mut srgb8, &mut film) {
-            (TilePixels::Srgb8(bytes), Some(image), _) => {
-                let row = 3 * tile.width() as usize;
-                for (r, src) in bytes.chunks_exact(row).enumerate() {
-                    let start = 3 * ((tile.y0 as usize + r) * width + tile.x0 as usize);
-                    image[start..start + row].copy_from_slice(src);
-                }
-            }
-            (TilePixels::Linear(pixels), _, Some(film)) => film.write_tile(&tile, pixels),
-            _ => unreachable!("check_tile matched the format"),
-        }
+        pixels.push((active.grid.tile(index as u32), result.pixels));
         stats = stats.merge(result.stats);
         rays += result.rays;
         times += result.times;
         vpls = result.vpls as usize;
         tiles_per_node[node] += 1;
     }
+    let s = &frame.settings;
+    let image = FrameImage::from_tiles(frame.pixels, s.width, s.height, pixels, &frame.tone_map);
     ClusterFrame {
-        srgb8,
-        film,
-        stats,
-        rays,
-        times,
-        vpls,
+        output: FrameOutput { image, stats, rays, times, elapsed: active.started.elapsed(), vpls },
         tiles_per_node,
         bytes_in: active.bytes_in,
         bytes_out: active.bytes_out,
-        elapsed: active.started.elapsed(),
         wait,
         busy: active.busy + assembling.elapsed(),
-        job: active.job,
     }
 }

@@ -2,15 +2,14 @@
 //! and a malformed message is an error, never a panic or an unbounded allocation).
 //!
 //! One exchange per frame (paper sections 2.1 and 3.4): rank 0 sends every node the
-//! [`FrameJob`] (camera, pose, settings, tone map, seed), then tile numbers on demand; each node
+//! [`FrameJob`] (the whole [`FrameState`]), then tile numbers on demand; each node
 //! derives the frame's VPLs itself, renders, filters and tone-maps its tiles, and sends back
 //! [`TileResult`]s: 8-bit pixels and the tile's luminance statistics, from which rank 0 combines
 //! the next frame's tone map in tile order.
 
-use glam::{Affine3A, Vec3};
-use igi_render::FrameState;
 use igi_render::stats::{PhaseTimes, RayCounts};
 use igi_render::tonemap::LuminanceStats;
+use igi_render::{FrameState, Pixels};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
@@ -45,53 +44,14 @@ pub enum Ready {
     Failed(String),
 }
 
-/// How a node returns a tile's pixels.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub enum PixelFormat {
-    /// Tone-mapped, sRGB-encoded 8-bit RGB: what a display shows (paper 3.4).
-    Srgb8,
-    /// Linear radiance, 32-bit float RGB: for EXR files, accumulation, and tone mapping from
-    /// a frame's own statistics.
-    Linear,
-}
-
-/// One frame as every node renders it.
+/// One frame as every node renders it: the frame itself (camera, settings, pose, tone map,
+/// pixel format, seeds) and the number rank 0 gave it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FrameJob {
     /// Number of the job, counting up from 1; tiles name the job they belong to.
     pub id: u64,
-    /// Camera, settings, tone map, frame number and seed.
-    pub state: FrameState,
-    /// Scene clock, seconds.
-    pub time: f32,
-    /// Instances a user moved, with their extra world transforms.
-    pub moved: Vec<(u32, Affine3A)>,
-    /// What the tiles send back.
-    pub pixels: PixelFormat,
-}
-
-/// A tile's pixels.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub enum TilePixels {
-    /// 3 bytes per pixel, row-major within the tile.
-    Srgb8(Vec<u8>),
-    /// Linear RGB per pixel, row-major within the tile.
-    Linear(Vec<Vec3>),
-}
-
-impl TilePixels {
-    /// Number of pixels.
-    pub fn len(&self) -> usize {
-        match self {
-            Self::Srgb8(bytes) => bytes.len() / 3,
-            Self::Linear(pixels) => pixels.len(),
-        }
-    }
-
-    /// True if there are no pixels.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
+    /// The frame.
+    pub frame: FrameState,
 }
 
 /// A finished tile.
@@ -101,8 +61,8 @@ pub struct TileResult {
     pub job: u64,
     /// Tile index in the frame's [`igi_render::TileGrid`].
     pub tile: u32,
-    /// Its pixels.
-    pub pixels: TilePixels,
+    /// Its pixels, in the frame's format.
+    pub pixels: Pixels,
     /// Luminance statistics of its linear pixels.
     pub stats: LuminanceStats,
     /// Rays traced for it.
@@ -181,23 +141,16 @@ impl Message {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use igi_render::{IgiSettings, ToneMapper};
+    use glam::{Affine3A, Vec3};
+    use igi_render::{IgiSettings, PixelFormat, ScenePose};
 
     #[test]
     fn messages_round_trip() {
-        let job = FrameJob {
-            id: 7,
-            state: FrameState {
-                camera: igi_scene::builtin("cornell-box").and_then(|s| s.camera).unwrap(),
-                settings: IgiSettings::default(),
-                tone_map: ToneMapper::LINEAR,
-                frame: 3,
-                seed: 9,
-            },
-            time: 1.5,
-            moved: vec![(2, Affine3A::from_translation(Vec3::X))],
-            pixels: PixelFormat::Srgb8,
-        };
+        let camera = igi_scene::builtin("cornell-box").and_then(|s| s.camera).unwrap();
+        let mut frame = FrameState::new(camera, IgiSettings::default());
+        frame.pose = ScenePose { time: 1.5, moved: vec![(2, Affine3A::from_translation(Vec3::X))] };
+        (frame.pixels, frame.frame, frame.seed) = (PixelFormat::Srgb8, 3, 9);
+        let job = FrameJob { id: 7, frame };
         for m in [
             Message::Frame(Box::new(job)),
             Message::Tiles { job: 7, tiles: vec![0, 5] },
@@ -206,7 +159,7 @@ mod tests {
             Message::Tile(Box::new(TileResult {
                 job: 7,
                 tile: 5,
-                pixels: TilePixels::Srgb8(vec![1, 2, 3]),
+                pixels: Pixels::Srgb8(vec![1, 2, 3]),
                 stats: LuminanceStats { log_sum: -1.0, count: 1, max: 2.0 },
                 rays: RayCounts::default(),
                 times: PhaseTimes::default(),

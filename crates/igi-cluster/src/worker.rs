@@ -2,22 +2,18 @@
 //! derives the VPLs from the [`FrameJob`] itself, and renders, filters and tone-maps the tiles
 //! rank 0 hands it, sending each back as soon as it is done (paper sections 2.1 and 3.4).
 //!
-//! Render threads take tiles from a local queue that rank 0 keeps k tiles deep per thread, so
-//! a thread never waits for the network between tiles. The calling thread alone talks to the
-//! transport (MPI's "funneled" threading): it forwards finished tiles, queues new tile numbers
+//! The node's persistent render threads (a [`FrameRenderer`]'s) take tiles from a local queue
+//! that rank 0 keeps k tiles deep per thread, so a thread never waits for the network between
+//! tiles. The calling thread alone talks to the transport (MPI's "funneled" threading): it forwards finished tiles, queues new tile numbers
 //! and sends a heartbeat twice a second, also while a long tile renders. When a newer job or a
 //! shutdown comes, it cancels the job's [`CancelToken`]: the render threads take no further
 //! tile of it (each finishes the one it is in) and the queued tiles are dropped.
 
 use crate::error::ClusterError;
-use crate::protocol::{
-    FrameJob, Message, PROTOCOL_VERSION, PixelFormat, Ready, Setup, TilePixels, TileResult,
-};
+use crate::protocol::{FrameJob, Message, PROTOCOL_VERSION, Ready, Setup, TileResult};
 use crate::transport::Transport;
-use igi_render::scheduler::TileScheduler;
-use igi_render::tile_pipeline::{TileOutput, TilePipeline, TileScratch};
-use igi_render::vpl::VplSets;
-use igi_render::{CancelToken, PreparedScene, TileGrid};
+use igi_render::tile_pipeline::{TileOutput, TileScratch};
+use igi_render::{CancelToken, FrameRenderer, PreparedScene};
 use igi_scene::Scene;
 use std::collections::VecDeque;
 use std::sync::mpsc::{RecvTimeoutError, channel};
@@ -55,7 +51,7 @@ pub fn run_worker<T: Transport>(
             None => {}
         }
     };
-    let scheduler = TileScheduler::new(threads);
+    let renderer = FrameRenderer::new(threads);
     let loaded = if setup.version != PROTOCOL_VERSION {
         Err(format!(
             "rank 0 speaks protocol {}, this node {PROTOCOL_VERSION}: run the same igi on every rank",
@@ -68,7 +64,7 @@ pub fn run_worker<T: Transport>(
         Ok(scene) => {
             let digest = scene.digest();
             let prepared = PreparedScene::new(scene);
-            let ready = Ready::Loaded { digest, threads: scheduler.threads() as u32 };
+            let ready = Ready::Loaded { digest, threads: renderer.threads() as u32 };
             transport.send(0, &Message::Ready(ready).encode())?;
             prepared
         }
@@ -96,7 +92,7 @@ pub fn run_worker<T: Transport>(
         match message {
             Message::Frame(job) => {
                 summary.frames += 1;
-                let (tiles, after) = render_job(transport, &scheduler, &mut scene, &job, &mut last_beat)?;
+                let (tiles, after) = render_job(transport, &renderer, &mut scene, &job, &mut last_beat)?;
                 summary.tiles += tiles;
                 match after {
                     Some(Message::Shutdown) => break,
@@ -172,28 +168,22 @@ impl LocalQueue {
 /// and the message that ended the job (the next frame or a shutdown).
 fn render_job<T: Transport>(
     transport: &mut T,
-    scheduler: &TileScheduler,
+    renderer: &FrameRenderer,
     scene: &mut PreparedScene,
     job: &FrameJob,
     last_beat: &mut Instant,
 ) -> Result<(u64, Option<Message>), ClusterError> {
     let rank = transport.rank();
-    if let Err(e) = job.state.settings.validate() {
-        let message = format!("frame {} has invalid settings: {e}", job.id);
-        transport.send(0, &Message::Fatal(message.clone()).encode())?;
-        return Err(ClusterError::NodeFailed { rank, message });
-    }
-    scene.place(job.time, &job.moved);
-    let scene = &*scene;
-    // The walks of a large scene can take longer than rank 0's patience: keep beating.
-    let vpls = std::thread::scope(|s| -> Result<VplSets, ClusterError> {
-        let (walked_tx, walked) = channel();
+    // Posing the scene and the walks of a large scene can take longer than rank 0's
+    // patience: keep beating.
+    let plan = std::thread::scope(|s| -> Result<_, ClusterError> {
+        let (planned_tx, planned) = channel();
         s.spawn(move || {
-            let _ = walked_tx.send(scheduler.install(|| VplSets::generate(scene, &job.state)));
+            let _ = planned_tx.send(renderer.plan(scene, &job.frame));
         });
         loop {
-            match walked.recv_timeout(HEARTBEAT) {
-                Ok(vpls) => return Ok(vpls),
+            match planned.recv_timeout(HEARTBEAT) {
+                Ok(plan) => return Ok(plan),
                 Err(RecvTimeoutError::Timeout) => {
                     transport.send(0, &Message::Heartbeat.encode())?;
                     *last_beat = Instant::now();
@@ -207,29 +197,37 @@ fn render_job<T: Transport>(
             }
         }
     })?;
-    let vpl_count = u32::try_from(vpls.total_vpls()).unwrap_or(u32::MAX);
-    let s = &job.state.settings;
-    let grid = TileGrid::new(s.width, s.height, s.tile_size);
-    let pipeline = TilePipeline::new(scene, &job.state, &vpls);
+    let plan = match plan {
+        Ok(plan) => plan,
+        Err(e) => {
+            let message = format!("frame {} has invalid settings: {e}", job.id);
+            transport.send(0, &Message::Fatal(message.clone()).encode())?;
+            return Err(ClusterError::NodeFailed { rank, message });
+        }
+    };
+    let vpl_count = u32::try_from(plan.vpl_count()).unwrap_or(u32::MAX);
+    let grid = plan.grid;
+    let pipeline = plan.pipeline();
     let queue =
         LocalQueue { tiles: Mutex::new(VecDeque::new()), ready: Condvar::new(), cancel: CancelToken::new() };
     let (done_tx, done_rx) = channel::<TileOutput>();
     let mut rendered = 0;
 
     std::thread::scope(|threads| -> Result<(u64, Option<Message>), ClusterError> {
-        for _ in 0..scheduler.threads() {
-            let done_tx = done_tx.clone();
-            let (queue, pipeline) = (&queue, &pipeline);
-            threads.spawn(move || {
-                let mut scratch = TileScratch::default();
-                while let Some(index) = queue.pop() {
-                    if done_tx.send(pipeline.render_tile(grid.tile(index), &mut scratch)).is_err() {
-                        break;
-                    }
-                }
-            });
-        }
-        drop(done_tx);
+        // The renderer's persistent threads take the tiles as rank 0 queues them; this
+        // thread only waits for them to finish.
+        let (queue, pipeline) = (&queue, &pipeline);
+        threads.spawn(move || {
+            renderer.scheduler().run_queue(
+                || queue.pop().map(|index| grid.tile(index)),
+                TileScratch::default,
+                |scratch, tile| pipeline.render_tile(tile, scratch),
+                |_, out| {
+                    // The receiver is gone only once the job is over (and cancelled).
+                    let _ = done_tx.send(out);
+                },
+            );
+        });
         // Cancels the job however this thread leaves (a newer job, a shutdown, an error), so
         // the render threads end after the tile they are in.
         struct CancelOnExit<'q>(&'q LocalQueue);
@@ -238,7 +236,7 @@ fn render_job<T: Transport>(
                 self.0.cancel();
             }
         }
-        let _cancel = CancelOnExit(&queue);
+        let _cancel = CancelOnExit(queue);
         loop {
             // Every message waiting first (the tiles of a new frame come right behind it),
             // then wait on the render threads: one probe per wait, so this thread takes next
@@ -286,10 +284,7 @@ fn tile_result(job: &FrameJob, out: TileOutput, vpls: u32) -> TileResult {
     TileResult {
         job: job.id,
         tile: out.tile.index,
-        pixels: match job.pixels {
-            PixelFormat::Srgb8 => TilePixels::Srgb8(out.srgb8),
-            PixelFormat::Linear => TilePixels::Linear(out.pixels),
-        },
+        pixels: out.pixels,
         stats: out.stats,
         rays: out.rays,
         times: out.times,

@@ -3,28 +3,23 @@
 //! one. Rank 0 is played by the test over the in-process transport.
 
 use igi_cluster::protocol::{Message, PROTOCOL_VERSION, Ready};
-use igi_cluster::{FrameJob, InProcess, PixelFormat, Setup, Transport};
-use igi_render::{FrameState, IgiSettings, PreparedScene, TileGrid, ToneMapper};
+use igi_cluster::{FrameJob, InProcess, Setup, Transport};
+use igi_render::{FrameState, IgiSettings, PixelFormat, PreparedScene, TileGrid};
 use std::time::{Duration, Instant};
 
 const SCENE: &str = "cornell-box";
 const THREADS: usize = 2;
 
 fn frame(scene: &PreparedScene, settings: IgiSettings) -> FrameState {
-    FrameState {
-        camera: *scene.camera().unwrap(),
-        settings: IgiSettings { clamp: IgiSettings::clamp_for(scene.bounds().diagonal()), ..settings },
-        tone_map: ToneMapper::LINEAR,
-        frame: 0,
-        seed: 0,
-    }
+    let settings = IgiSettings { clamp: IgiSettings::clamp_for(scene.bounds().diagonal()), ..settings };
+    FrameState { pixels: PixelFormat::Srgb8, ..FrameState::new(*scene.camera().unwrap(), settings) }
 }
 
 /// Sends job `id` and every one of its tiles; returns its tile count.
-fn send_job(root: &mut InProcess, id: u64, state: FrameState) -> u32 {
-    let job = FrameJob { id, state, time: 0.0, moved: vec![], pixels: PixelFormat::Srgb8 };
-    root.send(1, &Message::Frame(Box::new(job)).encode()).unwrap();
+fn send_job(root: &mut InProcess, id: u64, state: &FrameState) -> u32 {
     let tiles = TileGrid::new(state.settings.width, state.settings.height, state.settings.tile_size).len();
+    let job = FrameJob { id, frame: state.clone() };
+    root.send(1, &Message::Frame(Box::new(job)).encode()).unwrap();
     root.send(1, &Message::Tiles { job: id, tiles: (0..tiles).collect() }.encode()).unwrap();
     tiles
 }
@@ -73,14 +68,14 @@ fn a_node_abandons_a_frame_when_a_newer_job_or_a_shutdown_comes() {
     assert!(matches!(Message::decode(&ready).unwrap(), Message::Ready(Ready::Loaded { .. })));
 
     // The slow job is under way once its first tile is back.
-    let slow_tiles = send_job(&mut root, 1, slow);
+    let slow_tiles = send_job(&mut root, 1, &slow);
     assert_eq!(next_tile(&mut root, Instant::now() + Duration::from_secs(60)), Some(1));
     let mut slow_done = 1;
 
     // A newer job: its tiles all come within seconds. Of the slow job's, only those finished
     // before the node saw the new job come, and none once the new job's tiles come.
     let start = Instant::now();
-    let quick_tiles = send_job(&mut root, 2, quick);
+    let quick_tiles = send_job(&mut root, 2, &quick);
     let mut quick_done = 0;
     while quick_done < quick_tiles {
         match next_tile(&mut root, start + Duration::from_secs(10)) {
@@ -96,7 +91,7 @@ fn a_node_abandons_a_frame_when_a_newer_job_or_a_shutdown_comes() {
     assert!(slow_done < slow_tiles / 4, "{slow_done} of {slow_tiles} tiles of the old job");
 
     // A shutdown in the middle of a slow job ends the node within seconds.
-    send_job(&mut root, 3, slow);
+    send_job(&mut root, 3, &slow);
     assert_eq!(next_tile(&mut root, Instant::now() + Duration::from_secs(60)), Some(3));
     let start = Instant::now();
     root.send(1, &Message::Shutdown.encode()).unwrap();

@@ -6,11 +6,10 @@
 
 use igi_cluster::protocol::{Message, Ready};
 use igi_cluster::transport::TransportError;
-use igi_cluster::{
-    ClusterError, FrameJob, InProcess, Master, MasterConfig, PixelFormat, Setup, Transport, WorkerSummary,
-};
+use igi_cluster::{ClusterError, FrameJob, InProcess, Master, MasterConfig, Setup, Transport, WorkerSummary};
 use igi_render::{
-    FrameRenderer, FrameState, IgiSettings, PreparedScene, ToneMap, ToneMapper, default_camera,
+    FrameRenderer, FrameState, IgiSettings, PixelFormat, PreparedScene, ScenePose, ToneMap, ToneMapper,
+    default_camera,
 };
 use std::sync::{Arc, Condvar, Mutex};
 use std::thread::JoinHandle;
@@ -59,16 +58,19 @@ fn first_frame(scene: &PreparedScene) -> FrameState {
     };
     let camera = scene.camera().copied().unwrap_or_else(|| default_camera(&scene.bounds()));
     FrameState {
-        camera,
-        settings,
         tone_map: ToneMapper::new(ToneMap::default(), &Default::default()),
-        frame: 0,
         seed: 3,
+        ..FrameState::new(camera, settings)
     }
 }
 
-fn job(state: FrameState, time: f32, pixels: PixelFormat) -> FrameJob {
-    FrameJob { id: 0, state, time, moved: vec![], pixels }
+/// `state` at scene time `time`, delivered as `pixels`.
+fn at(state: &FrameState, time: f32, pixels: PixelFormat) -> FrameState {
+    FrameState { pose: ScenePose::at(time), pixels, ..state.clone() }
+}
+
+fn job(state: &FrameState, time: f32, pixels: PixelFormat) -> FrameJob {
+    FrameJob { id: 0, frame: at(state, time, pixels) }
 }
 
 /// A sequence of frames of an animated scene, each tone-mapped with the previous frame's
@@ -80,16 +82,19 @@ fn sequence_matches_local(name: &str, nodes: usize, times: &[f32]) {
     let mut master = Master::connect(root, &setup(name), MasterConfig::default()).unwrap();
     let mut state = first_frame(&local_scene);
     for &t in times {
-        local_scene.set_time(t);
-        let local = renderer.render(&local_scene, &state, &|_, _| {}).unwrap();
-        let remote = master.render(job(state, t, PixelFormat::Srgb8)).unwrap();
-        assert!(remote.srgb8.as_ref() == Some(&local.srgb8), "{name} at t = {t}: 8-bit images differ");
+        let local =
+            renderer.render(&mut local_scene, &at(&state, t, PixelFormat::Linear), &|_, _| {}).unwrap();
+        let remote = master.render(job(&state, t, PixelFormat::Srgb8)).unwrap();
+        let tiles_per_node = remote.tiles_per_node;
+        let remote = remote.output;
+        assert!(remote.image.film().is_none(), "an 8-bit frame carries no film");
+        assert!(remote.image.srgb8() == local.image.srgb8(), "{name} at t = {t}: 8-bit images differ");
         assert_eq!(remote.stats, local.stats, "{name} at t = {t}: statistics differ");
         assert_eq!(remote.rays, local.rays);
-        assert_eq!(remote.tiles_per_node.iter().sum::<u32>(), 30);
-        let linear = master.render(job(state, t, PixelFormat::Linear)).unwrap();
+        assert_eq!(tiles_per_node.iter().sum::<u32>(), 30);
+        let linear = master.render(job(&state, t, PixelFormat::Linear)).unwrap().output;
         assert!(
-            linear.film.as_ref().unwrap().pixels() == local.film.pixels(),
+            linear.image.film().unwrap().pixels() == local.image.film().unwrap().pixels(),
             "{name} at t = {t}: films differ"
         );
         state.tone_map = ToneMapper::new(ToneMap::default(), &remote.stats);
@@ -116,9 +121,9 @@ fn the_frame_is_independent_of_the_number_of_nodes() {
     for nodes in [1, 3] {
         let (root, handles) = start(nodes);
         let mut master = Master::connect(root, &setup("cornell-box"), MasterConfig::default()).unwrap();
-        let frame = master.render(job(state, 0.0, PixelFormat::Srgb8)).unwrap();
+        let frame = master.render(job(&state, 0.0, PixelFormat::Srgb8)).unwrap();
         assert_eq!(frame.tiles_per_node.len(), nodes);
-        images.push(frame.srgb8.unwrap());
+        images.push(frame.output.image.srgb8().to_vec());
         drop(master);
         handles.into_iter().for_each(|h| assert!(h.join().unwrap().is_ok()));
     }
@@ -149,9 +154,9 @@ fn stalled_node(mut t: InProcess, ready: Ready, beat: bool) -> JoinHandle<()> {
 #[test]
 fn tiles_a_stalled_node_holds_are_copied_to_another_after_the_deadline() {
     let name = "cornell-box";
-    let scene = PreparedScene::new(load(name));
+    let mut scene = PreparedScene::new(load(name));
     let state = first_frame(&scene);
-    let local = FrameRenderer::new(1).render(&scene, &state, &|_, _| {}).unwrap();
+    let local = FrameRenderer::new(1).render(&mut scene, &state, &|_, _| {}).unwrap();
     let mut ranks = igi_cluster::in_process(3).into_iter();
     let root = ranks.next().unwrap();
     let mut good = ranks.next().unwrap();
@@ -163,8 +168,8 @@ fn tiles_a_stalled_node_holds_are_copied_to_another_after_the_deadline() {
     let stalled = stalled_node(ranks.next().unwrap(), ready, true);
     let config = MasterConfig { min_deadline: Duration::from_millis(200), ..MasterConfig::default() };
     let mut master = Master::connect(root, &setup(name), config).unwrap();
-    let frame = master.render(job(state, 0.0, PixelFormat::Srgb8)).unwrap();
-    assert!(frame.srgb8.unwrap() == local.srgb8);
+    let frame = master.render(job(&state, 0.0, PixelFormat::Srgb8)).unwrap();
+    assert!(frame.output.image.srgb8() == local.image.srgb8());
     assert_eq!(frame.tiles_per_node, vec![30, 0], "the stalled node returned nothing");
     drop(master);
     assert_eq!(worker.join().unwrap().tiles, 30);
@@ -187,7 +192,7 @@ fn a_silent_node_ends_the_job_naming_its_rank() {
     };
     let mut master = Master::connect(root, &setup(name), config).unwrap();
     let start = Instant::now();
-    let err = master.render(job(state, 0.0, PixelFormat::Srgb8)).unwrap_err();
+    let err = master.render(job(&state, 0.0, PixelFormat::Srgb8)).unwrap_err();
     assert!(matches!(err, ClusterError::NodeLost { rank: 1, .. }), "{err}");
     assert!(err.to_string().contains("rank 1"), "{err}");
     assert!(start.elapsed() < Duration::from_secs(5));
@@ -351,11 +356,13 @@ impl Animation {
     fn frame(&mut self, master: &mut Master<InProcess>) -> Result<Vec<u32>, ClusterError> {
         let t = 0.1 * self.next as f32;
         self.next += 1;
-        let remote = master.render(job(self.state, t, PixelFormat::Srgb8))?;
-        self.scene.set_time(t);
-        let local = self.renderer.render(&self.scene, &self.state, &|_, _| {}).unwrap();
+        let remote = master.render(job(&self.state, t, PixelFormat::Srgb8))?;
+        let local = self
+            .renderer
+            .render(&mut self.scene, &at(&self.state, t, PixelFormat::Linear), &|_, _| {})
+            .unwrap();
         assert!(
-            remote.srgb8.unwrap() == local.srgb8,
+            remote.output.image.srgb8() == local.image.srgb8(),
             "frame {} differs from the local renderer's",
             self.next - 1
         );

@@ -56,15 +56,18 @@ fn a_cluster_session_shows_the_local_sessions_frames() {
     let local_frames: Vec<_> = (0..4).map(|_| local.render(0.0).unwrap()).collect();
     let cluster_frames: Vec<_> = (0..5).map(|_| cluster.render(0.0).unwrap()).collect();
     // The first frame: 8-bit pixels from the nodes, the same bytes, no linear film.
-    assert!(cluster_frames[0].rgb8 == local_frames[0].rgb8);
-    assert!(cluster_frames[0].film.is_none());
+    assert!(cluster_frames[0].image.srgb8() == local_frames[0].image.srgb8());
+    assert!(cluster_frames[0].image.film().is_none());
     // Still: the cluster's mean of k frames is the local session's mean of k frames.
     for k in 1..4 {
         assert_eq!(cluster_frames[k + 1].stats.accumulated, local_frames[k].stats.accumulated);
-        assert!(cluster_frames[k + 1].rgb8 == local_frames[k].rgb8, "accumulated frame {k} differs");
         assert!(
-            cluster_frames[k + 1].film.as_ref().unwrap().pixels()
-                == local_frames[k].film.as_ref().unwrap().pixels()
+            cluster_frames[k + 1].image.srgb8() == local_frames[k].image.srgb8(),
+            "accumulated frame {k} differs"
+        );
+        assert!(
+            cluster_frames[k + 1].image.film().unwrap().pixels()
+                == local_frames[k].image.film().unwrap().pixels()
         );
     }
     drop(cluster);

@@ -65,11 +65,24 @@ impl Film {
 
     /// Copies a tile's pixels (row-major within the tile) into place.
     pub fn write_tile(&mut self, tile: &Tile, pixels: &[Vec3]) {
-        let w = tile.width() as usize;
-        assert_eq!(pixels.len(), w * tile.height() as usize, "tile pixel count");
-        for (row, src) in pixels.chunks_exact(w).enumerate() {
-            let start = self.index(tile.x0, tile.y0 + row as u32);
-            self.pixels[start..start + w].copy_from_slice(src);
-        }
+        assert!(tile.x1 <= self.width && tile.y1 <= self.height, "tile outside the film");
+        copy_tile(&mut self.pixels, self.width as usize, tile, pixels, 1);
+    }
+}
+
+/// Copies a tile's values (row-major within the tile, `per_pixel` values each) into a
+/// row-major image whose rows are `row_len` values long: the one way tiles become images.
+pub(crate) fn copy_tile<T: Copy>(
+    image: &mut [T],
+    row_len: usize,
+    tile: &Tile,
+    values: &[T],
+    per_pixel: usize,
+) {
+    let w = tile.width() as usize * per_pixel;
+    assert_eq!(values.len(), w * tile.height() as usize, "tile pixel count");
+    for (row, src) in values.chunks_exact(w).enumerate() {
+        let start = (tile.y0 as usize + row) * row_len + tile.x0 as usize * per_pixel;
+        image[start..start + w].copy_from_slice(src);
     }
 }

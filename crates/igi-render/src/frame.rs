@@ -1,9 +1,13 @@
 //! [`FrameState`]: everything a render node needs to produce any tile of one frame besides the
-//! scene itself (DESIGN.md section 1). It is small and serialisable, so a cluster node or a
-//! viewer thread can receive it and derive the VPLs and every pixel deterministically.
+//! scene itself (ARCHITECTURE.md, "One frame"): camera, settings, where the scene stands
+//! ([`ScenePose`]), tone map, the pixels wanted ([`PixelFormat`]) and the seeds. It is small
+//! and serialisable, so a cluster node or a viewer thread can receive it, pose its copy of the
+//! scene and derive the VPLs and every pixel deterministically.
 
+use crate::frame_image::PixelFormat;
 use crate::sampling::hash_combine;
 use crate::tonemap::ToneMapper;
+use glam::Affine3A;
 use igi_scene::Camera;
 use serde::{Deserialize, Serialize};
 
@@ -209,16 +213,39 @@ impl IgiSettings {
     }
 }
 
-/// One frame: camera, settings, tone-map parameters, frame index and seed.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+/// Where the scene stands for a frame: the clock and the instances a user moved (their extra
+/// world transforms). [`crate::PreparedScene::pose`] places a scene so.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ScenePose {
+    /// Scene clock, seconds: animated instances and lights take their pose at this time.
+    pub time: f32,
+    /// Moved instances and their extra world transforms (applied after the animation's pose).
+    pub moved: Vec<(u32, Affine3A)>,
+}
+
+impl ScenePose {
+    /// The pose at time `time` with nothing moved by hand.
+    pub fn at(time: f32) -> Self {
+        Self { time, moved: Vec::new() }
+    }
+}
+
+/// One frame, completely: camera, settings, scene pose, tone map, pixel format, frame index
+/// and seed. The same value describes a frame to the local renderer and, as a cluster job, to
+/// every render node.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FrameState {
     /// The camera.
     pub camera: Camera,
     /// Render settings.
     pub settings: IgiSettings,
+    /// Where the scene stands: clock and moved instances.
+    pub pose: ScenePose,
     /// Tone mapping for 8-bit output of this frame, fixed from the previous frame's tile
     /// statistics (paper 3.4) or from a fixed exposure.
     pub tone_map: ToneMapper,
+    /// The pixels the frame delivers: the display image only, or linear radiance too.
+    pub pixels: PixelFormat,
     /// Frame number (0 for the first frame).
     pub frame: u32,
     /// Base seed of every random decision.
@@ -236,6 +263,20 @@ pub struct SequenceSpan {
 }
 
 impl FrameState {
+    /// Frame 0 of `camera` with `settings`: the scene at time 0 as loaded, the linear tone
+    /// map, linear radiance delivered, seed 0.
+    pub fn new(camera: Camera, settings: IgiSettings) -> Self {
+        Self {
+            camera,
+            settings,
+            pose: ScenePose::default(),
+            tone_map: ToneMapper::LINEAR,
+            pixels: PixelFormat::Linear,
+            frame: 0,
+            seed: 0,
+        }
+    }
+
     /// The seed this frame's samples derive from: the base seed, mixed with the frame number if
     /// `reseed_per_frame` is set.
     pub fn sample_seed(&self) -> u32 {

@@ -1,35 +1,32 @@
-//! [`FrameRenderer`]: a scene and a [`FrameState`] in, a frame out. It generates the frame's
-//! VPLs, hands the tiles on demand to its persistent worker threads ([`TileScheduler`]), each
+//! [`FrameRenderer`]: a scene and a [`FrameState`] in, a frame out. It poses the scene as the
+//! frame says (the one place where a scene is posed for a frame), generates the frame's VPLs, hands the tiles on demand to its persistent worker threads ([`TileScheduler`]), each
 //! running the [`TilePipeline`], and combines the finished tiles and their luminance
 //! statistics in tile order (paper 3.4), so the result is the same at any thread count.
 //! [`FrameRenderer::render_cancellable`] stops between tiles when its [`CancelToken`] says so
 //! and then returns no image at all.
 //!
 //! [`FrameRenderer::render_accumulated`] averages frames with fresh VPL sets and sample
-//! patterns: the progressive mode of a still scene, converging to the instant-radiosity
-//! solution (unclamped with `clamp` 0).
+//! patterns ([`Progressive`]): the progressive mode of a still scene, converging to the
+//! instant-radiosity solution (unclamped with `clamp` 0).
 
 use crate::cancel::{CancelToken, Cancelled};
-use crate::film::Film;
 use crate::frame::{FrameState, SettingsError};
+use crate::frame_image::{FrameImage, PixelFormat};
 use crate::prepared::PreparedScene;
+use crate::progressive::{Progressive, Shown};
 use crate::scheduler::TileScheduler;
 use crate::stats::{Phase, PhaseTimes, RayCounts};
 use crate::tile::TileGrid;
 use crate::tile_pipeline::{TilePipeline, TileScratch};
-use crate::tonemap::LuminanceStats;
+use crate::tonemap::{LuminanceStats, ToneMap};
 use crate::vpl::VplSets;
-use glam::Vec3;
 use std::time::{Duration, Instant};
 
 /// A rendered frame and what it cost.
 #[derive(Clone, Debug)]
 pub struct FrameOutput {
-    /// Linear radiance.
-    pub film: Film,
-    /// The display image: 8-bit sRGB, 3 bytes per pixel, row-major, tone-mapped with the
-    /// frame's [`FrameState::tone_map`].
-    pub srgb8: Vec<u8>,
+    /// The image, in the frame's [`FrameState::pixels`] format.
+    pub image: FrameImage,
     /// Luminance statistics of the image, combined from the tiles in tile order: the input of
     /// the next frame's tone mapping.
     pub stats: LuminanceStats,
@@ -41,8 +38,6 @@ pub struct FrameOutput {
     pub elapsed: Duration,
     /// VPLs (surface and sky) over all sets.
     pub vpls: usize,
-    /// Frames averaged into the image.
-    pub frames: u32,
 }
 
 /// Why [`FrameRenderer::render_cancellable`] returned no frame.
@@ -78,10 +73,11 @@ impl FrameRenderer {
         &self.scheduler
     }
 
-    /// Renders one frame; `progress(done, total)` is called after each tile.
+    /// Poses `scene` as `frame` says and renders the frame; `progress(done, total)` is called
+    /// after each tile.
     pub fn render(
         &self,
-        scene: &PreparedScene,
+        scene: &mut PreparedScene,
         frame: &FrameState,
         progress: &(dyn Fn(u32, u32) + Sync),
     ) -> Result<FrameOutput, SettingsError> {
@@ -91,102 +87,119 @@ impl FrameRenderer {
         })
     }
 
-    /// Renders one frame unless `cancel` stops it between two tiles; `progress(done, total)`
-    /// is called after each tile.
+    /// [`FrameRenderer::render`], unless `cancel` stops it between two tiles.
     pub fn render_cancellable(
         &self,
-        scene: &PreparedScene,
+        scene: &mut PreparedScene,
         frame: &FrameState,
         cancel: &CancelToken,
         progress: &(dyn Fn(u32, u32) + Sync),
     ) -> Result<FrameOutput, FrameError> {
-        frame.settings.validate()?;
         let start = Instant::now();
-        let mut times = PhaseTimes::default();
-        let vpls = self.scheduler.install(|| VplSets::generate(scene, frame));
-        times.add(Phase::VplGeneration, start.elapsed());
-
-        let s = &frame.settings;
-        let grid = TileGrid::new(s.width, s.height, s.tile_size);
-        let pipeline = TilePipeline::new(scene, frame, &vpls);
+        let plan = self.plan(scene, frame)?;
+        let pipeline = plan.pipeline();
         let tiles = self.scheduler.run(
-            &grid,
+            &plan.grid,
             cancel,
             TileScratch::default,
             |scratch, tile| pipeline.render_tile(tile, scratch),
             progress,
         )?;
-
-        let mut film = Film::new(s.width, s.height);
-        let mut srgb8 = vec![0u8; 3 * s.width as usize * s.height as usize];
         let mut stats = LuminanceStats::default();
         let mut rays = RayCounts::default();
-        for t in &tiles {
-            film.write_tile(&t.tile, &t.pixels);
-            let row = 3 * t.tile.width() as usize;
-            for (r, src) in t.srgb8.chunks_exact(row).enumerate() {
-                let start = 3 * ((t.tile.y0 as usize + r) * s.width as usize + t.tile.x0 as usize);
-                srgb8[start..start + row].copy_from_slice(src);
-            }
+        let mut times = plan.times;
+        let mut pixels = Vec::with_capacity(tiles.len());
+        for t in tiles {
             stats = stats.merge(t.stats);
             rays += t.rays;
             times += t.times;
+            pixels.push((t.tile, t.pixels));
         }
-        let vpl_count = vpls.total_vpls();
-        Ok(FrameOutput {
-            film,
-            srgb8,
-            stats,
-            rays,
-            times,
-            elapsed: start.elapsed(),
-            vpls: vpl_count,
-            frames: 1,
-        })
+        let s = &frame.settings;
+        let assembling = Instant::now();
+        let image = self
+            .scheduler
+            .install(|| FrameImage::from_tiles(frame.pixels, s.width, s.height, pixels, &frame.tone_map));
+        // A linear frame's display image is encoded here, on all threads (thread time, as the
+        // tile phases count it).
+        times.add(Phase::ToneMap, assembling.elapsed() * self.threads() as u32);
+        Ok(FrameOutput { image, stats, rays, times, elapsed: start.elapsed(), vpls: plan.vpl_count() })
+    }
+
+    /// Makes `frame` ready to render tile by tile: checks its settings, poses `scene` as the
+    /// frame says and generates the frame's VPLs on the render threads.
+    pub fn plan<'a>(
+        &self,
+        scene: &'a mut PreparedScene,
+        frame: &'a FrameState,
+    ) -> Result<FramePlan<'a>, SettingsError> {
+        frame.settings.validate()?;
+        let start = Instant::now();
+        scene.pose(&frame.pose);
+        let scene = &*scene;
+        let vpls = self.scheduler.install(|| VplSets::generate(scene, frame));
+        let mut times = PhaseTimes::default();
+        times.add(Phase::VplGeneration, start.elapsed());
+        let s = &frame.settings;
+        Ok(FramePlan { scene, frame, vpls, grid: TileGrid::new(s.width, s.height, s.tile_size), times })
     }
 
     /// The average of `frames` frames from `frame` on (frame numbers `frame.frame`,
-    /// `frame.frame + 1`, …), each with fresh VPLs and sample patterns. `progress(done,
-    /// total)` counts tiles over all frames.
+    /// `frame.frame + 1`, …), each with fresh VPLs and sample patterns, in linear radiance.
+    /// `progress(done, total)` counts tiles over all frames. Rays, times and VPLs are the sums
+    /// over the frames.
     pub fn render_accumulated(
         &self,
-        scene: &PreparedScene,
+        scene: &mut PreparedScene,
         frame: &FrameState,
         frames: u32,
         progress: &(dyn Fn(u32, u32) + Sync),
     ) -> Result<FrameOutput, SettingsError> {
         let frames = frames.max(1);
-        let mut f = *frame;
+        let mut f = frame.clone();
         f.settings.reseed_per_frame |= frames > 1;
-        let grid = TileGrid::new(f.settings.width, f.settings.height, f.settings.tile_size);
-        let per_frame = grid.len();
+        f.pixels = PixelFormat::Linear;
+        let per_frame = TileGrid::new(f.settings.width, f.settings.height, f.settings.tile_size).len();
         let total = per_frame.saturating_mul(frames);
         let start = Instant::now();
-        let mut render_frame = |i: u32| {
+        let mut mean = Progressive::new(ToneMap::default());
+        let (mut rays, mut times, mut vpls) = (RayCounts::default(), PhaseTimes::default(), 0);
+        let mut shown = None;
+        for i in 0..frames {
             f.frame = frame.frame.wrapping_add(i);
             let done_before = per_frame.saturating_mul(i);
-            self.render(scene, &f, &|done, _| progress(done_before.saturating_add(done), total))
-        };
-        let mut out = render_frame(0)?;
-        let mut sum: Vec<Vec3> = out.film.pixels().to_vec();
-        for i in 1..frames {
-            let one = render_frame(i)?;
-            sum.iter_mut().zip(one.film.pixels()).for_each(|(a, b)| *a += *b);
-            out.rays += one.rays;
-            out.times += one.times;
-            out.vpls += one.vpls;
+            let one = self.render(scene, &f, &|done, _| progress(done_before.saturating_add(done), total))?;
+            rays += one.rays;
+            times += one.times;
+            vpls += one.vpls;
+            shown = Some(mean.add(one.image, one.stats));
         }
-        let scale = 1.0 / frames as f32;
-        let film = Film::from_pixels(
-            f.settings.width,
-            f.settings.height,
-            sum.into_iter().map(|p| p * scale).collect(),
-        );
-        out.stats = LuminanceStats::of_pixels(film.pixels());
-        out.srgb8 = crate::output::to_srgb8(&film, &frame.tone_map);
-        out.film = film;
-        out.frames = frames;
-        out.elapsed = start.elapsed();
-        Ok(out)
+        let Shown { image, stats } = shown.unwrap_or_else(|| unreachable!("at least one frame"));
+        Ok(FrameOutput { image, stats, rays, times, elapsed: start.elapsed(), vpls })
+    }
+}
+
+/// A frame ready to render tile by tile ([`FrameRenderer::plan`]): the posed scene, the
+/// frame's VPLs and its tile grid.
+#[derive(Debug)]
+pub struct FramePlan<'a> {
+    scene: &'a PreparedScene,
+    frame: &'a FrameState,
+    vpls: VplSets,
+    /// The frame's tiles.
+    pub grid: TileGrid,
+    /// Time spent so far (the VPL generation).
+    pub times: PhaseTimes,
+}
+
+impl FramePlan<'_> {
+    /// The pipeline that renders the frame's tiles.
+    pub fn pipeline(&self) -> TilePipeline<'_> {
+        TilePipeline::new(self.scene, self.frame, &self.vpls)
+    }
+
+    /// VPLs (surface and sky) over all sets.
+    pub fn vpl_count(&self) -> usize {
+        self.vpls.total_vpls()
     }
 }

@@ -1,9 +1,12 @@
 //! Frame rendering for igi: everything between a loaded scene and an image file, following the
-//! frame pipeline of DESIGN.md section 1 (paper sections 2.1, 3.1-3.4).
+//! frame pipeline of ARCHITECTURE.md (paper sections 2.1, 3.1-3.4).
 //!
 //! The pieces, each in its own module:
-//! - [`frame`]: [`FrameState`], the small serialisable description of a frame, and its
-//!   settings ([`IgiSettings`]).
+//! - [`frame`]: [`FrameState`], the small serialisable description of a whole frame (camera,
+//!   settings ([`IgiSettings`]), scene pose ([`ScenePose`]), tone map, pixel format, seeds).
+//! - [`frame_image`]: what pixels a frame carries ([`PixelFormat`], a tile's [`Pixels`], a
+//!   frame's [`FrameImage`]).
+//! - [`progressive`]: [`Progressive`], the one owner of accumulation and tone-map feedback.
 //! - [`prepared`]: [`PreparedScene`], the scene plus its acceleration structure and shading
 //!   tables (materials per triangle, normals, texture coordinates, emissive triangles).
 //! - [`camera`]: the pinhole camera ([`PinholeCamera`]), identical to the Embree benchmark's.
@@ -16,7 +19,8 @@
 //!   shadow-ray loop.
 //! - [`discontinuity`]: the discontinuity-buffer filter.
 //! - [`tile`], [`scheduler`] and [`frame_renderer`]: tiles, persistent worker threads taking
-//!   tiles on demand, and [`FrameRenderer`], which puts a frame together.
+//!   tiles on demand, and [`FrameRenderer`], which poses the scene, plans a frame
+//!   ([`FramePlan`]) and puts it together.
 //! - [`cancel`]: [`CancelToken`], which abandons a frame between tiles.
 //! - [`path_tracer`]: the reference path tracer.
 //! - [`stats`], [`film`], [`tonemap`] and [`output`]: costs, the framebuffer, tone mapping,
@@ -28,13 +32,12 @@
 //! # fn demo(scene: igi_scene::Scene) -> Result<(), Box<dyn std::error::Error>> {
 //! use igi_render::{FrameRenderer, FrameState, IgiSettings, PreparedScene, ToneMap, ToneMapper};
 //! use igi_render::{default_camera, write_image};
-//! let prepared = PreparedScene::new(scene);
+//! let mut prepared = PreparedScene::new(scene);
 //! let camera = prepared.camera().copied().unwrap_or_else(|| default_camera(&prepared.bounds()));
 //! let settings = IgiSettings { clamp: IgiSettings::clamp_for(prepared.bounds().diagonal()), ..IgiSettings::default() };
-//! let frame = FrameState { camera, settings, tone_map: ToneMapper::LINEAR, frame: 0, seed: 0 };
-//! let out = FrameRenderer::new(0).render(&prepared, &frame, &|_, _| {})?;
+//! let out = FrameRenderer::new(0).render(&mut prepared, &FrameState::new(camera, settings), &|_, _| {})?;
 //! let mapper = ToneMapper::new(ToneMap::default(), &out.stats);
-//! write_image(&out.film, "out.png".as_ref(), &mapper)?;
+//! write_image(out.image.film().expect("a linear frame"), "out.png".as_ref(), &mapper)?;
 //! # Ok(()) }
 //! ```
 
@@ -44,12 +47,14 @@ pub mod discontinuity;
 pub mod environment;
 pub mod film;
 pub mod frame;
+pub mod frame_image;
 pub mod frame_renderer;
 pub mod interleave;
 pub mod lights;
 pub mod output;
 pub mod path_tracer;
 pub mod prepared;
+pub mod progressive;
 pub mod sampling;
 pub mod scheduler;
 pub mod stats;
@@ -62,10 +67,12 @@ pub mod vpl_lighting;
 pub use camera::{PinholeCamera, default_camera};
 pub use cancel::{CancelToken, Cancelled};
 pub use film::Film;
-pub use frame::{FrameState, IgiSettings};
-pub use frame_renderer::{FrameError, FrameOutput, FrameRenderer};
+pub use frame::{FrameState, IgiSettings, ScenePose};
+pub use frame_image::{FrameImage, PixelFormat, Pixels};
+pub use frame_renderer::{FrameError, FrameOutput, FramePlan, FrameRenderer};
 pub use output::{OutputError, write_exr, write_image, write_png};
 pub use prepared::{PreparedScene, SurfacePoint};
+pub use progressive::{Progressive, Shown};
 pub use stats::{Phase, PhaseTimes, RayCounts};
 pub use tile::{Tile, TileGrid};
 pub use tonemap::{ToneMap, ToneMapper};

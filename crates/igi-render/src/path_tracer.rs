@@ -430,15 +430,18 @@ fn unit_float(x: u32) -> f32 {
     (x >> 8) as f32 * (1.0 / (1u32 << 24) as f32)
 }
 
-/// Renders the whole image on `scheduler`'s threads (tiles of frame.settings.tile_size), calling
-/// progress(done, total) after each tile. Returns the film and the number of rays traced.
+/// Poses `scene` as `frame` says and renders the whole image on `scheduler`'s threads (tiles of
+/// frame.settings.tile_size), calling progress(done, total) after each tile. Returns the film
+/// and the number of rays traced.
 pub fn render_path_traced(
-    scene: &PreparedScene,
+    scene: &mut PreparedScene,
     frame: &FrameState,
     spp: u32,
     scheduler: &TileScheduler,
     progress: &(dyn Fn(u32, u32) + Sync),
 ) -> (Film, u64) {
+    scene.pose(&frame.pose);
+    let scene = &*scene;
     let tracer = PathTracer::new(scene, frame, spp);
     let (width, height) = (frame.settings.width, frame.settings.height);
     let grid = TileGrid::new(width, height, frame.settings.tile_size);

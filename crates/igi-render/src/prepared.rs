@@ -13,6 +13,7 @@
 //! [`SurfaceShader`] ([`PreparedScene::set_shader`]).
 
 use crate::environment::EnvironmentLight;
+use crate::frame::ScenePose;
 use crate::lights::{AreaLights, EmissiveTriangle};
 use glam::{Affine3A, Mat3A, Vec2, Vec3};
 use igi_bvh::{Aabb, Accel, Hit, TriangleMesh};
@@ -81,8 +82,8 @@ pub struct PreparedScene {
     /// Per material, the energy-conserving parameters of a shader that gives every hit the
     /// same ([`SurfaceShader::uniform`]).
     uniform: Vec<Option<BrdfParams>>,
-    /// Scene time handed to the surface shaders.
-    time: f32,
+    /// The pose the scene was last placed in ([`PreparedScene::pose`]); `None` as loaded.
+    posed: Option<ScenePose>,
     /// How instances and lights move with the clock.
     animation: Animation,
     /// Instance transforms and lights as loaded: a [`Pose`] overrides some of them.
@@ -153,7 +154,7 @@ impl PreparedScene {
             normal_matrices,
             shaders: Vec::new(),
             uniform: Vec::new(),
-            time: 0.0,
+            posed: None,
             animation,
             rest_transforms: placements.iter().map(|&(_, m)| m).collect(),
             rest_lights: lights_copy,
@@ -186,28 +187,27 @@ impl PreparedScene {
         &self.animation
     }
 
-    /// The scene time last set by [`PreparedScene::set_time`] (seconds).
+    /// Scene time of the last placement (seconds; 0 as loaded): the surface shaders see it.
     pub fn time(&self) -> f32 {
-        self.time
+        self.posed.as_ref().map_or(0.0, |p| p.time)
     }
 
-    /// Moves the scene to time `t` (seconds) of its animation: the animated instances and
-    /// lights take their pose, the top-level BVH is rebuilt over the moved instances (the
-    /// per-mesh BVHs stay), and the surface shaders see `t`. Everything else the renderer
-    /// derives from the scene (VPLs, lighting) is recomputed by the next frame anyway.
-    pub fn set_time(&mut self, t: f32) {
-        self.place(t, &[]);
-    }
-
-    /// [`PreparedScene::set_time`], with the instances in `moved` also transformed by their
-    /// matrix in world space (a viewer's object moves; see [`PreparedScene::set_pose`]).
-    pub fn place(&mut self, t: f32, moved: &[(u32, Affine3A)]) {
-        self.time = t;
-        if !self.animation.is_empty() || !moved.is_empty() || self.is_displaced {
-            let pose = self.animation.pose(t);
-            self.set_pose(&pose, moved);
-            self.is_displaced = !moved.is_empty();
+    /// Places the scene as `pose` says: the animated instances and lights take their pose at
+    /// its time, the instances it moves are also transformed by their matrix in world space
+    /// (a viewer's object moves), the top-level BVH is
+    /// rebuilt over the moved instances (the per-mesh BVHs stay), and the surface shaders see
+    /// its time. Everything else the renderer derives from the scene (VPLs, lighting) is
+    /// recomputed by the next frame anyway. A scene already in this pose stays as it is.
+    pub fn pose(&mut self, pose: &ScenePose) {
+        if self.posed.as_ref() == Some(pose) {
+            return;
         }
+        if !self.animation.is_empty() || !pose.moved.is_empty() || self.is_displaced {
+            let animated = self.animation.pose(pose.time);
+            self.place(&animated, &pose.moved);
+            self.is_displaced = !pose.moved.is_empty();
+        }
+        self.posed = Some(pose.clone());
     }
 
     /// Places the scene: every instance and light at its rest state (as loaded), overridden
@@ -215,7 +215,7 @@ impl PreparedScene {
     /// once more by their matrix (applied in world space, after the pose). Rebuilds the top
     /// level of the acceleration structure and, if an emitter may have moved, the table of
     /// emissive triangles.
-    pub fn set_pose(&mut self, pose: &Pose, moved: &[(u32, Affine3A)]) {
+    fn place(&mut self, pose: &Pose, moved: &[(u32, Affine3A)]) {
         let mut transforms = self.rest_transforms.clone();
         for &(i, m) in &pose.instances {
             if let Some(t) = transforms.get_mut(i as usize) {
@@ -491,7 +491,7 @@ impl PreparedScene {
             object: I32x8::from_array(object),
             active: M32x8::from_bitmask((1u32 << n) - 1),
             material,
-            time: self.time,
+            time: self.time(),
         };
         let mut params = BrdfParams8::black(hits.shading_normal);
         self.shader(material).shade(&hits, &mut params);

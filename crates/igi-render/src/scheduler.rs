@@ -9,6 +9,7 @@
 
 use crate::cancel::{CancelToken, Cancelled};
 use crate::tile::{Tile, TileGrid};
+use std::sync::Mutex;
 use std::sync::atomic::{AtomicU32, Ordering};
 
 /// A pool of render threads handing out tiles on demand.
@@ -60,27 +61,49 @@ impl TileScheduler {
         R: Fn(&mut S, Tile) -> T + Sync,
     {
         let next = AtomicU32::new(0);
-        let done = AtomicU32::new(0);
         let total = grid.len();
-        let parts: Vec<Vec<(u32, T)>> = self.pool.broadcast(|_| {
-            let mut scratch = init();
-            let mut finished = Vec::new();
-            while !cancel.is_cancelled() {
+        let finished = Mutex::new(Vec::with_capacity(total as usize));
+        self.run_queue(
+            || {
                 let index = next.fetch_add(1, Ordering::Relaxed);
-                if index >= total {
-                    break;
-                }
-                finished.push((index, render(&mut scratch, grid.tile(index))));
-                progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
-            }
-            finished
-        });
-        let mut all: Vec<(u32, T)> = parts.into_iter().flatten().collect();
+                (!cancel.is_cancelled() && index < total).then(|| grid.tile(index))
+            },
+            init,
+            render,
+            |tile, result| {
+                let mut finished = finished.lock().unwrap_or_else(|e| e.into_inner());
+                finished.push((tile.index, result));
+                progress(finished.len() as u32, total);
+            },
+        );
+        let mut all = finished.into_inner().unwrap_or_else(|e| e.into_inner());
         if all.len() < total as usize {
             return Err(Cancelled);
         }
         all.sort_unstable_by_key(|(index, _)| *index);
         Ok(all.into_iter().map(|(_, t)| t).collect())
+    }
+
+    /// Renders the tiles `next` hands out until it returns `None` on every thread: each worker
+    /// makes its scratch state with `init` once, renders tile after tile and passes each
+    /// result to `done` as soon as it is finished. A render node's tiles come this way, from
+    /// the queue rank 0 keeps filling (paper 2.1).
+    pub fn run_queue<S, T, I, R>(
+        &self,
+        next: impl Fn() -> Option<Tile> + Sync,
+        init: I,
+        render: R,
+        done: impl Fn(Tile, T) + Sync,
+    ) where
+        I: Fn() -> S + Sync,
+        R: Fn(&mut S, Tile) -> T + Sync,
+    {
+        self.pool.broadcast(|_| {
+            let mut scratch = init();
+            while let Some(tile) = next() {
+                done(tile, render(&mut scratch, tile));
+            }
+        });
     }
 }
 

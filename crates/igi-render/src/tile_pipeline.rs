@@ -27,6 +27,7 @@
 use crate::camera::PinholeCamera;
 use crate::discontinuity::{DiscontinuityBuffer, FilterSample, Filtered};
 use crate::frame::{FilterSettings, FrameState, SequenceSpan};
+use crate::frame_image::{PixelFormat, Pixels};
 use crate::interleave::{Interleave, Region};
 use crate::prepared::{PreparedScene, SurfacePoint};
 use crate::sampling::{pixel_seed, sobol4};
@@ -62,16 +63,15 @@ const COMPENSATION: u32 = 1 << 31;
 /// previous one; a fourth would change the Cornell box by far less than its noise.
 const COMPENSATION_LEVELS: u32 = 3;
 
-/// A finished tile: linear radiance and what it cost.
+/// A finished tile: its pixels and what it cost.
 #[derive(Clone, Debug)]
 pub struct TileOutput {
     /// The tile.
     pub tile: Tile,
-    /// Linear RGB radiance, row-major within the tile.
-    pub pixels: Vec<Vec3>,
-    /// The pixels tone-mapped with the frame's [`FrameState::tone_map`] and sRGB-encoded,
-    /// 3 bytes per pixel: what a display shows (and what a render node sends, paper 3.4).
-    pub srgb8: Vec<u8>,
+    /// Its pixels in the frame's [`FrameState::pixels`] format: linear radiance, or tone-mapped
+    /// with the frame's [`FrameState::tone_map`] and sRGB-encoded, what a display shows (and
+    /// what a render node sends while the view moves, paper 3.4).
+    pub pixels: Pixels,
     /// Luminance statistics of the pixels (for the next frame's tone mapping, paper 3.4).
     pub stats: LuminanceStats,
     /// Rays traced.
@@ -195,6 +195,7 @@ pub struct TilePipeline<'a> {
     specular_depth: u32,
     size: (u32, u32),
     tone_map: ToneMapper,
+    pixels: PixelFormat,
     /// Angle subtended by a pixel at the image centre: a ray cone's spread per unit distance,
     /// which sizes the texture footprint of a hit.
     pixel_angle: f32,
@@ -217,6 +218,7 @@ impl<'a> TilePipeline<'a> {
             specular_depth: s.specular_depth,
             size: (s.width, s.height),
             tone_map: frame.tone_map,
+            pixels: frame.pixels,
             pixel_angle: 2.0 * (0.5 * frame.camera.fov_y_deg.to_radians()).tan() / s.height.max(1) as f32,
         }
     }
@@ -254,10 +256,16 @@ impl<'a> TilePipeline<'a> {
         let pixels = self.compose(&tile, &region, scratch);
         times.lap(Phase::Filter, &mut clock);
         let stats = LuminanceStats::of_pixels(&pixels);
-        let mut srgb8 = Vec::new();
-        self.tone_map.encode_pixels(&pixels, &mut srgb8);
+        let pixels = match self.pixels {
+            PixelFormat::Linear => Pixels::Linear(pixels),
+            PixelFormat::Srgb8 => {
+                let mut srgb8 = Vec::new();
+                self.tone_map.encode_pixels(&pixels, &mut srgb8);
+                Pixels::Srgb8(srgb8)
+            }
+        };
         times.lap(Phase::ToneMap, &mut clock);
-        TileOutput { tile, pixels, srgb8, stats, rays, times }
+        TileOutput { tile, pixels, stats, rays, times }
     }
 
     /// Step 1: the camera rays of sample `sample` of the pixels of `set`, packet by packet.

@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 use igi_bvh::Ray;
-use igi_render::{FrameRenderer, FrameState, IgiSettings, PreparedScene, ToneMapper};
+use igi_render::{FrameRenderer, FrameState, IgiSettings, PreparedScene, ScenePose};
 use igi_scene::{Scene, builtin};
 
 /// The animated room with its instances and lights moved to time `t` by hand.
@@ -41,7 +41,7 @@ fn moving_instances_equals_a_fresh_build_of_the_moved_scene() {
     let mut moved = PreparedScene::new(builtin("animated-room").unwrap());
     let rays = rays();
     for t in [0.0, 0.7, 2.5, 3.9, 11.2] {
-        moved.set_time(t);
+        moved.pose(&ScenePose::at(t));
         let fresh = PreparedScene::new(posed_copy(t));
         let mut hits_moving_geometry = 0;
         for ray in &rays {
@@ -60,17 +60,17 @@ fn moving_instances_equals_a_fresh_build_of_the_moved_scene() {
 #[test]
 fn a_moved_frame_is_the_frame_of_the_fresh_build() {
     let mut moved = PreparedScene::new(builtin("animated-room").unwrap());
-    moved.set_time(1.7);
-    let fresh = PreparedScene::new(posed_copy(1.7));
+    let mut fresh = PreparedScene::new(posed_copy(1.7));
     let settings = IgiSettings { width: 64, height: 48, aa: 1, clamp: 0.1, ..IgiSettings::default() };
     let camera = *fresh.camera().unwrap();
-    let frame = FrameState { camera, settings, tone_map: ToneMapper::LINEAR, frame: 0, seed: 3 };
+    let frame = FrameState { seed: 3, pose: ScenePose::at(1.7), ..FrameState::new(camera, settings) };
     let renderer = FrameRenderer::new(2);
-    let a = renderer.render(&moved, &frame, &|_, _| {}).unwrap();
-    let b = renderer.render(&fresh, &frame, &|_, _| {}).unwrap();
-    assert_eq!(a.film.pixels(), b.film.pixels());
+    let a = renderer.render(&mut moved, &frame, &|_, _| {}).unwrap();
+    let b = renderer.render(&mut fresh, &frame, &|_, _| {}).unwrap();
+    assert_eq!(a.image.film().unwrap().pixels(), b.image.film().unwrap().pixels());
     // And the scene did move: the frame at another time differs.
-    moved.set_time(0.0);
-    let c = renderer.render(&moved, &frame, &|_, _| {}).unwrap();
-    assert_ne!(a.film.pixels(), c.film.pixels());
+    let c = renderer
+        .render(&mut moved, &FrameState { pose: ScenePose::at(0.0), ..frame.clone() }, &|_, _| {})
+        .unwrap();
+    assert_ne!(a.image.film().unwrap().pixels(), c.image.film().unwrap().pixels());
 }

@@ -50,12 +50,14 @@ fn plane_and_sky_means(film: &igi_render::Film, cam: &igi_scene::Camera) -> (Vec
 fn igi_plane_under_a_uniform_sky_reflects_rho_times_the_sky() {
     // Sky VPLs (directional samples of the sky) light the plane; accumulated over frames they
     // converge to the hemisphere integral ρ/π · L · π = ρ L.
-    let (scene, cam) = plane_under_sky();
+    let (mut scene, cam) = plane_under_sky();
     let frame = igi_frame(cam, 40, 30);
     let film = FrameRenderer::new(2)
-        .render_accumulated(&scene, &frame, 64, &|_, _| {})
+        .render_accumulated(&mut scene, &frame, 64, &|_, _| {})
         .expect("valid settings")
-        .film;
+        .image
+        .into_film()
+        .unwrap();
     let (plane, sky, np, ns) = plane_and_sky_means(&film, &cam);
     assert!(np > 300 && ns > 100, "{np} plane and {ns} sky pixels");
     assert!(rel_err(sky, SKY) < 1e-5, "the sky seen directly: {sky}");
@@ -64,10 +66,10 @@ fn igi_plane_under_a_uniform_sky_reflects_rho_times_the_sky() {
 
 #[test]
 fn path_traced_plane_under_a_uniform_sky_reflects_rho_times_the_sky() {
-    let (scene, cam) = plane_under_sky();
+    let (mut scene, cam) = plane_under_sky();
     let frame = igi_frame(cam, 40, 30);
     let renderer = FrameRenderer::new(2);
-    let (film, _) = render_path_traced(&scene, &frame, 64, renderer.scheduler(), &|_, _| {});
+    let (film, _) = render_path_traced(&mut scene, &frame, 64, renderer.scheduler(), &|_, _| {});
     let (plane, sky, _, _) = plane_and_sky_means(&film, &cam);
     assert!(rel_err(sky, SKY) < 1e-5, "the sky seen directly: {sky}");
     assert!(rel_err(plane, RHO * SKY) < 0.01, "plane {plane}, want {}", RHO * SKY);

@@ -94,19 +94,24 @@ fn worst_block(a: &Film, b: &Film, skip: &[bool]) -> f32 {
 
 #[test]
 fn converged_igi_matches_the_path_tracer_and_the_default_clamp_loses_little() {
-    let (scene, camera) = cornell();
+    let (mut scene, camera) = cornell();
     let renderer = FrameRenderer::new(2);
     let frame = igi_frame(camera, SIZE, SIZE);
     let skip = light_pixels(&scene, &PinholeCamera::new(&camera, SIZE, SIZE));
     assert!((10..60).contains(&skip.iter().filter(|s| **s).count()), "the light covers a few dozen pixels");
-    let (pt, _) = render_path_traced(&scene, &frame, SPP, renderer.scheduler(), &|_, _| {});
+    let (pt, _) = render_path_traced(&mut scene, &frame, SPP, renderer.scheduler(), &|_, _| {});
     let mp = masked_mean(&pt, &skip);
 
     // Unclamped IGI is unbiased: its image mean must match the path tracer's. Over seeds 0-7
     // the ratios per channel were 0.989-1.006 (the reference alone moves by 0.2 % between
     // seeds); the bound is 2 %. Indirect light is about 40 % of the reflected light here, so
     // a lost bounce order or a wrong VPL power fails by far.
-    let igi = renderer.render_accumulated(&scene, &frame, FRAMES, &|_, _| {}).expect("valid settings").film;
+    let igi = renderer
+        .render_accumulated(&mut scene, &frame, FRAMES, &|_, _| {})
+        .expect("valid settings")
+        .image
+        .into_film()
+        .unwrap();
     let mi = masked_mean(&igi, &skip);
     eprintln!(
         "Cornell {SIZE}², IGI {FRAMES} frames vs PT {SPP} spp (light pixels excluded): means {mi} / {mp} = {}",
@@ -121,8 +126,12 @@ fn converged_igi_matches_the_path_tracer_and_the_default_clamp_loses_little() {
     let mut clamped = frame;
     clamped.settings.clamp = IgiSettings::clamp_for(scene.bounds().diagonal());
     assert!(clamped.settings.clamp > 0.05 && clamped.settings.clamp < 0.1, "{}", clamped.settings.clamp);
-    let igi_clamped =
-        renderer.render_accumulated(&scene, &clamped, FRAMES, &|_, _| {}).expect("valid settings").film;
+    let igi_clamped = renderer
+        .render_accumulated(&mut scene, &clamped, FRAMES, &|_, _| {})
+        .expect("valid settings")
+        .image
+        .into_film()
+        .unwrap();
     let mc = masked_mean(&igi_clamped, &skip);
     let loss = 1.0 - luminance(mc) / luminance(mi);
     eprintln!("default clamp {}: energy lost {:.3} %", clamped.settings.clamp, 100.0 * loss);
@@ -152,16 +161,21 @@ fn bias_compensation_restores_what_a_large_clamp_removes() {
     // the creases and the contact shadows; the compensation rays must bring the image mean
     // back to the path tracer's. Both runs use the same VPLs (same seed and frames), so the
     // difference is the compensation alone.
-    let (scene, camera) = cornell();
+    let (mut scene, camera) = cornell();
     let renderer = FrameRenderer::new(2);
     let mut frame = igi_frame(camera, SIZE, SIZE);
     let skip = light_pixels(&scene, &PinholeCamera::new(&camera, SIZE, SIZE));
-    let (pt, _) = render_path_traced(&scene, &frame, SPP, renderer.scheduler(), &|_, _| {});
+    let (pt, _) = render_path_traced(&mut scene, &frame, SPP, renderer.scheduler(), &|_, _| {});
     let mp = luminance(masked_mean(&pt, &skip));
     frame.settings.clamp = 0.3;
     let mut mean = |compensate: bool| {
         frame.settings.compensate_clamp = compensate;
-        let film = renderer.render_accumulated(&scene, &frame, 128, &|_, _| {}).expect("valid settings").film;
+        let film = renderer
+            .render_accumulated(&mut scene, &frame, 128, &|_, _| {})
+            .expect("valid settings")
+            .image
+            .into_film()
+            .unwrap();
         luminance(masked_mean(&film, &skip))
     };
     let (plain, compensated) = (mean(false), mean(true));

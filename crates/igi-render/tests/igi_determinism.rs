@@ -9,7 +9,7 @@ mod common;
 use common::*;
 use glam::Vec3;
 use igi_render::frame::{FilterSettings, FrameState};
-use igi_render::{Film, FrameOutput, FrameRenderer};
+use igi_render::{Film, FrameOutput, FrameRenderer, PixelFormat};
 
 /// A frame of the room at a size that is a multiple of neither the tile sizes, the 3 × 3
 /// interleave nor the 4 × 2 packets.
@@ -26,12 +26,17 @@ type Fingerprint = (Vec<[u32; 3]>, Vec<u8>, (u64, u64, u32), usize);
 /// display bytes, the luminance statistics and the VPL count.
 fn fingerprint(out: &FrameOutput) -> Fingerprint {
     let s = out.stats;
-    (film_bits(&out.film), out.srgb8.clone(), (s.log_sum.to_bits(), s.count, s.max.to_bits()), out.vpls)
+    (
+        film_bits(out.image.film().unwrap()),
+        out.image.srgb8().to_vec(),
+        (s.log_sum.to_bits(), s.count, s.max.to_bits()),
+        out.vpls,
+    )
 }
 
 #[test]
 fn same_image_at_any_thread_count_and_tile_size() {
-    let scene = every_path_room();
+    let mut scene = every_path_room();
     let renderers = [FrameRenderer::new(1), FrameRenderer::new(2), FrameRenderer::new(3)];
     for filter in [Some(FilterSettings::default()), None] {
         for aa in [1, 4] {
@@ -40,12 +45,18 @@ fn same_image_at_any_thread_count_and_tile_size() {
             f.settings.aa = aa;
             f.settings.tile_size = 16;
             let what = format!("filter {}, aa {aa}", filter.is_some());
-            let one = renderers[0].render(&scene, &f, &|_, _| {}).expect("valid settings");
-            assert!(one.film.pixels().iter().any(|p| p.max_element() > 0.0), "{what}: black image");
-            assert!(one.film.pixels().iter().all(|p| p.is_finite()), "{what}: non-finite pixel");
+            let one = renderers[0].render(&mut scene, &f, &|_, _| {}).expect("valid settings");
+            assert!(
+                one.image.film().unwrap().pixels().iter().any(|p| p.max_element() > 0.0),
+                "{what}: black image"
+            );
+            assert!(
+                one.image.film().unwrap().pixels().iter().all(|p| p.is_finite()),
+                "{what}: non-finite pixel"
+            );
             let reference = fingerprint(&one);
             for r in &renderers[1..] {
-                let many = r.render(&scene, &f, &|_, _| {}).expect("valid settings");
+                let many = r.render(&mut scene, &f, &|_, _| {}).expect("valid settings");
                 assert!(reference == fingerprint(&many), "{what}: {} threads differ from 1", r.threads());
                 // The same tiles are traced, whoever traces them.
                 assert_eq!(one.rays, many.rays, "{what}: ray counts at {} threads", r.threads());
@@ -53,7 +64,7 @@ fn same_image_at_any_thread_count_and_tile_size() {
             // Tile 64 covers the whole 47 × 37 image: tiled equals untiled.
             for tile_size in [7, 32, 64] {
                 f.settings.tile_size = tile_size;
-                let tiled = renderers[1].render(&scene, &f, &|_, _| {}).expect("valid settings");
+                let tiled = renderers[1].render(&mut scene, &f, &|_, _| {}).expect("valid settings");
                 assert!(reference == fingerprint(&tiled), "{what}: tile size {tile_size} differs from 16");
             }
         }
@@ -64,32 +75,41 @@ fn same_image_at_any_thread_count_and_tile_size() {
 fn display_bytes_are_the_tone_mapped_film() {
     // The compositor copies each tile's 8-bit pixels into place: they must be the frame's tone
     // map of the film at the same position (a misplaced tile row shows here).
-    let scene = every_path_room();
+    let mut scene = every_path_room();
     let mut f = frame(3);
     f.settings.tile_size = 7;
     f.tone_map.scale = 4.0;
-    let out = FrameRenderer::new(2).render(&scene, &f, &|_, _| {}).expect("valid settings");
-    let want: Vec<u8> = out.film.pixels().iter().flat_map(|&p| f.tone_map.to_srgb8(p)).collect();
-    assert!(out.srgb8 == want, "8-bit image differs from the tone-mapped film");
-    assert!(out.srgb8.iter().any(|&b| b > 0 && b < 255), "the test image should have mid tones");
+    let renderer = FrameRenderer::new(2);
+    let out = renderer.render(&mut scene, &f, &|_, _| {}).expect("valid settings");
+    let want: Vec<u8> =
+        out.image.film().unwrap().pixels().iter().flat_map(|&p| f.tone_map.to_srgb8(p)).collect();
+    assert!(out.image.srgb8() == want, "the linear frame's display image is not its tone-mapped film");
+    // The same frame as 8-bit tiles (what a render node sends): the same bytes.
+    f.pixels = PixelFormat::Srgb8;
+    let tiles = renderer.render(&mut scene, &f, &|_, _| {}).expect("valid settings");
+    assert!(tiles.image.film().is_none());
+    assert!(tiles.image.srgb8() == want, "8-bit image differs from the tone-mapped film");
+    assert!(tiles.image.srgb8().iter().any(|&b| b > 0 && b < 255), "the test image should have mid tones");
 }
 
 #[test]
 fn the_seed_and_the_reseeded_frame_number_are_the_only_randomness() {
-    let scene = every_path_room();
+    let mut scene = every_path_room();
     let r = FrameRenderer::new(2);
-    let render = |f: &FrameState| r.render(&scene, f, &|_, _| {}).expect("valid settings").film;
+    let mut render = |f: &FrameState| {
+        r.render(&mut scene, f, &|_, _| {}).expect("valid settings").image.into_film().unwrap()
+    };
     let base = frame(7);
     let a = render(&base);
     assert!(film_bits(&a) == film_bits(&render(&base)), "the same frame twice must be identical");
     assert!(film_bits(&a) != film_bits(&render(&frame(8))), "another seed must give other VPLs");
 
     // A still scene without reseeding keeps its VPLs: no flicker from frame to frame.
-    let mut later = base;
+    let mut later = base.clone();
     later.frame = 3;
     assert!(film_bits(&a) == film_bits(&render(&later)), "frame 3 differs from frame 0 without reseeding");
     // With reseeding every frame draws fresh VPLs and sample patterns.
-    let (mut r0, mut r3) = (base, later);
+    let (mut r0, mut r3) = (base.clone(), later.clone());
     r0.settings.reseed_per_frame = true;
     r3.settings.reseed_per_frame = true;
     assert!(film_bits(&render(&r0)) != film_bits(&render(&r3)), "reseeded frames 0 and 3 are identical");
@@ -105,27 +125,33 @@ fn accumulation_is_the_mean_of_the_reseeded_frames() {
     // render_accumulated(n) from frame k averages frames k .. k + n − 1 with fresh VPLs: the
     // same as rendering those frames with reseeding and averaging (sum in order, then × 1/n),
     // bit for bit; one frame is the plain render.
-    let scene = every_path_room();
+    let mut scene = every_path_room();
     let r = FrameRenderer::new(2);
     let mut f = frame(5);
     f.frame = 10;
-    let accumulated = r.render_accumulated(&scene, &f, 3, &|_, _| {}).expect("valid settings");
-    assert_eq!(accumulated.frames, 3);
-    let mut sum: Vec<Vec3> = vec![Vec3::ZERO; accumulated.film.pixels().len()];
-    let mut g = f;
+    let accumulated = r.render_accumulated(&mut scene, &f, 3, &|_, _| {}).expect("valid settings");
+    let mut sum: Vec<Vec3> = vec![Vec3::ZERO; accumulated.image.film().unwrap().pixels().len()];
+    let mut rays = igi_render::RayCounts::default();
+    let mut g = f.clone();
     g.settings.reseed_per_frame = true;
     for i in 0..3 {
         g.frame = f.frame + i;
-        let one = r.render(&scene, &g, &|_, _| {}).expect("valid settings").film;
+        let one = r.render(&mut scene, &g, &|_, _| {}).expect("valid settings");
+        rays += one.rays;
+        let one = one.image.into_film().unwrap();
         sum.iter_mut().zip(one.pixels()).for_each(|(s, p)| *s += *p);
     }
+    assert_eq!(accumulated.rays, rays, "the accumulated frame counts the rays of 3 frames");
     let mean = Film::from_pixels(47, 37, sum.into_iter().map(|p| p * (1.0 / 3.0)).collect());
     assert!(
-        film_bits(&accumulated.film) == film_bits(&mean),
+        film_bits(accumulated.image.film().unwrap()) == film_bits(&mean),
         "accumulated image is not the mean of its frames"
     );
 
-    let single = r.render_accumulated(&scene, &f, 1, &|_, _| {}).expect("valid settings");
-    let plain = r.render(&scene, &f, &|_, _| {}).expect("valid settings");
-    assert!(film_bits(&single.film) == film_bits(&plain.film), "one accumulated frame differs from render()");
+    let single = r.render_accumulated(&mut scene, &f, 1, &|_, _| {}).expect("valid settings");
+    let plain = r.render(&mut scene, &f, &|_, _| {}).expect("valid settings");
+    assert!(
+        film_bits(single.image.film().unwrap()) == film_bits(plain.image.film().unwrap()),
+        "one accumulated frame differs from render()"
+    );
 }

@@ -17,8 +17,8 @@ use igi_simd::{F32x8, Vec3x8};
 use std::f32::consts::PI;
 use std::sync::Arc;
 
-fn render(scene: &PreparedScene, frame: &FrameState) -> Film {
-    FrameRenderer::new(2).render(scene, frame, &|_, _| {}).expect("valid settings").film
+fn render(scene: &mut PreparedScene, frame: &FrameState) -> Film {
+    FrameRenderer::new(2).render(scene, frame, &|_, _| {}).expect("valid settings").image.into_film().unwrap()
 }
 
 /// The filter window of the interleave `[n, m]` around (x, y), clipped to the image: the
@@ -81,7 +81,7 @@ fn exact_light_is_not_filtered() {
     let rho = 0.5;
     let light = Vec3::new(0.4, 1.5, -0.3);
     let intensity = Vec3::new(3.0, 2.0, 1.0);
-    let prepared = PreparedScene::new(scene(
+    let mut prepared = PreparedScene::new(scene(
         vec![horizontal_square("plane", Vec3::ZERO, Vec2::new(1.5, 1.5), true, 0)],
         vec![diffuse("grey", rho)],
         vec![Light::Point { position: light, intensity }],
@@ -99,7 +99,7 @@ fn exact_light_is_not_filtered() {
         frame.settings.aa = 1;
         frame.settings.interleave = interleave;
         frame.settings.tile_size = 7;
-        let film = render(&prepared, &frame);
+        let film = render(&mut prepared, &frame);
         let (mut checked, mut smoothed) = (0, 0);
         for y in 0..h {
             for x in 0..w {
@@ -161,7 +161,7 @@ fn constant_irradiance_stays_constant_and_texture_detail_stays_sharp() {
     let pin = PinholeCamera::new(&cam, w, h);
     let mut frame = igi_frame(cam, w, h);
     frame.settings.aa = 1;
-    let film = render(&prepared, &frame);
+    let film = render(&mut prepared, &frame);
     let albedo = |p: Vec3| UvChecks::albedo((p.x + 2.0) / 4.0, (2.0 - p.z) / 4.0);
     let (mut checked, mut at_edges) = (0, 0);
     for y in 0..h {
@@ -216,7 +216,7 @@ fn filter_never_averages_across_a_depth_normal_or_material_edge() {
     ];
     let materials = vec![diffuse("grey", 0.6), diffuse("decal", 0.3), emitter("light", Vec3::splat(10.0))];
     let surface_material = [0, 0, 0, 1];
-    let prepared = PreparedScene::new(scene(meshes, materials, vec![]));
+    let mut prepared = PreparedScene::new(scene(meshes, materials, vec![]));
     let cam = camera(Vec3::new(0.2, 1.6, 2.8), Vec3::new(0.0, 0.5, -0.5), 50.0);
     let (w, h) = (48, 40);
     let pin = PinholeCamera::new(&cam, w, h);
@@ -251,9 +251,9 @@ fn filter_never_averages_across_a_depth_normal_or_material_edge() {
     let mut frame = igi_frame(cam, w, h);
     frame.settings.aa = 1;
     frame.settings.filter = None;
-    let raw = render(&prepared, &frame);
+    let raw = render(&mut prepared, &frame);
     frame.settings.filter = Some(FilterSettings::default());
-    let filtered = render(&prepared, &frame);
+    let filtered = render(&mut prepared, &frame);
 
     let (mut edge_pixels, mut would_leak) = ([0u32; 4], 0);
     for y in 0..h {
@@ -321,7 +321,7 @@ fn one_filtered_frame_is_closer_to_the_converged_image_than_one_unfiltered_frame
     // pixels at edges keep fewer neighbours.
     let scene = igi_scene::builtin("cornell-box").expect("built-in cornell-box");
     let cam = scene.camera.expect("camera");
-    let prepared = PreparedScene::new(scene);
+    let mut prepared = PreparedScene::new(scene);
     let renderer = FrameRenderer::new(2);
     let (w, h) = (48, 48);
     let mut frame = igi_frame(cam, w, h);
@@ -333,7 +333,8 @@ fn one_filtered_frame_is_closer_to_the_converged_image_than_one_unfiltered_frame
     let mut sum = vec![glam::Vec3::ZERO; (w * h) as usize];
     for seed in 1000..1256 {
         frame.seed = seed;
-        let one = renderer.render(&prepared, &frame, &|_, _| {}).expect("valid").film;
+        let one =
+            renderer.render(&mut prepared, &frame, &|_, _| {}).expect("valid").image.into_film().unwrap();
         sum.iter_mut().zip(one.pixels()).for_each(|(a, b)| *a += *b);
     }
     let reference = Film::from_pixels(w, h, sum.into_iter().map(|p| p / 256.0).collect());
@@ -341,9 +342,11 @@ fn one_filtered_frame_is_closer_to_the_converged_image_than_one_unfiltered_frame
     for seed in 0..4 {
         frame.seed = seed;
         frame.settings.filter = None;
-        let raw = renderer.render(&prepared, &frame, &|_, _| {}).expect("valid").film;
+        let raw =
+            renderer.render(&mut prepared, &frame, &|_, _| {}).expect("valid").image.into_film().unwrap();
         frame.settings.filter = Some(FilterSettings::default());
-        let filtered = renderer.render(&prepared, &frame, &|_, _| {}).expect("valid").film;
+        let filtered =
+            renderer.render(&mut prepared, &frame, &|_, _| {}).expect("valid").image.into_film().unwrap();
         let (e_raw, e_filtered) = (rmse(&raw, &reference), rmse(&filtered, &reference));
         eprintln!(
             "seed {seed}: RMSE unfiltered {e_raw}, filtered {e_filtered}, ratio {}",

@@ -42,7 +42,7 @@ fn point_light_highlight_on_a_glossy_plane_matches_the_closed_form() {
     // looks at the highlight, so the glossy term dominates near its centre.
     let light = Vec3::new(0.0, 1.5, -1.0);
     let intensity = Vec3::new(2.0, 1.5, 1.0);
-    let prepared = PreparedScene::new(scene(
+    let mut prepared = PreparedScene::new(scene(
         vec![horizontal_square("plane", Vec3::ZERO, Vec2::new(10.0, 10.0), true, 0)],
         vec![glossy("plane")],
         vec![Light::Point { position: light, intensity }],
@@ -53,7 +53,12 @@ fn point_light_highlight_on_a_glossy_plane_matches_the_closed_form() {
     let mut frame = igi_frame(cam, w, h);
     frame.settings.aa = 1;
     frame.settings.filter = None;
-    let film = FrameRenderer::new(2).render(&prepared, &frame, &|_, _| {}).expect("valid settings").film;
+    let film = FrameRenderer::new(2)
+        .render(&mut prepared, &frame, &|_, _| {})
+        .expect("valid settings")
+        .image
+        .into_film()
+        .unwrap();
     let pin = PinholeCamera::new(&cam, w, h);
     let (mut checked, mut highlight) = (0, 0);
     for y in 0..h {
@@ -127,12 +132,17 @@ fn converged_igi_with_glossy_vpls_matches_the_path_tracer() {
     // its converged image mean must match the path tracer's, which reaches the same lobes by
     // sampling. Dropping the VPLs' lobes (treating them as Lambertian emitters) changes the
     // indirect light by more than the tolerance.
-    let (scene, camera) = glossy_cornell();
+    let (mut scene, camera) = glossy_cornell();
     const SIZE: u32 = 32;
     let renderer = FrameRenderer::new(2);
     let frame = igi_frame(camera, SIZE, SIZE);
-    let (pt, _) = render_path_traced(&scene, &frame, 512, renderer.scheduler(), &|_, _| {});
-    let igi = renderer.render_accumulated(&scene, &frame, 256, &|_, _| {}).expect("valid settings").film;
+    let (pt, _) = render_path_traced(&mut scene, &frame, 512, renderer.scheduler(), &|_, _| {});
+    let igi = renderer
+        .render_accumulated(&mut scene, &frame, 256, &|_, _| {})
+        .expect("valid settings")
+        .image
+        .into_film()
+        .unwrap();
     let (mi, mp) = (mean(&igi), mean(&pt));
     eprintln!("glossy Cornell: IGI {mi}, PT {mp}, ratio {}", luminance(mi) / luminance(mp));
     assert!(rel_err(mi, mp) < 0.03, "IGI mean {mi}, path-traced mean {mp}");

@@ -44,8 +44,8 @@ fn exact_frame(camera: igi_scene::Camera, width: u32, height: u32) -> FrameState
     f
 }
 
-fn render(scene: &PreparedScene, frame: &FrameState) -> Film {
-    FrameRenderer::new(2).render(scene, frame, &|_, _| {}).expect("valid settings").film
+fn render(scene: &mut PreparedScene, frame: &FrameState) -> Film {
+    FrameRenderer::new(2).render(scene, frame, &|_, _| {}).expect("valid settings").image.into_film().unwrap()
 }
 
 /// Where the ray from `origin` along `d` meets the plane y = 0 inside |x|, |z| < `half`.
@@ -99,10 +99,10 @@ fn assert_plane_exact(film: &Film, cam: &PinholeCamera, want: impl Fn(Vec3) -> V
 fn point_light_matches_the_inverse_square_law_in_one_frame() {
     let light = Vec3::new(0.3, 2.0, -0.2);
     let intensity = Vec3::new(3.0, 2.0, 1.0);
-    let prepared =
+    let mut prepared =
         PreparedScene::new(plane_scene(vec![], vec![], vec![Light::Point { position: light, intensity }]));
     let cam = camera(Vec3::new(0.0, 3.0, 4.0), Vec3::ZERO, 40.0);
-    let film = render(&prepared, &exact_frame(cam, 48, 36));
+    let film = render(&mut prepared, &exact_frame(cam, 48, 36));
     let n = assert_plane_exact(&film, &PinholeCamera::new(&cam, 48, 36), |p| point_lit(p, light, intensity));
     assert!(n > 1000, "the plane should fill most of the image, saw {n} pixels");
 }
@@ -114,12 +114,12 @@ fn directional_light_gives_rho_over_pi_e_cos_with_filter_and_antialiasing() {
     // filter averages equal values.
     let direction = Vec3::new(0.3, -1.0, 0.2).normalize();
     let irradiance = Vec3::new(2.0, 1.5, 1.0);
-    let prepared =
+    let mut prepared =
         PreparedScene::new(plane_scene(vec![], vec![], vec![Light::Directional { direction, irradiance }]));
     let cam = camera(Vec3::new(1.0, 2.0, 3.0), Vec3::new(0.0, 0.0, -1.0), 50.0);
     let want = RHO / PI * irradiance * -direction.y;
     for frame in [exact_frame(cam, 32, 24), igi_frame(cam, 32, 24)] {
-        let film = render(&prepared, &frame);
+        let film = render(&mut prepared, &frame);
         let n = assert_plane_exact(&film, &PinholeCamera::new(&cam, 32, 24), |_| want);
         assert!(n > 300, "{n} plane pixels");
     }
@@ -132,9 +132,9 @@ fn spot_light_lights_its_cone_only() {
     // Full opening 60°: the cone meets the plane at radius 2 tan 30° = 1.155. Pixel centres
     // within 5 % of that radius are skipped (the hard edge).
     let spot = Light::Spot { position: light, direction: -Vec3::Y, angle_deg: 60.0, intensity };
-    let prepared = PreparedScene::new(plane_scene(vec![], vec![], vec![spot]));
+    let mut prepared = PreparedScene::new(plane_scene(vec![], vec![], vec![spot]));
     let cam = camera(Vec3::new(0.0, 4.0, 3.0), Vec3::ZERO, 50.0);
-    let film = render(&prepared, &exact_frame(cam, 48, 36));
+    let film = render(&mut prepared, &exact_frame(cam, 48, 36));
     let (mut inside, mut outside) = (0, 0);
     for_plane_pixels(&PinholeCamera::new(&cam, 48, 36), 9.0, |x, y, p| {
         let r = (p.x * p.x + p.z * p.z).sqrt();
@@ -159,13 +159,13 @@ fn occluded_points_are_black() {
     // its underside (lit by the plane's bounce VPLs) reflects nothing back into the shadow,
     // and the shadow is exactly 0, not just dim.
     let blocker = horizontal_square("blocker", Vec3::new(0.0, 1.0, 0.0), Vec2::new(0.2, 0.2), true, 1);
-    let prepared = PreparedScene::new(plane_scene(
+    let mut prepared = PreparedScene::new(plane_scene(
         vec![blocker],
         vec![diffuse("black", 0.0)],
         vec![Light::Point { position: light, intensity }],
     ));
     let cam = camera(Vec3::new(0.0, 0.5, 3.0), Vec3::ZERO, 40.0);
-    let film = render(&prepared, &exact_frame(cam, 48, 36));
+    let film = render(&mut prepared, &exact_frame(cam, 48, 36));
     let (mut dark, mut lit) = (0, 0);
     for_plane_pixels(&PinholeCamera::new(&cam, 48, 36), 9.0, |x, y, p| {
         let got = film.get(x, y);
@@ -186,15 +186,15 @@ fn black_emitter_shows_le_on_its_front_side_only() {
     let le = Vec3::new(5.0, 4.0, 3.0);
     // A down-facing black emitter at y = 1 over the plane.
     let light = horizontal_square("light", Vec3::new(0.0, 1.0, 0.0), Vec2::new(1.0, 1.0), false, 1);
-    let prepared = PreparedScene::new(plane_scene(vec![light], vec![emitter("light", le)], vec![]));
+    let mut prepared = PreparedScene::new(plane_scene(vec![light], vec![emitter("light", le)], vec![]));
     // From below, looking up at the front side: L_e and nothing else (black: no reflection),
     // with the default aa 4 and filter (the mean of four equal samples is exact).
     let below = camera(Vec3::new(0.0, 0.2, 0.0), Vec3::new(0.0, 1.0, 0.0), 40.0);
-    let film = render(&prepared, &igi_frame(below, 8, 8));
+    let film = render(&mut prepared, &igi_frame(below, 8, 8));
     assert!(film.pixels().iter().all(|&p| p == le), "front side must show L_e exactly: {:?}", film.pixels());
     // From above, the back side: no emission, black albedo.
     let above = camera(Vec3::new(0.0, 3.0, 0.0), Vec3::new(0.0, 1.0, 0.0), 40.0);
-    let film = render(&prepared, &igi_frame(above, 8, 8));
+    let film = render(&mut prepared, &igi_frame(above, 8, 8));
     assert!(film.pixels().iter().all(|&p| p == Vec3::ZERO), "back side must be black: {:?}", film.pixels());
 }
 
@@ -209,14 +209,14 @@ fn emitter_back_side_reflects_like_a_diffuse_surface_without_emission() {
     let material = Material { diffuse: Vec3::splat(RHO), emission: le, ..Material::default() };
     let lamp = Vec3::new(0.2, 2.5, 0.1);
     let intensity = Vec3::new(2.0, 3.0, 4.0);
-    let prepared = PreparedScene::new(scene(
+    let mut prepared = PreparedScene::new(scene(
         vec![light],
         vec![material],
         vec![Light::Point { position: lamp, intensity }],
     ));
     let cam = camera(Vec3::new(0.0, 4.0, 2.0), Vec3::new(0.0, 1.0, 0.0), 40.0);
     let pin = PinholeCamera::new(&cam, 24, 24);
-    let film = render(&prepared, &exact_frame(cam, 24, 24));
+    let film = render(&mut prepared, &exact_frame(cam, 24, 24));
     let mut n = 0;
     for y in 0..24 {
         for x in 0..24 {
@@ -235,14 +235,14 @@ fn emitter_back_side_reflects_like_a_diffuse_surface_without_emission() {
 
 #[test]
 fn scene_without_lights_gets_the_headlight() {
-    let prepared = PreparedScene::new(plane_scene(vec![], vec![], vec![]));
+    let mut prepared = PreparedScene::new(plane_scene(vec![], vec![], vec![]));
     assert!(!prepared.has_lights());
     let cam = camera(Vec3::new(0.0, 2.0, 2.0), Vec3::ZERO, 45.0);
     let Light::Point { position, intensity } = eye_light(&prepared, &cam) else {
         panic!("the headlight is a point light")
     };
     assert_eq!(position, cam.position);
-    let film = render(&prepared, &exact_frame(cam, 32, 24));
+    let film = render(&mut prepared, &exact_frame(cam, 32, 24));
     let n =
         assert_plane_exact(&film, &PinholeCamera::new(&cam, 32, 24), |p| point_lit(p, position, intensity));
     assert!(n > 100, "{n} plane pixels");
@@ -267,9 +267,9 @@ fn instance_transform_moves_shading_normals() {
     let light = Vec3::new(0.5, 2.0, 0.0);
     let intensity = Vec3::splat(2.0);
     sc.lights.push(Light::Point { position: light, intensity });
-    let prepared = PreparedScene::new(sc);
+    let mut prepared = PreparedScene::new(sc);
     let cam = camera(Vec3::new(0.0, 3.0, 4.0), Vec3::ZERO, 40.0);
-    let film = render(&prepared, &exact_frame(cam, 32, 24));
+    let film = render(&mut prepared, &exact_frame(cam, 32, 24));
     let n = assert_plane_exact(&film, &PinholeCamera::new(&cam, 32, 24), |p| point_lit(p, light, intensity));
     assert!(n > 300, "{n} plane pixels");
 }
@@ -285,10 +285,10 @@ fn diffuse_texture_multiplies_the_albedo() {
     sc.materials[0].diffuse = Vec3::splat(0.8);
     sc.materials[0].diffuse_texture = Some(0);
     sc.textures.push(Texture::from_linear("flat", 1, 1, vec![[0.5, 0.25, 1.0, 1.0]]));
-    let prepared = PreparedScene::new(sc);
+    let mut prepared = PreparedScene::new(sc);
     let cam = camera(Vec3::new(0.0, 2.0, 2.0), Vec3::ZERO, 40.0);
     let want = Vec3::new(0.4, 0.2, 0.8) / PI * irradiance;
-    let film = render(&prepared, &igi_frame(cam, 16, 12));
+    let film = render(&mut prepared, &igi_frame(cam, 16, 12));
     let n = for_plane_pixels(&PinholeCamera::new(&cam, 16, 12), 9.0, |x, y, _| {
         let got = film.get(x, y);
         assert!(rel_err(got, want) < EXACT, "pixel ({x}, {y}): got {got}, want {want}");
@@ -314,7 +314,7 @@ fn area_light_converges_to_the_form_factor() {
     let (hx, hz, h) = (1.0f64, 0.75f64, 1.0f64);
     let light =
         horizontal_square("light", Vec3::new(0.0, h as f32, 0.0), Vec2::new(hx as f32, hz as f32), false, 1);
-    let prepared = PreparedScene::new(plane_scene(vec![light], vec![emitter("light", le)], vec![]));
+    let mut prepared = PreparedScene::new(plane_scene(vec![light], vec![emitter("light", le)], vec![]));
     let cam = camera(Vec3::new(0.0, 0.9, 0.0), Vec3::ZERO, 60.0);
     let (w, ht) = (24u32, 24u32);
     let pin = PinholeCamera::new(&cam, w, ht);
@@ -351,12 +351,12 @@ fn area_light_converges_to_the_form_factor() {
     };
     let frames = 64;
     let out = FrameRenderer::new(2)
-        .render_accumulated(&prepared, &igi_frame(cam, w, ht), frames, &|_, _| {})
+        .render_accumulated(&mut prepared, &igi_frame(cam, w, ht), frames, &|_, _| {})
         .expect("valid settings");
     let (mut worst, mut sum) = (0.0f32, 0.0f32);
     for y in 0..ht {
         for x in 0..w {
-            let e = rel_err(out.film.get(x, y), expected(x, y));
+            let e = rel_err(out.image.film().unwrap().get(x, y), expected(x, y));
             worst = worst.max(e);
             sum += e;
         }
@@ -382,7 +382,8 @@ fn white_furnace_converges_to_le_over_one_minus_albedo() {
     // 1.5 L_e + …, a double-counted one 2.5 L_e).
     let (a, le) = (0.5, Vec3::new(1.0, 0.5, 0.25));
     let wall = Material { diffuse: Vec3::splat(a), emission: le, ..Material::default() };
-    let prepared = PreparedScene::new(scene(box_faces(Vec3::ZERO, Vec3::ONE, true, 0), vec![wall], vec![]));
+    let mut prepared =
+        PreparedScene::new(scene(box_faces(Vec3::ZERO, Vec3::ONE, true, 0), vec![wall], vec![]));
     let cam = camera(Vec3::new(0.2, -0.1, 0.6), Vec3::new(-0.3, 0.2, -1.0), 100.0);
     let want = le / (1.0 - a);
     let (w, h) = (32, 32);
@@ -394,20 +395,20 @@ fn white_furnace_converges_to_le_over_one_minus_albedo() {
     // pixel by 1 %: the bounds are 2 % and 3 %.
     let frames = 128;
     let out =
-        renderer.render_accumulated(&prepared, &igi_frame(cam, w, h), frames, &|_, _| {}).expect("valid");
-    let mean = film_mean(&out.film);
-    let mut errs: Vec<f32> = out.film.pixels().iter().map(|p| rel_err(*p, want)).collect();
+        renderer.render_accumulated(&mut prepared, &igi_frame(cam, w, h), frames, &|_, _| {}).expect("valid");
+    let mean = film_mean(out.image.film().unwrap());
+    let mut errs: Vec<f32> = out.image.film().unwrap().pixels().iter().map(|p| rel_err(*p, want)).collect();
     errs.sort_by(f32::total_cmp);
     let median = errs[errs.len() / 2];
     eprintln!("IGI furnace, {frames} frames: mean {mean} (want {want}), median pixel error {median}");
     assert!(rel_err(mean, want) < 0.02, "IGI image mean {mean}, want {want}");
     assert!(median < 0.03, "IGI median pixel error {median}");
-    assert!(out.film.pixels().iter().all(|p| p.is_finite() && p.min_element() >= 0.0));
+    assert!(out.image.film().unwrap().pixels().iter().all(|p| p.is_finite() && p.min_element() >= 0.0));
 
     // The reference path tracer on the same box and camera: mean within 2 % with 64 spp
     // (its own test asks 1 % of a slightly different view).
     let (film, _) =
-        render_path_traced(&prepared, &igi_frame(cam, w, h), 64, renderer.scheduler(), &|_, _| {});
+        render_path_traced(&mut prepared, &igi_frame(cam, w, h), 64, renderer.scheduler(), &|_, _| {});
     let pt = film_mean(&film);
     eprintln!("path-traced furnace, 64 spp: mean {pt}");
     assert!(rel_err(pt, want) < 0.02, "path-traced image mean {pt}, want {want}");

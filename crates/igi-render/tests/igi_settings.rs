@@ -98,7 +98,7 @@ fn view() -> Camera {
 
 #[test]
 fn renderer_returns_the_settings_error_instead_of_rendering() {
-    let scene = lit_floor();
+    let mut scene = lit_floor();
     let r = FrameRenderer::new(2);
     for (field, change) in [
         ("vpls", (|s: &mut IgiSettings| s.vpls_per_pixel = 0) as fn(&mut IgiSettings)),
@@ -110,14 +110,22 @@ fn renderer_returns_the_settings_error_instead_of_rendering() {
         let mut f = igi_frame(view(), 16, 16);
         change(&mut f.settings);
         let progress = |_: u32, _: u32| panic!("no tile may be rendered with bad settings");
-        assert_eq!(r.render(&scene, &f, &progress).expect_err("bad settings").field, field);
-        assert_eq!(r.render_accumulated(&scene, &f, 4, &progress).expect_err("bad settings").field, field);
+        assert_eq!(r.render(&mut scene, &f, &progress).expect_err("bad settings").field, field);
+        assert_eq!(
+            r.render_accumulated(&mut scene, &f, 4, &progress).expect_err("bad settings").field,
+            field
+        );
     }
 }
 
 /// Renders `frame` and asserts every pixel is finite and non-negative; returns the image.
-fn render_finite(scene: &PreparedScene, frame: &FrameState, what: &str) -> igi_render::Film {
-    let film = FrameRenderer::new(2).render(scene, frame, &|_, _| {}).expect("valid settings").film;
+fn render_finite(scene: &mut PreparedScene, frame: &FrameState, what: &str) -> igi_render::Film {
+    let film = FrameRenderer::new(2)
+        .render(scene, frame, &|_, _| {})
+        .expect("valid settings")
+        .image
+        .into_film()
+        .unwrap();
     let bad: Vec<(usize, Vec3)> = film
         .pixels()
         .iter()
@@ -132,26 +140,26 @@ fn render_finite(scene: &PreparedScene, frame: &FrameState, what: &str) -> igi_r
 #[test]
 fn scenes_without_lights_or_geometry_render() {
     // No light: the headlight at the camera lights the floor.
-    let dark = PreparedScene::new(scene(
+    let mut dark = PreparedScene::new(scene(
         vec![horizontal_square("floor", Vec3::ZERO, Vec2::new(2.0, 2.0), true, 0)],
         vec![diffuse("grey", 0.5)],
         vec![],
     ));
-    let film = render_finite(&dark, &igi_frame(view(), 24, 16), "no lights");
+    let film = render_finite(&mut dark, &igi_frame(view(), 24, 16), "no lights");
     assert!(film.pixels().iter().any(|p| p.min_element() > 0.0), "the headlight should light the floor");
 
     // No geometry at all: black.
-    let empty = PreparedScene::new(Scene::default());
-    let film = render_finite(&empty, &igi_frame(view(), 24, 16), "empty scene");
+    let mut empty = PreparedScene::new(Scene::default());
+    let film = render_finite(&mut empty, &igi_frame(view(), 24, 16), "empty scene");
     assert!(film.pixels().iter().all(|&p| p == Vec3::ZERO), "an empty scene is black");
 
     // Lights of zero power and a black floor: black, no NaN from 0/0 in the light choice.
-    let off = PreparedScene::new(scene(
+    let mut off = PreparedScene::new(scene(
         vec![horizontal_square("floor", Vec3::ZERO, Vec2::new(2.0, 2.0), true, 0)],
         vec![diffuse("black", 0.0)],
         vec![Light::Point { position: Vec3::Y, intensity: Vec3::ZERO }],
     ));
-    let film = render_finite(&off, &igi_frame(view(), 24, 16), "zero-power light");
+    let film = render_finite(&mut off, &igi_frame(view(), 24, 16), "zero-power light");
     assert!(film.pixels().iter().all(|&p| p == Vec3::ZERO));
 }
 
@@ -161,20 +169,20 @@ fn camera_inside_a_closed_box_sees_black_or_its_headlight() {
     // (shadow rays and VPLs stay outside), so the inside is black, exactly.
     let walls = box_faces(Vec3::ZERO, Vec3::ONE, false, 0);
     let light = Light::Point { position: Vec3::new(3.0, 2.0, 1.0), intensity: Vec3::splat(10.0) };
-    let closed = PreparedScene::new(scene(walls.clone(), vec![diffuse("grey", 0.5)], vec![light]));
+    let mut closed = PreparedScene::new(scene(walls.clone(), vec![diffuse("grey", 0.5)], vec![light]));
     let inside = camera(Vec3::new(0.1, -0.2, 0.3), Vec3::new(0.5, 0.1, -1.0), 90.0);
-    let film = render_finite(&closed, &igi_frame(inside, 24, 24), "inside a box lit from outside");
+    let film = render_finite(&mut closed, &igi_frame(inside, 24, 24), "inside a box lit from outside");
     assert!(film.pixels().iter().all(|&p| p == Vec3::ZERO), "light leaked into the closed box");
 
     // Without any light the headlight sits at the camera, inside: the walls are lit.
-    let unlit = PreparedScene::new(scene(walls, vec![diffuse("grey", 0.5)], vec![]));
-    let film = render_finite(&unlit, &igi_frame(inside, 24, 24), "inside a box with the headlight");
+    let mut unlit = PreparedScene::new(scene(walls, vec![diffuse("grey", 0.5)], vec![]));
+    let film = render_finite(&mut unlit, &igi_frame(inside, 24, 24), "inside a box with the headlight");
     assert!(film.pixels().iter().all(|p| p.min_element() > 0.0), "the headlight should light every wall");
 }
 
 #[test]
 fn odd_but_valid_settings_render() {
-    let scene = lit_floor();
+    let mut scene = lit_floor();
     let f = |change: fn(&mut IgiSettings)| {
         let mut f = igi_frame(view(), 13, 9);
         change(&mut f.settings);
@@ -195,7 +203,7 @@ fn odd_but_valid_settings_render() {
         ),
         ("large clamp", f(|s| s.clamp = 1e30)),
     ] {
-        render_finite(&scene, &frame, what);
+        render_finite(&mut scene, &frame, what);
     }
 }
 
@@ -223,16 +231,16 @@ fn strictest_filter_keeps_each_pixel_its_own_value() {
         })
         .find(|(_, mesh)| self_dot_below_one(mesh))
         .expect("a tilt whose normals have n · n < 1");
-    let tilted = PreparedScene::new(scene(
+    let mut tilted = PreparedScene::new(scene(
         vec![mesh],
         vec![diffuse("grey", 0.5)],
         vec![Light::Point { position: 2.0 * n, intensity: Vec3::splat(3.0) }],
     ));
     let mut f = igi_frame(camera(3.0 * n + Vec3::new(0.5, 0.2, 0.1), Vec3::ZERO, 45.0), 32, 32);
     f.settings.filter = Some(FilterSettings { min_normal_cos: 1.0, max_depth_ratio: 0.0 });
-    let strict = render_finite(&tilted, &f, "strictest filter");
+    let strict = render_finite(&mut tilted, &f, "strictest filter");
     f.settings.filter = None;
-    let raw = render_finite(&tilted, &f, "no filter");
+    let raw = render_finite(&mut tilted, &f, "no filter");
     assert!(film_bits(&strict) == film_bits(&raw), "the strictest filter must change nothing");
 }
 
@@ -241,7 +249,7 @@ fn degenerate_cameras_give_finite_images() {
     // The camera is not part of IgiSettings::validate; whatever it is, rendering must not
     // panic, and a camera without a view direction or with non-finite numbers should give a
     // finite (black) image rather than NaN pixels.
-    let scene = lit_floor();
+    let mut scene = lit_floor();
     let nan = f32::NAN;
     for (what, cam) in [
         (
@@ -259,7 +267,7 @@ fn degenerate_cameras_give_finite_images() {
         ("NaN fov", Camera { fov_y_deg: nan, ..view() }),
         ("infinite position", Camera { position: Vec3::new(0.0, f32::INFINITY, 0.0), ..view() }),
     ] {
-        let film = render_finite(&scene, &igi_frame(cam, 8, 8), what);
+        let film = render_finite(&mut scene, &igi_frame(cam, 8, 8), what);
         // What the library does today: a camera with non-finite numbers (or no view
         // direction) sends rays that hit nothing, so the image is black.
         if !(cam.position.is_finite() && cam.target.is_finite() && cam.fov_y_deg.is_finite())
@@ -268,8 +276,8 @@ fn degenerate_cameras_give_finite_images() {
             assert!(film.pixels().iter().all(|&p| p == Vec3::ZERO), "{what}: expected a black image");
         }
         // And the same without lights, where the headlight sits at the odd camera.
-        let dark = PreparedScene::new(scene_without_lights());
-        render_finite(&dark, &igi_frame(cam, 8, 8), &format!("{what}, headlight"));
+        let mut dark = PreparedScene::new(scene_without_lights());
+        render_finite(&mut dark, &igi_frame(cam, 8, 8), &format!("{what}, headlight"));
     }
 }
 

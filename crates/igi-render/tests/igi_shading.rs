@@ -18,12 +18,17 @@ fn mean(film: &igi_render::Film) -> Vec3 {
 fn converged_igi_matches_the_path_tracer_in_the_procedural_room() {
     let scene = igi_scene::builtin("procedural-room").expect("built-in procedural-room");
     let camera = scene.camera.expect("the room has its camera");
-    let scene = PreparedScene::new(scene);
+    let mut scene = PreparedScene::new(scene);
     const SIZE: u32 = 32;
     let renderer = FrameRenderer::new(2);
     let frame = igi_frame(camera, SIZE, SIZE);
-    let (pt, _) = render_path_traced(&scene, &frame, 256, renderer.scheduler(), &|_, _| {});
-    let igi = renderer.render_accumulated(&scene, &frame, 128, &|_, _| {}).expect("valid settings").film;
+    let (pt, _) = render_path_traced(&mut scene, &frame, 256, renderer.scheduler(), &|_, _| {});
+    let igi = renderer
+        .render_accumulated(&mut scene, &frame, 128, &|_, _| {})
+        .expect("valid settings")
+        .image
+        .into_film()
+        .unwrap();
     let (mi, mp) = (mean(&igi), mean(&pt));
     eprintln!("procedural room: IGI {mi}, PT {mp}, ratio {}", luminance(mi) / luminance(mp));
     assert!(rel_err(mi, mp) < 0.03, "IGI mean {mi}, path-traced mean {mp}");

@@ -17,8 +17,8 @@ use std::f32::consts::PI;
 
 const RHO: f32 = 0.5;
 
-fn render(scene: &PreparedScene, frame: &FrameState) -> Film {
-    FrameRenderer::new(2).render(scene, frame, &|_, _| {}).expect("valid settings").film
+fn render(scene: &mut PreparedScene, frame: &FrameState) -> Film {
+    FrameRenderer::new(2).render(scene, frame, &|_, _| {}).expect("valid settings").image.into_film().unwrap()
 }
 
 /// aa 1 (pixel-centre rays) and no filter: each pixel is its own closed-form value.
@@ -49,7 +49,7 @@ fn plane_seen_in_a_mirror_is_the_plane_times_the_reflectance() {
     let intensity = Vec3::splat(6.0);
     let spot = Light::Spot { position: light, direction: -Vec3::Y, angle_deg: 60.0, intensity };
     let materials = vec![diffuse("grey", RHO), mirror_material];
-    let with_mirror =
+    let mut with_mirror =
         PreparedScene::new(scene(vec![target.clone(), mirror(2.0)], materials.clone(), vec![spot.clone()]));
     // The camera aims at the mirror point that shows the target's centre.
     let cam = camera(Vec3::new(0.0, 1.2, 0.0), Vec3::new(2.0, 0.6, 0.0), 20.0);
@@ -63,7 +63,7 @@ fn plane_seen_in_a_mirror_is_the_plane_times_the_reflectance() {
         }
         hit_floor(m, Vec3::new(-d.x, d.y, d.z), 0.49)
     };
-    let film = render(&with_mirror, &exact_frame(cam, w, h));
+    let film = render(&mut with_mirror, &exact_frame(cam, w, h));
     let mut n = 0;
     for y in 0..h {
         for x in 0..w {
@@ -84,12 +84,12 @@ fn plane_seen_in_a_mirror_is_the_plane_times_the_reflectance() {
     // between a pixel and its flipped twin). The mirrored rays equal the direct ones only up
     // to rounding, so 1e-3.
     let virtual_cam = camera(Vec3::new(4.0, 1.2, 0.0), Vec3::new(2.0, 0.6, 0.0), 20.0);
-    let direct = PreparedScene::new(scene(vec![target], materials, vec![spot]));
+    let mut direct = PreparedScene::new(scene(vec![target], materials, vec![spot]));
     let (mut through, mut directly) = (igi_frame(cam, w, h), igi_frame(virtual_cam, w, h));
     through.settings.aa = 1;
     directly.settings.aa = 1;
-    let mirrored = render(&with_mirror, &through);
-    let seen_directly = render(&direct, &directly);
+    let mirrored = render(&mut with_mirror, &through);
+    let seen_directly = render(&mut direct, &directly);
     let mut compared = 0;
     for y in 0..h {
         for x in 0..w {
@@ -157,14 +157,14 @@ fn emitter_behind_glass_is_dimmed_by_the_fresnel_chain_up_to_the_specular_depth(
     let le = Vec3::new(1.0, 2.0, 3.0);
     let mut meshes = vec![square_z(-2.0, 10.0, Vec3::ZERO, 0)];
     meshes.extend(slab(1));
-    let prepared = PreparedScene::new(scene(meshes, vec![emitter("light", le), glass()], vec![]));
+    let mut prepared = PreparedScene::new(scene(meshes, vec![emitter("light", le), glass()], vec![]));
     let cam = camera(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0), 2.0);
     let (w, h) = (8, 8);
     let pin = PinholeCamera::new(&cam, w, h);
     for depth in [0, 1, 2, 3, 4, 5, 16] {
         let mut f = exact_frame(cam, w, h);
         f.settings.specular_depth = depth;
-        let film = render(&prepared, &f);
+        let film = render(&mut prepared, &f);
         for y in 0..h {
             for x in 0..w {
                 let want = le * slab_transmission(pin.direction(x, y), depth);
@@ -194,7 +194,7 @@ fn lit_plane_behind_glass_is_dimmed_by_the_fresnel_chain() {
     let direction = Vec3::new(1.0, 0.0, -1.0).normalize();
     let mut meshes = vec![square_z(-3.0, 5.0, Vec3::ZERO, 0)];
     meshes.extend(slab(1));
-    let prepared = PreparedScene::new(scene(
+    let mut prepared = PreparedScene::new(scene(
         meshes,
         vec![diffuse("grey", RHO), glass()],
         vec![Light::Directional { direction, irradiance }],
@@ -203,7 +203,7 @@ fn lit_plane_behind_glass_is_dimmed_by_the_fresnel_chain() {
     let lit = RHO / PI * irradiance * (1.0 / 2.0f32.sqrt());
     let want = lit * slab_transmission(Vec3::new(0.0, 0.0, -1.0), 5);
     for frame in [exact_frame(cam, 12, 12), igi_frame(cam, 12, 12)] {
-        let film = render(&prepared, &frame);
+        let film = render(&mut prepared, &frame);
         for (i, got) in film.pixels().iter().enumerate() {
             assert!(rel_err(*got, want) < 1e-4, "pixel {i}: got {got}, want {want} (unobstructed {lit})");
         }
@@ -225,15 +225,15 @@ fn stacked_glass_between_mirrors_stays_bounded_at_the_deepest_chain() {
     meshes.push(square_z(1.0, 3.0, -Vec3::Z, 1));
     meshes.push(horizontal_square("floor", Vec3::new(0.0, -2.0, 0.0), Vec2::new(3.0, 3.0), true, 2));
     let mirror = Material { kind: MaterialKind::Mirror, specular: Vec3::splat(0.99), ..Material::default() };
-    let prepared = PreparedScene::new(scene(
+    let mut prepared = PreparedScene::new(scene(
         meshes,
         vec![glass(), mirror, diffuse("floor", 0.5)],
         vec![Light::Point { position: Vec3::new(0.0, 1.5, 0.0), intensity: Vec3::ONE }],
     ));
     let mut frame = exact_frame(camera(Vec3::new(0.3, 0.2, 0.9), Vec3::new(-0.2, -0.1, -1.0), 60.0), 24, 24);
     frame.settings.specular_depth = igi_render::frame::limits::MAX_SPECULAR_DEPTH;
-    let out = FrameRenderer::new(2).render(&prepared, &frame, &|_, _| {}).expect("valid settings");
-    assert!(out.film.pixels().iter().all(|p| p.is_finite()));
+    let out = FrameRenderer::new(2).render(&mut prepared, &frame, &|_, _| {}).expect("valid settings");
+    assert!(out.image.film().unwrap().pixels().iter().all(|p| p.is_finite()));
     let per_pixel = out.rays.specular as f64 / (24.0 * 24.0);
     eprintln!("{per_pixel} specular rays per pixel");
     assert!((10.0..2000.0).contains(&per_pixel), "{per_pixel} specular rays per pixel");

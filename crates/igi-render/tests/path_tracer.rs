@@ -11,7 +11,7 @@ use igi_render::frame::{FrameState, IgiSettings};
 use igi_render::path_tracer::{MAX_VERTICES, PathTracer, render_path_traced, validate_spp};
 use igi_render::sampling::MAX_SAMPLES;
 use igi_render::scheduler::TileScheduler;
-use igi_render::{Film, PinholeCamera, PreparedScene, ToneMapper, lights::eye_light};
+use igi_render::{Film, PinholeCamera, PreparedScene, lights::eye_light};
 use igi_scene::{Camera, Light, Material, MaterialKind, Mesh, Scene};
 use std::f32::consts::PI;
 
@@ -19,16 +19,13 @@ const RHO: f32 = 0.5;
 
 fn frame(camera: Camera, width: u32, height: u32, seed: u32, tile_size: u32) -> FrameState {
     FrameState {
-        camera,
-        settings: IgiSettings { width, height, tile_size, ..IgiSettings::default() },
-        tone_map: ToneMapper::LINEAR,
-        frame: 0,
         seed,
+        ..FrameState::new(camera, IgiSettings { width, height, tile_size, ..IgiSettings::default() })
     }
 }
 
 /// The whole image on two threads.
-fn render(scene: &PreparedScene, frame: &FrameState, spp: u32) -> Film {
+fn render(scene: &mut PreparedScene, frame: &FrameState, spp: u32) -> Film {
     render_path_traced(scene, frame, spp, &TileScheduler::new(2), &|_, _| {}).0
 }
 
@@ -131,11 +128,12 @@ fn white_furnace_converges_to_le_over_one_minus_albedo() {
     // double-counted emitter gives up to 3 L_e, a lost one L_e.
     let (a, le) = (0.5, Vec3::new(1.0, 0.5, 0.25));
     let wall = Material { diffuse: Vec3::splat(a), emission: le, ..Material::default() };
-    let prepared = PreparedScene::new(scene(box_faces(Vec3::ZERO, Vec3::ONE, true, 0), vec![wall], vec![]));
+    let mut prepared =
+        PreparedScene::new(scene(box_faces(Vec3::ZERO, Vec3::ONE, true, 0), vec![wall], vec![]));
     // A wide view from off the centre, with edges and corners in sight: where an emitting wall
     // meets the lit one, the shadow-ray estimate alone would be the noisiest.
     let cam = camera(Vec3::new(0.2, -0.1, 0.6), Vec3::new(-0.3, 0.2, -1.0), 100.0);
-    let film = render(&prepared, &frame(cam, 24, 24, 3, 8), 64);
+    let film = render(&mut prepared, &frame(cam, 24, 24, 3, 8), 64);
     let want = le / (1.0 - a);
     // 576 pixels × 64 paths: the mean comes out within 0.03 %; 0.5 % leaves room for another
     // sample pattern and still fails any wrong weight by far.
@@ -209,10 +207,10 @@ fn area_light_converges_to_the_form_factor() {
     let le = Vec3::new(4.0, 3.0, 2.0);
     let (hx, hz, h) = (1.0f32, 0.75f32, 1.0f32);
     let light = horizontal_square("light", Vec3::new(0.0, h, 0.0), Vec2::new(hx, hz), false, 1);
-    let prepared = PreparedScene::new(plane_scene(vec![light], vec![emitter("light", le)], vec![]));
+    let mut prepared = PreparedScene::new(plane_scene(vec![light], vec![emitter("light", le)], vec![]));
     let cam = camera(Vec3::new(0.0, 0.5, 2.5), Vec3::ZERO, 30.0);
     let spp = 512;
-    let film = render(&prepared, &frame(cam, 24, 16, 0, 8), spp);
+    let film = render(&mut prepared, &frame(cam, 24, 16, 0, 8), spp);
     let mut worst = 0.0f32;
     let under_light = |d| {
         // Only points under the light, where the four-corner decomposition applies.
@@ -265,14 +263,14 @@ fn emitters_show_their_radiance_on_the_front_side_only() {
     let le = Vec3::new(5.0, 4.0, 3.0);
     // A down-facing black emitter at y = 1 over the plane.
     let light = horizontal_square("light", Vec3::new(0.0, 1.0, 0.0), Vec2::new(1.0, 1.0), false, 1);
-    let prepared = PreparedScene::new(plane_scene(vec![light], vec![emitter("light", le)], vec![]));
+    let mut prepared = PreparedScene::new(plane_scene(vec![light], vec![emitter("light", le)], vec![]));
     // From below, looking up at the front side: L_e exactly, nothing else (the emitter is black).
     let below = camera(Vec3::new(0.0, 0.2, 0.0), Vec3::new(0.0, 1.0, 0.0), 40.0);
-    let film = render(&prepared, &frame(below, 8, 8, 0, 4), 4);
+    let film = render(&mut prepared, &frame(below, 8, 8, 0, 4), 4);
     assert!(film.pixels().iter().all(|&p| p == le), "front side must show L_e exactly");
     // From above, the back side: no emission, black albedo.
     let above = camera(Vec3::new(0.0, 3.0, 0.0), Vec3::new(0.0, 1.0, 0.0), 40.0);
-    let film = render(&prepared, &frame(above, 8, 8, 0, 4), 4);
+    let film = render(&mut prepared, &frame(above, 8, 8, 0, 4), 4);
     assert!(film.pixels().iter().all(|&p| p == Vec3::ZERO), "back side must be black");
 }
 
@@ -359,10 +357,10 @@ fn glass_slab_transmits_one_minus_f_over_one_plus_f() {
         square(-0.9, 5.0, Vec3::new(0.0, 0.0, 1.0), 1),
         square(-1.1, 5.0, Vec3::new(0.0, 0.0, -2.0), 1),
     ];
-    let prepared = PreparedScene::new(scene(meshes, vec![emitter("light", le), glass], vec![]));
+    let mut prepared = PreparedScene::new(scene(meshes, vec![emitter("light", le), glass], vec![]));
     // A 2° view: every ray within 1.5° of the normal, where F differs from 0.04 by < 1e-8.
     let cam = camera(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0), 2.0);
-    let film = render(&prepared, &frame(cam, 16, 16, 0, 16), 1024);
+    let film = render(&mut prepared, &frame(cam, 16, 16, 0, 16), 1024);
     let mean = film.pixels().iter().sum::<Vec3>() / film.pixels().len() as f32;
     let f = 0.04f32;
     let want = le * (1.0 - f) / (1.0 + f);
@@ -391,12 +389,12 @@ fn paths_between_two_perfect_mirrors_stop_at_the_cap() {
             0,
         )
     };
-    let prepared = PreparedScene::new(scene(vec![wall(-1.0), wall(1.0)], vec![mirror], vec![]));
+    let mut prepared = PreparedScene::new(scene(vec![wall(-1.0), wall(1.0)], vec![mirror], vec![]));
     // A 1° view: after 64 bounces (128 units of travel) a ray has drifted at most 1.2 sideways.
     let cam = camera(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0), 1.0);
     let (w, h, spp) = (4, 4, 2);
     let (film, rays) =
-        render_path_traced(&prepared, &frame(cam, w, h, 0, 4), spp, &TileScheduler::new(1), &|_, _| {});
+        render_path_traced(&mut prepared, &frame(cam, w, h, 0, 4), spp, &TileScheduler::new(1), &|_, _| {});
     assert!(film.pixels().iter().all(|&p| p == Vec3::ZERO));
     assert_eq!(rays, u64::from(w * h * spp * MAX_VERTICES));
 }
@@ -407,13 +405,13 @@ fn bits(film: &Film) -> Vec<[u32; 3]> {
 
 #[test]
 fn same_image_for_any_thread_count_and_tile_size() {
-    let scene = every_path_room();
+    let mut scene = every_path_room();
     let cam = camera(Vec3::new(0.0, 1.0, 3.0), Vec3::new(0.0, 0.5, 0.0), 50.0);
     // A size that is a multiple of neither tile size.
     let (w, h, spp) = (37, 23, 4);
-    let render_with = |threads, tile, seed| {
+    let mut render_with = |threads, tile, seed| {
         let (film, rays) = render_path_traced(
-            &scene,
+            &mut scene,
             &frame(cam, w, h, seed, tile),
             spp,
             &TileScheduler::new(threads),
@@ -463,8 +461,8 @@ fn cornell_box_is_finite_and_lit_indirectly() {
     // which its own light (facing down) cannot reach directly, lit by interreflection.
     let sc = igi_scene::builtin("cornell-box").expect("built-in cornell-box");
     let cam = sc.camera.expect("the Cornell box has its camera");
-    let prepared = PreparedScene::new(sc);
-    let film = render(&prepared, &frame(cam, 32, 32, 0, 16), 4);
+    let mut prepared = PreparedScene::new(sc);
+    let film = render(&mut prepared, &frame(cam, 32, 32, 0, 16), 4);
     assert!(film.pixels().iter().all(|p| p.is_finite() && p.min_element() >= 0.0));
     let ceiling = (12..20).map(|x| film.get(x, 0)).sum::<Vec3>();
     assert!(ceiling.min_element() > 0.0, "ceiling {ceiling}");

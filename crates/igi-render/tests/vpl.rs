@@ -6,21 +6,19 @@ mod common;
 
 use common::*;
 use glam::{Vec2, Vec3};
+use igi_render::PreparedScene;
 use igi_render::frame::{FrameState, IgiSettings};
 use igi_render::lights::eye_light;
 use igi_render::vpl::{MAX_BOUNCES, Vpl, VplSets};
-use igi_render::{PreparedScene, ToneMapper};
 use igi_scene::{Light, Material, MaterialKind, Mesh};
 use std::f64::consts::PI;
 
 /// The frame of `seed` with `vpls` VPLs per set and 4 × 4 sets.
 fn frame(seed: u32, vpls: u32) -> FrameState {
+    let settings = IgiSettings { vpls_per_pixel: vpls, interleave: [4, 4], ..IgiSettings::default() };
     FrameState {
-        camera: camera(Vec3::new(0.0, 1.0, 3.5), Vec3::new(0.0, 1.0, 0.0), 39.3),
-        settings: IgiSettings { vpls_per_pixel: vpls, interleave: [4, 4], ..IgiSettings::default() },
-        tone_map: ToneMapper::LINEAR,
-        frame: 0,
         seed,
+        ..FrameState::new(camera(Vec3::new(0.0, 1.0, 3.5), Vec3::new(0.0, 1.0, 0.0), 39.3), settings)
     }
 }
 
@@ -194,13 +192,13 @@ fn same_frame_gives_the_same_vpls_at_any_thread_count() {
     };
     // A still scene keeps its VPLs from frame to frame unless asked to reseed.
     let (paths, base) = vpls(&f);
-    assert_eq!(vpls(&FrameState { frame: 5, ..f }).1, base);
-    let mut reseeded = f;
+    assert_eq!(vpls(&FrameState { frame: 5, ..f.clone() }).1, base);
+    let mut reseeded = f.clone();
     reseeded.settings.reseed_per_frame = true;
     let (paths0, frame0) = vpls(&reseeded);
-    let (paths1, frame1) = vpls(&FrameState { frame: 1, ..reseeded });
+    let (paths1, frame1) = vpls(&FrameState { frame: 1, ..reseeded.clone() });
     assert_ne!(frame0, frame1);
-    assert_ne!(vpls(&FrameState { seed: 8, ..f }).1, base);
+    assert_ne!(vpls(&FrameState { seed: 8, ..f.clone() }).1, base);
     // The number of paths comes from a fixed-seed pilot: it stays put.
     assert_eq!((paths0, paths1), (paths, paths));
     // The sets of one frame are independent estimates, not copies.

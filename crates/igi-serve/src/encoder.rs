@@ -118,11 +118,11 @@ pub fn encode(frame: &Frame, kind: ImageKind) -> Option<EncodedFrame> {
         ImageKind::Jpeg => {
             let (w, h) = (u16::try_from(width).ok()?, u16::try_from(height).ok()?);
             jpeg_encoder::Encoder::new(&mut bytes, JPEG_QUALITY)
-                .encode(&frame.rgb8, w, h, jpeg_encoder::ColorType::Rgb)
+                .encode(frame.image.srgb8(), w, h, jpeg_encoder::ColorType::Rgb)
                 .map_err(|e| e.to_string())
         }
         ImageKind::Png => image::codecs::png::PngEncoder::new(&mut bytes)
-            .write_image(&frame.rgb8, width, height, image::ExtendedColorType::Rgb8)
+            .write_image(frame.image.srgb8(), width, height, image::ExtendedColorType::Rgb8)
             .map_err(|e| e.to_string()),
     };
     match result {

@@ -5,10 +5,9 @@
 //! horizon), so a drag turns the view by an angle proportional to its length and the horizon
 //! stays level. Pitch stops short of the poles, where yaw is undefined.
 
-use crate::input::{Button, Input, Key};
+use crate::input::{Button, CameraMode, Input, Key};
 use glam::Vec3;
 use igi_scene::Camera;
-use serde::{Deserialize, Serialize};
 
 /// Radians the view turns per pixel of drag.
 const TURN_PER_PIXEL: f32 = 0.005;
@@ -16,17 +15,6 @@ const TURN_PER_PIXEL: f32 = 0.005;
 const MAX_PITCH: f32 = 89.0 * std::f32::consts::PI / 180.0;
 /// Factor of fly speed or orbit distance per scroll notch.
 const SCROLL_FACTOR: f32 = 1.1;
-
-/// How drags and keys move the camera.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum CameraMode {
-    /// WASD/QE move, a drag turns the view about the eye; scroll sets the speed.
-    #[default]
-    Fly,
-    /// A drag turns the eye about the target; scroll sets the distance.
-    Orbit,
-}
 
 /// The camera state of a viewer.
 #[derive(Clone, Debug, PartialEq)]

@@ -2,9 +2,19 @@
 //! The browser sends these as JSON text messages (`{"type": "key", "key": "w", "down": true}`);
 //! the window builds them from its events.
 
-use crate::camera_control::CameraMode;
 use crate::settings::ViewSettings;
 use serde::{Deserialize, Serialize};
+
+/// How drags and keys move the camera.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum CameraMode {
+    /// WASD/QE move, a drag turns the view about the eye; scroll sets the speed.
+    #[default]
+    Fly,
+    /// A drag turns the eye about the target; scroll sets the distance.
+    Orbit,
+}
 
 /// The keys of the fly camera.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]

@@ -5,17 +5,15 @@
 //!   serialisable messages (the browser sends them as JSON).
 //! - [`camera_control`]: fly (WASD/QE + mouse look) and orbit (drag around a target) cameras.
 //! - [`settings`]: [`ViewSettings`], the render and display settings a viewer exposes.
-//! - [`accumulation`]: the running mean of frames of a still scene.
 //! - [`session`]: [`Session`], which owns the prepared scene, the scene clock, the selection
-//!   and the accumulation, and turns inputs into frames: while the camera and the scene are
-//!   still, frames accumulate with fresh VPL sets (progressive convergence); any change shows
+//!   and the view's [`igi_render::Progressive`] (accumulation and tone-map feedback), and
+//!   turns inputs into frames: while the camera and the scene are still, frames accumulate with fresh VPL sets (progressive convergence); any change shows
 //!   the instant one-frame solution at once (paper section 1).
 //! - [`frame_source`]: [`FrameSource`], where frames are rendered: this machine's threads or
 //!   a cluster.
 //! - [`render_loop`]: [`RenderLoop`], a thread rendering the next frame while the viewer
 //!   shows the newest one; inputs go in, only the newest frame comes out.
 
-pub mod accumulation;
 pub mod camera_control;
 pub mod frame_source;
 pub mod input;
@@ -23,9 +21,9 @@ pub mod render_loop;
 pub mod session;
 pub mod settings;
 
-pub use camera_control::{CameraController, CameraMode};
-pub use frame_source::{FrameSource, ScenePose, SourceError, SourceFrame};
-pub use input::{Button, Input, Key};
+pub use camera_control::CameraController;
+pub use frame_source::{FrameSource, SourceError};
+pub use input::{Button, CameraMode, Input, Key};
 pub use render_loop::{LatestFrame, RenderLoop};
 pub use session::{Frame, FrameStats, Session};
 pub use settings::ViewSettings;

@@ -7,17 +7,15 @@
 //! does not flicker; while nothing changes, it renders further frames with fresh VPL sets
 //! and shows their running mean, which converges (progressive refinement).
 
-use crate::accumulation::Accumulator;
-use crate::camera_control::{CameraController, CameraMode};
-use crate::frame_source::{FrameSource, ScenePose, SourceError};
-use crate::input::{Button, Input};
+use crate::camera_control::CameraController;
+use crate::frame_source::{FrameSource, SourceError};
+use crate::input::{Button, CameraMode, Input};
 use crate::settings::{MAX_ACCUMULATION, ViewSettings};
 use glam::{Affine3A, Vec3};
 use igi_render::frame::SettingsError;
-use igi_render::output::to_srgb8;
-use igi_render::tonemap::LuminanceStats;
 use igi_render::{
-    CancelToken, Film, FrameRenderer, FrameState, Phase, PinholeCamera, PreparedScene, ToneMapper,
+    CancelToken, FrameImage, FrameRenderer, FrameState, Phase, PinholeCamera, PixelFormat, PreparedScene,
+    Progressive, ScenePose, Shown,
 };
 use igi_scene::Camera;
 use serde::Serialize;
@@ -64,11 +62,9 @@ pub struct FrameStats {
 pub struct Frame {
     /// Statistics.
     pub stats: FrameStats,
-    /// The display image: 8-bit sRGB, 3 bytes per pixel, rows top to bottom.
-    pub rgb8: Vec<u8>,
-    /// Linear radiance (the mean of the accumulated frames), for EXR; `None` for a frame a
-    /// cluster sent as 8-bit pixels.
-    pub film: Option<Film>,
+    /// The image: the display image, with the linear radiance (the mean of the accumulated
+    /// frames, for EXR) unless a cluster sent the frame as 8-bit pixels.
+    pub image: FrameImage,
 }
 
 /// A scene, its camera, settings, clock and accumulation.
@@ -80,8 +76,7 @@ pub struct Session {
     home: Camera,
     fly_speed: f32,
     settings: ViewSettings,
-    accumulator: Accumulator,
-    tone_mapper: ToneMapper,
+    progressive: Progressive,
     clock: f32,
     /// The selected instance and the distance at which it was picked (sets the drag scale).
     selected: Option<(u32, f32)>,
@@ -89,8 +84,6 @@ pub struct Session {
     moved: BTreeMap<u32, Vec3>,
     /// The view changed since the last frame.
     changed: bool,
-    /// Instances or the clock changed: the scene must be posed again.
-    repose: bool,
     inputs: u64,
     frames: u64,
     last_frame_end: Option<Instant>,
@@ -118,7 +111,6 @@ impl Session {
         source: Box<dyn FrameSource>,
     ) -> Result<Self, SettingsError> {
         settings.validate()?;
-        let tone_map = settings.tone_map();
         let diagonal = scene.bounds().diagonal();
         let fly_speed = if diagonal.is_finite() && diagonal > 0.0 { 0.15 * diagonal } else { 1.0 };
         Ok(Self {
@@ -126,15 +118,12 @@ impl Session {
             controller: CameraController::new(&camera, fly_speed),
             home: camera,
             fly_speed,
+            progressive: Progressive::new(settings.tone_map()),
             settings,
-            accumulator: Accumulator::default(),
-            // Before any statistics exist: exact for a fixed exposure, a guess for Reinhard.
-            tone_mapper: ToneMapper::new(tone_map, &Default::default()),
             clock: 0.0,
             selected: None,
             moved: BTreeMap::new(),
             changed: true,
-            repose: true,
             inputs: 0,
             frames: 0,
             last_frame_end: None,
@@ -168,7 +157,6 @@ impl Session {
     pub fn set_clock(&mut self, t: f32) {
         if t.is_finite() && t >= 0.0 && t != self.clock {
             self.clock = t;
-            self.repose = true;
             self.changed = true;
         }
     }
@@ -187,10 +175,9 @@ impl Session {
     /// or the accumulation has not reached its end.
     pub fn needs_frame(&self) -> bool {
         self.changed
-            || self.repose
             || self.is_animating()
             || self.controller.is_moving()
-            || (self.settings.accumulate && self.accumulator.frames() < MAX_ACCUMULATION)
+            || (self.settings.accumulate && self.progressive.frames() < MAX_ACCUMULATION)
     }
 
     /// Applies an input. Invalid settings are refused (the error names the field) and change
@@ -205,6 +192,7 @@ impl Session {
                 settings.validate()?;
                 if *settings != self.settings {
                     self.settings = settings.clone();
+                    self.progressive.set_tone_map(settings.tone_map());
                     self.changed = true;
                 }
             }
@@ -214,7 +202,6 @@ impl Session {
                 self.controller = CameraController::new(&self.home, self.fly_speed);
                 self.moved.clear();
                 self.selected = None;
-                self.repose = true;
                 self.changed = true;
             }
             _ => {}
@@ -255,7 +242,6 @@ impl Session {
         let offset = (camera.right * dx - camera.up * dy) * per_pixel;
         if offset.is_finite() && offset != Vec3::ZERO {
             *self.moved.entry(instance).or_insert(Vec3::ZERO) += offset;
-            self.repose = true;
             self.changed = true;
         }
     }
@@ -274,37 +260,37 @@ impl Session {
         let dt = if dt.is_finite() { dt.clamp(0.0, 0.25) } else { 0.0 };
         if self.is_animating() {
             self.clock += dt * self.settings.speed;
-            self.repose = true;
+            self.changed = true;
         }
         if self.controller.advance(dt) {
             self.changed = true;
         }
-        let pose = ScenePose {
-            time: self.clock,
-            moved: self.moved.iter().map(|(&i, &v)| (i, Affine3A::from_translation(v))).collect(),
-        };
-        if self.repose {
-            self.scene.place(pose.time, &pose.moved);
-            self.repose = false;
-            self.changed = true;
-        }
         let changed = std::mem::take(&mut self.changed);
         if changed {
-            self.accumulator.reset();
+            self.progressive.reset();
         }
 
         let mut settings = self.settings.igi();
         settings.reseed_per_frame = self.settings.accumulate;
+        // Linear radiance where it is averaged: a cluster sends 8-bit pixels otherwise.
+        let averaged = self.settings.accumulate && !changed;
         let frame = FrameState {
             camera: self.controller.camera(),
             settings,
-            tone_map: self.tone_mapper,
-            frame: self.accumulator.frames(),
+            pose: ScenePose {
+                time: self.clock,
+                moved: self.moved.iter().map(|(&i, &v)| (i, Affine3A::from_translation(v))).collect(),
+            },
+            tone_map: self.progressive.tone_mapper(),
+            pixels: if self.renderer.prefers_srgb8() && !averaged {
+                PixelFormat::Srgb8
+            } else {
+                PixelFormat::Linear
+            },
+            frame: self.progressive.frames(),
             seed: self.seed,
         };
-        // Linear radiance only where it is averaged: a cluster sends 8-bit pixels otherwise.
-        let linear = self.settings.accumulate && !changed;
-        let out = match self.renderer.render_cancellable(&self.scene, &pose, &frame, linear, cancel) {
+        let out = match self.renderer.render_cancellable(&mut self.scene, &frame, cancel) {
             Ok(out) => out,
             Err(e) => {
                 // The change still has to be shown.
@@ -312,20 +298,7 @@ impl Session {
                 return Err(e);
             }
         };
-        match &out.film {
-            Some(film) => self.accumulator.add(film),
-            None => self.accumulator.reset(),
-        }
-        let (film, rgb8, stats) = if self.accumulator.frames() <= 1 {
-            (out.film, out.srgb8, out.stats)
-        } else {
-            let film = self.accumulator.mean();
-            let stats = LuminanceStats::of_pixels(film.pixels());
-            let rgb8 = to_srgb8(&film, &ToneMapper::new(self.settings.tone_map(), &stats));
-            (Some(film), rgb8, stats)
-        };
-        // The next frame is tone-mapped with this one's statistics (paper 3.4).
-        self.tone_mapper = ToneMapper::new(self.settings.tone_map(), &stats);
+        let Shown { image, .. } = self.progressive.add(out.image, out.stats);
 
         let elapsed = start.elapsed().as_secs_f64();
         let now = Instant::now();
@@ -346,7 +319,7 @@ impl Session {
             id: self.frames,
             input_seq: self.inputs,
             time: self.clock,
-            accumulated: self.accumulator.frames().max(1),
+            accumulated: self.progressive.frames().max(1),
             render_ms: elapsed * 1e3,
             fps: self.fps,
             phases_ms,
@@ -359,6 +332,6 @@ impl Session {
             settings: self.settings.clone(),
             mode: self.controller.mode(),
         };
-        Ok(Frame { stats, rgb8, film })
+        Ok(Frame { stats, image })
     }
 }

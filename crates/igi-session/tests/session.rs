@@ -5,10 +5,8 @@
 
 use glam::Vec3;
 use igi_render::path_tracer::render_path_traced;
-use igi_render::{CancelToken, Film, FrameRenderer, FrameState, PreparedScene, ToneMapper};
-use igi_session::{
-    Button, FrameSource, Input, RenderLoop, ScenePose, Session, SourceError, SourceFrame, ViewSettings,
-};
+use igi_render::{CancelToken, Film, FrameOutput, FrameRenderer, FrameState, PreparedScene};
+use igi_session::{Button, FrameSource, Input, RenderLoop, Session, SourceError, ViewSettings};
 use std::time::Duration;
 
 const SIZE: u32 = 40;
@@ -41,22 +39,17 @@ fn a_still_view_converges_towards_the_path_tracer_and_a_change_resets_it() {
     // Unclamped IGI is unbiased, so its mean converges to the path tracer's image.
     let mut session = session("cornell-box", |s| s.clamp = 0.0);
     let reference = {
-        let scene = session.scene();
-        let frame = FrameState {
-            camera: session.camera().camera(),
-            settings: session.settings().igi(),
-            tone_map: ToneMapper::LINEAR,
-            frame: 0,
-            seed: 7,
-        };
-        render_path_traced(scene, &frame, 2048, FrameRenderer::new(2).scheduler(), &|_, _| {}).0
+        let mut scene = PreparedScene::new(igi_scene::builtin("cornell-box").unwrap());
+        let frame =
+            FrameState { seed: 7, ..FrameState::new(session.camera().camera(), session.settings().igi()) };
+        render_path_traced(&mut scene, &frame, 2048, FrameRenderer::new(2).scheduler(), &|_, _| {}).0
     };
     let mut errors = Vec::new();
     for n in 1..=64u32 {
         let frame = session.render(0.01).unwrap();
         assert_eq!(frame.stats.accumulated, n);
         if n.is_power_of_two() {
-            errors.push(rmse(frame.film.as_ref().unwrap(), &reference));
+            errors.push(rmse(frame.image.film().unwrap(), &reference));
         }
     }
     eprintln!("RMSE against the path tracer after 1, 2, 4, .. 64 frames: {errors:?}");
@@ -71,7 +64,7 @@ fn a_still_view_converges_towards_the_path_tracer_and_a_change_resets_it() {
     let first = fresh.render(0.0).unwrap();
     // The fresh controller recomputes yaw and pitch from the camera, so rays may differ in
     // the last bit: compare within a tolerance far below the one-frame noise.
-    let difference = rmse(moved.film.as_ref().unwrap(), first.film.as_ref().unwrap());
+    let difference = rmse(moved.image.film().unwrap(), first.image.film().unwrap());
     assert!(difference < 0.05 * errors[0], "the instant frame is frame 0 of the new view: {difference}");
 }
 
@@ -87,7 +80,7 @@ fn the_clock_moves_the_animation_and_every_frame_is_instant() {
     let a = session.render(0.1).unwrap();
     let b = session.render(0.1).unwrap();
     assert!((b.stats.time - 0.2).abs() < 1e-6 && a.stats.accumulated == 1 && b.stats.accumulated == 1);
-    assert_ne!(a.rgb8, b.rgb8, "the lamp swung");
+    assert_ne!(a.image.srgb8(), b.image.srgb8(), "the lamp swung");
     // Paused, frames accumulate and the clock stands.
     let mut paused = session.settings().clone();
     paused.playing = false;
@@ -114,7 +107,7 @@ fn picking_and_dragging_moves_the_object_under_the_pointer() {
     let right = session.camera().forward().cross(Vec3::Y).normalize();
     assert!(moved.dot(right) > 0.05 && moved.y.abs() < 1e-4, "moved {moved}");
     assert_eq!(after.stats.accumulated, 1);
-    assert_ne!(after.rgb8, before.rgb8);
+    assert_ne!(after.image.srgb8(), before.image.srgb8());
     // Picking nothing (outside the image) clears the selection; a drag then moves nothing.
     session.handle(&Input::Pick { x: -1.0, y: 0.0 }).unwrap();
     session.handle(&Input::Drag { dx: 4.0, dy: 0.0, button: Button::Secondary }).unwrap();
@@ -161,7 +154,7 @@ fn the_render_loop_delivers_newest_frames_with_their_inputs() {
         frame =
             render_loop.latest().wait_newer(frame.stats.id, Duration::from_secs(30)).expect("a newer frame");
     }
-    assert_ne!(frame.rgb8, first.rgb8, "the frame with the drag shows the turned view");
+    assert_ne!(frame.image.srgb8(), first.image.srgb8(), "the frame with the drag shows the turned view");
     // Without accumulation and without changes the loop idles: no newer frame comes.
     std::thread::sleep(Duration::from_millis(100));
     let idle = render_loop.latest().get().unwrap();
@@ -219,13 +212,11 @@ struct Reporting {
 impl FrameSource for Reporting {
     fn render_cancellable(
         &mut self,
-        scene: &PreparedScene,
-        pose: &ScenePose,
+        scene: &mut PreparedScene,
         frame: &FrameState,
-        linear: bool,
         cancel: &CancelToken,
-    ) -> Result<SourceFrame, SourceError> {
-        let out = FrameSource::render_cancellable(&mut self.renderer, scene, pose, frame, linear, cancel);
+    ) -> Result<FrameOutput, SourceError> {
+        let out = FrameSource::render_cancellable(&mut self.renderer, scene, frame, cancel);
         let _ = self.outcomes.send(out.as_ref().map(|_| ()).map_err(|e| e.to_string()));
         out
     }

@@ -74,7 +74,7 @@ impl ViewerApp {
             return;
         }
         let size = [frame.stats.width as usize, frame.stats.height as usize];
-        let image = ColorImage::from_rgb(size, &frame.rgb8);
+        let image = ColorImage::from_rgb(size, frame.image.srgb8());
         match &mut self.texture {
             Some(texture) => texture.set(image, TextureOptions::NEAREST),
             None => self.texture = Some(ctx.load_texture("frame", image, TextureOptions::NEAREST)),
@@ -138,13 +138,14 @@ impl ViewerApp {
         let base = PathBuf::from(format!("igi-{stamp}"));
         let png = base.with_extension("png");
         let exr = base.with_extension("exr");
-        let result = save_png(&png, &frame.rgb8, frame.stats.width, frame.stats.height).and_then(|()| {
-            frame
-                .film
-                .as_ref()
-                .map(|film| igi_render::write_exr(film, &exr).map_err(|e| e.to_string()))
-                .transpose()
-        });
+        let result =
+            save_png(&png, frame.image.srgb8(), frame.stats.width, frame.stats.height).and_then(|()| {
+                frame
+                    .image
+                    .film()
+                    .map(|film| igi_render::write_exr(film, &exr).map_err(|e| e.to_string()))
+                    .transpose()
+            });
         self.panel.message = match result {
             Ok(Some(())) => format!("saved {} and {}", png.display(), exr.display()),
             // A cluster sends 8-bit pixels while the view moves; linear ones once it is still.

@@ -9,10 +9,11 @@ use igi_render::frame_renderer::{FrameOutput, FrameRenderer};
 use igi_render::output::{ImageFormat, check_writable, write_png_rgb8};
 use igi_render::path_tracer::render_path_traced;
 use igi_render::sampling::MAX_SAMPLES;
-use igi_render::tonemap::LuminanceStats;
-use igi_render::{Film, FrameState, IgiSettings, PreparedScene, ToneMap, ToneMapper, write_exr, write_image};
-use igi_session::accumulation::Accumulator;
-use igi_session::{FrameSource, ScenePose};
+use igi_render::{
+    Film, FrameImage, FrameState, IgiSettings, PixelFormat, PreparedScene, Progressive, ScenePose, Shown,
+    ToneMap, ToneMapper, write_exr, write_image,
+};
+use igi_session::FrameSource;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::path::Path;
 use std::path::PathBuf;
@@ -118,13 +119,12 @@ pub fn run(args: &RenderArgs) -> Result<()> {
 
     let t_build = Instant::now();
     let mut prepared = PreparedScene::new(scene);
-    prepared.set_time(args.frame.time);
     let build = t_build.elapsed();
 
     if source.is_some() || args.sequence > 1 {
         let mut source = source.unwrap_or_else(|| Box::new(FrameRenderer::new(args.frame.threads)));
         let start = Instant::now();
-        let rays = render_frames(args, source.as_mut(), &mut prepared, frame)?;
+        let rays = render_frames(args, source.as_mut(), &mut prepared, &frame)?;
         let elapsed = start.elapsed().as_secs_f64();
         outln!(
             "{}: {}x{}, {} triangles, {} thread(s){}: {} frame(s), each the mean of {}, in {:.3} s ({:.2} fps, {:.1} Mrays/s; load {:.3} s, build {:.3} s) -> {}",
@@ -152,13 +152,16 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let start = Instant::now();
     let (film, stats, summary) = match args.mode {
         Mode::Igi => {
-            let out = renderer.render_accumulated(&prepared, &frame, args.frames, &progress)?;
-            let summary = igi_summary(&out, &frame.settings);
-            (out.film, out.stats, summary)
+            let out = renderer.render_accumulated(&mut prepared, &frame, args.frames, &progress)?;
+            let summary = igi_summary(&out, args.frames, &frame.settings);
+            let FrameImage::Linear { film, .. } = out.image else {
+                unreachable!("an accumulated frame is linear")
+            };
+            (film, out.stats, summary)
         }
         Mode::Path => {
             let (film, rays) =
-                render_path_traced(&prepared, &frame, args.spp, renderer.scheduler(), &progress);
+                render_path_traced(&mut prepared, &frame, args.spp, renderer.scheduler(), &progress);
             let elapsed = start.elapsed().as_secs_f64();
             let summary = format!(
                 "path tracer, {} spp: {:.2} M rays, {:.1} Mrays/s",
@@ -194,7 +197,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
 
 /// Renders `--sequence` frames (each the mean of `--frames`) through `source` and writes
 /// them; returns the rays traced. The first frame, every accumulated frame and EXR output
-/// come back as linear radiance (a PNG is then tone-mapped from the frame's own statistics, as
+/// come back as linear radiance (a PNG is then tone-mapped from the image's own statistics, as
 /// a single `igi render` does); later PNG frames come back as 8-bit pixels tone-mapped with
 /// the previous frame's statistics, which is what a cluster sends (paper 3.4). The local
 /// renderer and a cluster therefore write the same bytes.
@@ -202,7 +205,7 @@ fn render_frames(
     args: &RenderArgs,
     source: &mut dyn FrameSource,
     scene: &mut PreparedScene,
-    first: FrameState,
+    first: &FrameState,
 ) -> Result<u64> {
     let tone_map = ToneMap::from_exposure(args.exposure);
     let exr = ImageFormat::from_path(&args.output)? == ImageFormat::Exr;
@@ -221,34 +224,30 @@ fn render_frames(
             }
             Ok(())
         });
-        let mut previous: Option<LuminanceStats> = None;
+        let mut view = Progressive::new(tone_map);
         let mut rays = 0;
         for k in 0..args.sequence {
-            let pose = ScenePose { time: args.frame.time + k as f32 / args.fps, moved: Vec::new() };
-            scene.set_time(pose.time);
             let path = sequence_path(&args.output, k, args.sequence);
-            let mut frame = first;
-            frame.tone_map = ToneMapper::new(tone_map, &previous.unwrap_or_default());
-            let linear = exr || args.frames > 1 || previous.is_none();
-            let (image, stats) = if linear {
-                let mut sum = Accumulator::default();
-                frame.settings.reseed_per_frame |= args.frames > 1;
-                for i in 0..args.frames {
-                    frame.frame = first.frame.wrapping_add(i);
-                    let out = source.render(scene, &pose, &frame, true)?;
-                    rays += out.rays.total();
-                    sum.add(out.film.as_ref().context("a linear frame came without its film")?);
-                }
-                let film: Film = sum.mean();
-                let stats = LuminanceStats::of_pixels(film.pixels());
-                let mapper = ToneMapper::new(tone_map, &stats);
-                (if exr { Image::Exr(film) } else { Image::Png(film, mapper) }, stats)
-            } else {
-                let out = source.render(scene, &pose, &frame, false)?;
+            let mut frame = first.clone();
+            frame.pose = ScenePose::at(args.frame.time + k as f32 / args.fps);
+            frame.tone_map = view.tone_mapper();
+            let linear = exr || args.frames > 1 || k == 0;
+            frame.pixels = if linear { PixelFormat::Linear } else { PixelFormat::Srgb8 };
+            frame.settings.reseed_per_frame |= linear && args.frames > 1;
+            view.reset();
+            let mut shown = None;
+            for i in 0..if linear { args.frames } else { 1 } {
+                frame.frame = first.frame.wrapping_add(i);
+                let out = source.render(scene, &frame)?;
                 rays += out.rays.total();
-                (Image::Srgb8(out.srgb8), out.stats)
+                shown = Some(view.add(out.image, out.stats));
+            }
+            let Some(Shown { image, stats }) = shown else { unreachable!("at least one frame") };
+            let image = match image {
+                FrameImage::Srgb8 { bytes, .. } => Image::Srgb8(bytes),
+                FrameImage::Linear { film, .. } if exr => Image::Exr(film),
+                FrameImage::Linear { film, .. } => Image::Png(film, ToneMapper::new(tone_map, &stats)),
             };
-            previous = Some(stats);
             if to_writer.send((path, image)).is_err() {
                 break;
             }
@@ -279,13 +278,13 @@ fn sequence_path(output: &Path, k: u32, frames: u32) -> std::path::PathBuf {
     output.with_file_name(format!("{stem}-{k:04}.{ext}"))
 }
 
-/// The summary of an IGI render: frames, VPLs, rays.
-fn igi_summary(out: &FrameOutput, s: &igi_render::frame::IgiSettings) -> String {
-    let pixels = f64::from(s.width) * f64::from(s.height) * f64::from(out.frames);
+/// The summary of an IGI render of `frames` frames: VPLs, rays.
+fn igi_summary(out: &FrameOutput, frames: u32, s: &igi_render::frame::IgiSettings) -> String {
+    let pixels = f64::from(s.width) * f64::from(s.height) * f64::from(frames);
     format!(
         "igi, {} frame(s), {} VPLs/frame in {}x{} sets, aa {}, filter {}, clamp {:.3}: {:.2} M rays ({:.1} per pixel), {:.1} Mrays/s",
-        out.frames,
-        out.vpls / out.frames.max(1) as usize,
+        frames,
+        out.vpls / frames.max(1) as usize,
         s.interleave[0],
         s.interleave[1],
         s.aa,
@@ -364,7 +363,7 @@ mod tests {
         let a = args(&["igi", "render", "/no/such/scene.obj", "-o", "/nonexistent-igi/x.png"]);
         let err = format!("{:#}", run(&a).unwrap_err());
         assert!(err.contains("cannot create files in the folder /nonexistent-igi"), "{err}");
-        let folder = std::env::temp_dir().join(format!("igi-cmd-render-{}.png", std::process::id()));
+        let folder = std::env::temp_dir().join(format!("igi-cmd-render-folder-{}.png", std::process::id()));
         std::fs::create_dir_all(&folder).unwrap();
         let a = args(&["igi", "render", "/no/such/scene.obj", "-o", folder.to_str().unwrap()]);
         let err = format!("{:#}", run(&a).unwrap_err());

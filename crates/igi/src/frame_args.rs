@@ -4,8 +4,7 @@
 
 use anyhow::Result;
 use clap::Args;
-use igi_render::frame::{FilterSettings, FrameState, IgiSettings};
-use igi_render::tonemap::ToneMapper;
+use igi_render::frame::{FilterSettings, FrameState, IgiSettings, ScenePose};
 use igi_scene::Scene;
 
 /// Largest `--threads`.
@@ -115,7 +114,9 @@ impl FrameArgs {
             reseed_per_frame: false,
         };
         settings.validate()?;
-        Ok(FrameState { camera, settings, tone_map: ToneMapper::LINEAR, frame: 0, seed: self.seed })
+        let mut frame = FrameState::new(camera, settings);
+        (frame.pose, frame.seed) = (ScenePose::at(self.time), self.seed);
+        Ok(frame)
     }
 }
 

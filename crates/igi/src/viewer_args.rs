@@ -53,8 +53,7 @@ impl ViewerArgs {
         };
         let mut frame = self.frame.frame_state(&scene)?;
         frame.settings.aa = self.frame.aa.unwrap_or(VIEWER_AA);
-        let mut prepared = PreparedScene::new(scene);
-        prepared.set_time(self.frame.time);
+        let prepared = PreparedScene::new(scene);
         let s = &frame.settings;
         let filter = s.filter.unwrap_or_default();
         let settings = ViewSettings {

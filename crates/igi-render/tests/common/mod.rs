@@ -60,13 +60,9 @@ pub fn rel_err(got: Vec3, want: Vec3) -> f32 {
 /// interleave, aa 4, filter on, tile 32) but clamp 0 (unbiased), linear tone map, frame 0,
 /// seed 0.
 pub fn igi_frame(camera: Camera, width: u32, height: u32) -> igi_render::FrameState {
-    igi_render::FrameState {
-        camera,
-        settings: igi_render::IgiSettings { width, height, clamp: 0.0, ..igi_render::IgiSettings::default() },
-        tone_map: igi_render::ToneMapper::LINEAR,
-        frame: 0,
-        seed: 0,
-    }
+    let settings =
+        igi_render::IgiSettings { width, height, clamp: 0.0, ..igi_render::IgiSettings::default() };
+    igi_render::FrameState::new(camera, settings)
 }
 
 /// The quad `p` wound so that its normal points toward `toward`.

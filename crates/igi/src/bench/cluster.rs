@@ -9,8 +9,8 @@ use crate::cluster::{ClusterArgs, Rank};
 use crate::frame_args::FrameArgs;
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use igi_cluster::{FrameJob, PixelFormat};
-use igi_render::{ToneMap, ToneMapper};
+use igi_cluster::FrameJob;
+use igi_render::{PixelFormat, Progressive, ToneMap};
 use serde::Serialize;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
@@ -111,17 +111,17 @@ pub fn run(args: &ClusterBenchArgs) -> Result<()> {
     let mut steps: Vec<Step> = Vec::new();
     for nodes in node_counts(master.nodes()) {
         master.use_nodes(nodes);
-        let mut mapper = ToneMapper::new(ToneMap::default(), &Default::default());
-        let job = |i: u32, state: &igi_render::FrameState| FrameJob {
-            id: 0,
-            state: *state,
-            time: if args.animate { args.frame.time + i as f32 / ANIMATION_FPS } else { args.frame.time },
-            moved: Vec::new(),
-            pixels: PixelFormat::Srgb8,
+        let mut view = Progressive::new(ToneMap::default());
+        let job = |i: u32, state: &igi_render::FrameState| {
+            let mut frame = state.clone();
+            frame.pose.time =
+                if args.animate { args.frame.time + i as f32 / ANIMATION_FPS } else { args.frame.time };
+            frame.pixels = PixelFormat::Srgb8;
+            FrameJob { id: 0, frame }
         };
         // Pipelined as a viewer runs: the next frame starts as soon as the last tile of this
         // one is in, with the tone map of this one's statistics (paper 3.4).
-        state.tone_map = mapper;
+        state.tone_map = view.tone_mapper();
         master.begin(job(0, &state))?;
         let total = args.warmup + args.frames;
         let (mut wait, mut busy, mut bytes_in, mut bytes_out) = (Duration::ZERO, Duration::ZERO, 0u64, 0u64);
@@ -129,9 +129,9 @@ pub fn run(args: &ClusterBenchArgs) -> Result<()> {
         let mut timed_from = Instant::now();
         for i in 0..total {
             let out = master.finish().with_context(|| format!("frame {i} with {nodes} node(s)"))?;
-            mapper = ToneMapper::new(ToneMap::default(), &out.stats);
+            view.add(out.output.image, out.output.stats);
             if i + 1 < total {
-                state.tone_map = mapper;
+                state.tone_map = view.tone_mapper();
                 master.begin(job(i + 1, &state))?;
             }
             if i + 1 == args.warmup {

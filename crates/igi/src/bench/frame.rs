@@ -8,7 +8,7 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use igi_render::frame_renderer::FrameRenderer;
 use igi_render::lights::luminance;
-use igi_render::{FrameState, Phase, PreparedScene, ToneMap, ToneMapper};
+use igi_render::{FrameState, Phase, PreparedScene, Progressive, ToneMap};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -91,28 +91,31 @@ pub fn run(args: &FrameBenchArgs) -> Result<()> {
     let mut frame = args.frame.frame_state(&scene)?;
     frame.settings.reseed_per_frame = args.reseed;
     let mut prepared = PreparedScene::new(scene);
-    prepared.set_time(args.frame.time);
     let renderer = FrameRenderer::new(args.frame.threads);
     let threads = renderer.threads();
 
-    let loss = clamp_energy_loss(&renderer, &prepared, &frame)?;
+    let loss = clamp_energy_loss(&renderer, &mut prepared, &frame)?;
 
-    // As a viewer does: each frame is tone-mapped (to 8-bit, in the tiles) with the parameters
-    // from the previous frame's statistics.
-    let mut mapper = ToneMapper::new(ToneMap::default(), &Default::default());
+    // As a viewer in motion does: each frame is tone-mapped with the parameters from the
+    // previous frame's statistics, and none is averaged.
+    let mut view = Progressive::new(ToneMap::default());
     let posing = std::cell::Cell::new(Duration::ZERO);
     let mut step = |f: &mut FrameState, index: u32| -> Result<igi_render::FrameOutput> {
-        let start = Instant::now();
         if args.animate {
-            prepared.set_time(args.frame.time + index as f32 / ANIMATION_FPS);
+            f.pose.time = args.frame.time + index as f32 / ANIMATION_FPS;
         }
+        // Posed here (the render then finds the scene in place) to time it on its own.
+        let start = Instant::now();
+        prepared.pose(&f.pose);
         let posed = start.elapsed();
         posing.set(posing.get() + posed);
         f.frame = index;
-        f.tone_map = mapper;
-        let mut out = renderer.render(&prepared, f, &|_, _| {})?;
+        f.tone_map = view.tone_mapper();
+        let mut out = renderer.render(&mut prepared, f, &|_, _| {})?;
         out.elapsed += posed;
-        mapper = ToneMapper::new(ToneMap::default(), &out.stats);
+        view.reset();
+        let shown = view.add(out.image, out.stats);
+        out.image = shown.image;
         Ok(out)
     };
     for i in 0..args.warmup {
@@ -179,16 +182,17 @@ pub fn run(args: &FrameBenchArgs) -> Result<()> {
 
 /// 1 − (luminance of frame 0) / (luminance of frame 0 without clamping): the same VPLs and
 /// rays, so the difference is exactly what the clamp removes.
-fn clamp_energy_loss(renderer: &FrameRenderer, scene: &PreparedScene, frame: &FrameState) -> Result<f64> {
+fn clamp_energy_loss(renderer: &FrameRenderer, scene: &mut PreparedScene, frame: &FrameState) -> Result<f64> {
     if frame.settings.clamp == 0.0 {
         return Ok(0.0);
     }
-    let total = |f: &FrameState| -> Result<f64> {
+    let mut total = |f: &FrameState| -> Result<f64> {
         let out = renderer.render(scene, f, &|_, _| {})?;
-        Ok(out.film.pixels().iter().map(|&p| f64::from(luminance(p))).sum())
+        let film = out.image.film().context("a linear frame without its film")?;
+        Ok(film.pixels().iter().map(|&p| f64::from(luminance(p))).sum())
     };
     let clamped = total(frame)?;
-    let mut unclamped_frame = *frame;
+    let mut unclamped_frame = frame.clone();
     unclamped_frame.settings.clamp = 0.0;
     let unclamped = total(&unclamped_frame)?;
     Ok(if unclamped > 0.0 { 1.0 - clamped / unclamped } else { 0.0 })

@@ -1,0 +1,170 @@
+//! What pixels a frame carries: the [`PixelFormat`] a frame asks for, a tile's [`Pixels`] and a
+//! frame's [`FrameImage`].
+//!
+//! A display needs only tone-mapped 8-bit pixels, which is what render nodes send while the
+//! view moves (paper 3.4): a quarter of the bytes of linear radiance. Linear radiance is asked
+//! for where it is averaged (progressive refinement), written to EXR, or tone-mapped from the
+//! image's own statistics; a linear frame still carries its display image.
+
+use crate::film::{Film, copy_tile};
+use crate::tile::Tile;
+use crate::tonemap::ToneMapper;
+use glam::Vec3;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+/// The pixels a frame delivers.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum PixelFormat {
+    /// Tone-mapped, sRGB-encoded 8-bit RGB: what a display shows (paper 3.4).
+    Srgb8,
+    /// Linear radiance (32-bit float RGB), and the display image made from it.
+    #[default]
+    Linear,
+}
+
+/// The pixels of one tile, row-major within the tile, in the frame's [`PixelFormat`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Pixels {
+    /// 3 bytes per pixel, tone-mapped with the frame's tone map.
+    Srgb8(Vec<u8>),
+    /// Linear RGB radiance per pixel.
+    Linear(Vec<Vec3>),
+}
+
+impl Pixels {
+    /// The format of these pixels.
+    pub fn format(&self) -> PixelFormat {
+        match self {
+            Self::Srgb8(_) => PixelFormat::Srgb8,
+            Self::Linear(_) => PixelFormat::Linear,
+        }
+    }
+
+    /// Number of pixels.
+    pub fn len(&self) -> usize {
+        match self {
+            Self::Srgb8(bytes) => bytes.len() / 3,
+            Self::Linear(pixels) => pixels.len(),
+        }
+    }
+
+    /// True if there are no pixels.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// A frame's image: the display image, and the linear radiance it was made from if the frame
+/// asked for it.
+#[derive(Clone, Debug, PartialEq)]
+pub enum FrameImage {
+    /// The display image alone.
+    Srgb8 {
+        /// Width in pixels.
+        width: u32,
+        /// Height in pixels.
+        height: u32,
+        /// 3 bytes per pixel, row-major, row 0 at the top.
+        bytes: Vec<u8>,
+    },
+    /// Linear radiance and its display image.
+    Linear {
+        /// The radiance.
+        film: Film,
+        /// `film` tone-mapped and sRGB-encoded, 3 bytes per pixel.
+        srgb8: Vec<u8>,
+    },
+}
+
+impl FrameImage {
+    /// A linear image and its display image under `tone_map`, encoded on the current rayon
+    /// pool (the pixels are independent, so the bytes are the same on any number of threads).
+    pub fn from_film(film: Film, tone_map: &ToneMapper) -> Self {
+        let mut srgb8 = vec![0u8; 3 * film.pixels().len()];
+        const CHUNK: usize = 4096;
+        srgb8.par_chunks_mut(3 * CHUNK).zip(film.pixels().par_chunks(CHUNK)).for_each(|(out, pixels)| {
+            let mut encoded = Vec::with_capacity(out.len());
+            tone_map.encode_pixels(pixels, &mut encoded);
+            out.copy_from_slice(&encoded);
+        });
+        Self::Linear { film, srgb8 }
+    }
+
+    /// The image of a frame put together from its tiles, which must all be in `format` and
+    /// cover the image; a linear image's display image is made with `tone_map`.
+    pub fn from_tiles(
+        format: PixelFormat,
+        width: u32,
+        height: u32,
+        tiles: impl IntoIterator<Item = (Tile, Pixels)>,
+        tone_map: &ToneMapper,
+    ) -> Self {
+        match format {
+            PixelFormat::Srgb8 => {
+                let mut bytes = vec![0u8; 3 * width as usize * height as usize];
+                for (tile, pixels) in tiles {
+                    let Pixels::Srgb8(src) = pixels else { panic!("a linear tile in an 8-bit frame") };
+                    copy_tile(&mut bytes, 3 * width as usize, &tile, &src, 3);
+                }
+                Self::Srgb8 { width, height, bytes }
+            }
+            PixelFormat::Linear => {
+                let mut film = Film::new(width, height);
+                for (tile, pixels) in tiles {
+                    let Pixels::Linear(src) = pixels else { panic!("an 8-bit tile in a linear frame") };
+                    film.write_tile(&tile, &src);
+                }
+                Self::from_film(film, tone_map)
+            }
+        }
+    }
+
+    /// The format of the image.
+    pub fn format(&self) -> PixelFormat {
+        match self {
+            Self::Srgb8 { .. } => PixelFormat::Srgb8,
+            Self::Linear { .. } => PixelFormat::Linear,
+        }
+    }
+
+    /// Width in pixels.
+    pub fn width(&self) -> u32 {
+        match self {
+            Self::Srgb8 { width, .. } => *width,
+            Self::Linear { film, .. } => film.width(),
+        }
+    }
+
+    /// Height in pixels.
+    pub fn height(&self) -> u32 {
+        match self {
+            Self::Srgb8 { height, .. } => *height,
+            Self::Linear { film, .. } => film.height(),
+        }
+    }
+
+    /// The display image: 3 bytes per pixel, row-major, row 0 at the top.
+    pub fn srgb8(&self) -> &[u8] {
+        match self {
+            Self::Srgb8 { bytes, .. } => bytes,
+            Self::Linear { srgb8, .. } => srgb8,
+        }
+    }
+
+    /// The linear radiance, if the frame asked for it.
+    pub fn into_film(self) -> Option<Film> {
+        match self {
+            Self::Srgb8 { .. } => None,
+            Self::Linear { film, .. } => Some(film),
+        }
+    }
+
+    /// The linear radiance, if the frame asked for it.
+    pub fn film(&self) -> Option<&Film> {
+        match self {
+            Self::Srgb8 { .. } => None,
+            Self::Linear { film, .. } => Some(film),
+        }
+    }
+}

@@ -1,0 +1,142 @@
+//! [`Progressive`]: what carries over from one frame of a view to the next. It is the one owner
+//! of two mechanisms:
+//!
+//! - **progressive refinement**: while the view stands still, frames with fresh VPL sets and
+//!   sample patterns (consecutive blocks of one Sobol sequence, see
+//!   [`FrameState::sequence`](crate::FrameState::sequence)) are averaged, and the mean converges
+//!   to the instant-radiosity solution;
+//! - **tone-map feedback** (paper 3.4): each frame is tone-mapped with the luminance
+//!   statistics of the image shown before it, so render nodes can send finished 8-bit pixels.
+//!
+//! A frame's statistics are those its tiles combined in tile order; a mean of several frames
+//! is measured itself, and its display image is tone-mapped with its own statistics.
+
+use crate::film::Film;
+use crate::frame_image::FrameImage;
+use crate::tonemap::{LuminanceStats, ToneMap, ToneMapper};
+use glam::Vec3;
+
+/// The running mean of a view's frames and the tone map of its next frame.
+#[derive(Clone, Debug)]
+pub struct Progressive {
+    tone_map: ToneMap,
+    /// The tone map of the next frame.
+    next: ToneMapper,
+    sum: Vec<Vec3>,
+    width: u32,
+    height: u32,
+    frames: u32,
+}
+
+/// What a view shows after a frame: its image (or the mean of the frames so far) and the
+/// image's luminance statistics.
+#[derive(Clone, Debug)]
+pub struct Shown {
+    /// The image.
+    pub image: FrameImage,
+    /// Its luminance statistics.
+    pub stats: LuminanceStats,
+}
+
+impl Progressive {
+    /// A view with no frame yet, tone-mapped with `tone_map`. Before any statistics exist its
+    /// first frame's tone map is exact for a fixed exposure and a guess for Reinhard.
+    pub fn new(tone_map: ToneMap) -> Self {
+        Self {
+            tone_map,
+            next: ToneMapper::new(tone_map, &LuminanceStats::default()),
+            sum: Vec::new(),
+            width: 0,
+            height: 0,
+            frames: 0,
+        }
+    }
+
+    /// Changes the tone map from the next image shown on.
+    pub fn set_tone_map(&mut self, tone_map: ToneMap) {
+        self.tone_map = tone_map;
+    }
+
+    /// The tone map of the next frame: fixed from the statistics of the last image shown.
+    pub fn tone_mapper(&self) -> ToneMapper {
+        self.next
+    }
+
+    /// Frames in the mean (0 after a reset).
+    pub fn frames(&self) -> u32 {
+        self.frames
+    }
+
+    /// Forgets the frames averaged so far (the view changed). The tone-map feedback goes on.
+    pub fn reset(&mut self) {
+        self.frames = 0;
+    }
+
+    /// Takes a rendered frame and its tile statistics. A linear frame joins the mean (a frame
+    /// of another size starts it anew); an 8-bit frame, which cannot be averaged, ends it.
+    /// Returns what to show: the frame itself while the mean has one frame, else the mean.
+    pub fn add(&mut self, image: FrameImage, stats: LuminanceStats) -> Shown {
+        let shown = match image.film() {
+            None => {
+                self.frames = 0;
+                Shown { image, stats }
+            }
+            Some(film) if self.frames == 0 || (film.width(), film.height()) != (self.width, self.height) => {
+                self.sum.clear();
+                self.sum.extend_from_slice(film.pixels());
+                (self.width, self.height, self.frames) = (film.width(), film.height(), 1);
+                Shown { image, stats }
+            }
+            Some(film) => {
+                self.sum.iter_mut().zip(film.pixels()).for_each(|(s, p)| *s += *p);
+                self.frames += 1;
+                let scale = 1.0 / self.frames as f32;
+                let mean =
+                    Film::from_pixels(self.width, self.height, self.sum.iter().map(|&s| s * scale).collect());
+                let stats = LuminanceStats::of_pixels(mean.pixels());
+                Shown { image: FrameImage::from_film(mean, &ToneMapper::new(self.tone_map, &stats)), stats }
+            }
+        };
+        self.next = ToneMapper::new(self.tone_map, &shown.stats);
+        shown
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn linear(pixels: Vec<Vec3>) -> (FrameImage, LuminanceStats) {
+        let stats = LuminanceStats::of_pixels(&pixels);
+        let film = Film::from_pixels(pixels.len() as u32, 1, pixels);
+        (FrameImage::from_film(film, &ToneMapper::LINEAR), stats)
+    }
+
+    #[test]
+    fn mean_of_frames_and_reset() {
+        let mut p = Progressive::new(ToneMap::default());
+        let (a, sa) = linear(vec![Vec3::ONE, Vec3::ZERO]);
+        assert_eq!(p.add(a.clone(), sa).image, a, "one frame is shown as rendered");
+        let (b, sb) = linear(vec![Vec3::splat(3.0), Vec3::X]);
+        let shown = p.add(b, sb);
+        assert_eq!(p.frames(), 2);
+        assert_eq!(shown.image.film().unwrap().pixels(), &[Vec3::splat(2.0), Vec3::new(0.5, 0.0, 0.0)]);
+        assert_eq!(shown.stats, LuminanceStats::of_pixels(shown.image.film().unwrap().pixels()));
+        assert_eq!(p.tone_mapper(), ToneMapper::new(ToneMap::default(), &shown.stats));
+        p.reset();
+        let (c, sc) = linear(vec![Vec3::Y]);
+        assert_eq!((p.add(c, sc).image.film().unwrap().pixels(), p.frames()), (&[Vec3::Y][..], 1));
+    }
+
+    #[test]
+    fn an_8bit_frame_ends_the_mean_and_feeds_the_tone_map() {
+        let mut p = Progressive::new(ToneMap::default());
+        let (a, sa) = linear(vec![Vec3::ONE]);
+        p.add(a, sa);
+        let stats = LuminanceStats { log_sum: 0.5, count: 1, max: 2.0 };
+        let image = FrameImage::Srgb8 { width: 1, height: 1, bytes: vec![1, 2, 3] };
+        assert_eq!(p.add(image.clone(), stats).image, image);
+        assert_eq!(p.frames(), 0);
+        assert_eq!(p.tone_mapper(), ToneMapper::new(ToneMap::default(), &stats));
+    }
+}
