@@ -1,5 +1,5 @@
 //! [`CameraController`]: the viewers' camera, flown with WASD/QE and mouse look or orbited
-//! around a target by dragging, with +Y up (DESIGN.md section 4).
+//! around a target by dragging, with +Y up (the convention of igi-scene's `Camera`).
 //!
 //! The view direction is kept as yaw (about +Y, 0 looking down −Z) and pitch (above the
 //! horizon), so a drag turns the view by an angle proportional to its length and the horizon
