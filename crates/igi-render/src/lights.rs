@@ -8,6 +8,7 @@
 
 use crate::sampling::{Cdf, uniform_triangle};
 use glam::{Vec2, Vec3};
+use igi_bvh::Aabb;
 use igi_scene::{Camera, Light};
 
 /// Relative luminance of linear RGB (Rec. 709 primaries).
@@ -51,10 +52,10 @@ impl EmissiveTriangle {
 }
 
 /// The headlight for a scene without lights: a point light at the camera position whose
-/// intensity (d² with d the distance from the camera to the centre of the scene bounds, at
+/// intensity (d² with d the distance from the camera to the centre of the scene's `bounds`, at
 /// least 1) gives irradiance about 1 at the scene's centre.
-pub fn eye_light(scene: &crate::prepared::PreparedScene, camera: &Camera) -> Light {
-    let b = scene.bounds();
+pub fn eye_light(bounds: &Aabb, camera: &Camera) -> Light {
+    let b = bounds;
     let d2 = if b.is_empty() { 1.0 } else { (b.centroid() - camera.position).length_squared().max(1.0) };
     Light::Point { position: camera.position, intensity: Vec3::splat(d2) }
 }

@@ -134,7 +134,7 @@ pub fn validate_spp(spp: u32) -> Result<(), SettingsError> {
 pub struct PathTracer<'a> {
     scene: &'a PreparedScene,
     camera: PinholeCamera,
-    /// The scene's point, spot and directional lights, or the headlight if it has no light.
+    /// The point, spot and directional lights ([`PreparedScene::punctual_lights`]).
     punctual: Vec<Light>,
     /// Σ area × luminance(L_e) over the area lights: they are sampled with the density
     /// p_A(y) = luminance(L_e(y)) / `area_light_weight` (power × uniform area).
@@ -148,15 +148,10 @@ impl<'a> PathTracer<'a> {
     /// `height`, seed) with `spp` paths per pixel, clamped to 1..=[`MAX_SAMPLES`] (see
     /// [`validate_spp`]).
     pub fn new(scene: &'a PreparedScene, frame: &FrameState, spp: u32) -> Self {
-        let punctual = if scene.has_lights() {
-            scene.lights().to_vec()
-        } else {
-            vec![lights::eye_light(scene, &frame.camera)]
-        };
         Self {
             scene,
             camera: PinholeCamera::new(&frame.camera, frame.settings.width, frame.settings.height),
-            punctual,
+            punctual: scene.punctual_lights(&frame.camera),
             area_light_weight: scene
                 .area_lights()
                 .triangles()
@@ -171,12 +166,6 @@ impl<'a> PathTracer<'a> {
     /// Paths per pixel (after clamping).
     pub fn spp(&self) -> u32 {
         self.spp
-    }
-
-    /// The point, spot and directional lights evaluated at every diffuse vertex (the scene's,
-    /// or the headlight).
-    pub fn punctual_lights(&self) -> &[Light] {
-        &self.punctual
     }
 
     /// Radiance of pixel (x, y): the mean of its spp paths. Also counts rays traced into `rays`.

@@ -5,7 +5,7 @@
 //! # Lights
 //!
 //! Point, spot and directional lights (or, in a scene without any light, the headlight
-//! [`eye_light`]) are evaluated exactly by the renderer in every set; they are kept in
+//! [`eye_light`](crate::lights::eye_light)) are evaluated exactly by the renderer in every set; they are kept in
 //! [`VplSets::lights`] and paths starting at them leave no VPL at the light. The emissive
 //! triangles have no such exact term: the first vertex of a path on an area light is a VPL
 //! ("light-surface samples are VPLs too"), and these VPLs are the direct light of area lights.
@@ -106,7 +106,8 @@
 //! [`AreaLights::sample`]: crate::lights::AreaLights::sample
 
 use crate::frame::FrameState;
-use crate::lights::{eye_light, luminance};
+use crate::frame::limits::MAX_BOUNCES;
+use crate::lights::luminance;
 use crate::prepared::PreparedScene;
 use crate::sampling::{Cdf, MAX_SAMPLES, hash_combine, sobol4};
 use crate::sampling::{concentric_disc, uniform_cone, uniform_sphere};
@@ -116,12 +117,6 @@ use igi_scene::Light;
 use igi_shade::brdf::{Bsdf, cosine_hemisphere, phong::mirror_direction};
 use rayon::prelude::*;
 use std::f32::consts::PI;
-
-/// Surface interactions (diffuse, mirror or glass) followed per light path; a path leaves at
-/// most `MAX_BOUNCES + 1` VPLs. The walk is truncated there: with a scene albedo of 0.8 the
-/// energy dropped is 0.8³² ≈ 0.08 % of the indirect light, and every interaction keeps its
-/// own Sobol dimensions.
-pub const MAX_BOUNCES: u32 = 32;
 
 /// Light paths of the pilot that measures the expected VPLs per path.
 pub const PILOT_PATHS: u32 = 256;
@@ -200,8 +195,7 @@ impl VplSets {
     /// depends only on `scene` and `frame`. A scene whose lights all have zero power gets
     /// empty sets.
     pub fn generate(scene: &PreparedScene, frame: &FrameState) -> Self {
-        let lights =
-            if scene.has_lights() { scene.lights().to_vec() } else { vec![eye_light(scene, &frame.camera)] };
+        let lights = scene.punctual_lights(&frame.camera);
         let Some(emitters) = Emitters::new(scene, &lights, frame.settings.bounces) else {
             let sets = vec![Vec::new(); frame.settings.set_count() as usize];
             let sky = sets.iter().map(|_| Vec::new()).collect();

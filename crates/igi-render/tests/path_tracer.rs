@@ -280,11 +280,10 @@ fn emitters_show_their_radiance_on_the_front_side_only() {
 fn scene_without_lights_gets_a_headlight() {
     let prepared = PreparedScene::new(plane_scene(vec![], vec![], vec![]));
     let cam = camera(Vec3::new(0.0, 2.0, 2.0), Vec3::ZERO, 45.0);
-    let Light::Point { position, intensity } = eye_light(&prepared, &cam) else {
+    let Light::Point { position, intensity } = eye_light(&prepared.bounds(), &cam) else {
         panic!("headlight is a point light")
     };
-    let f = frame(cam, 32, 24, 0, 16);
-    assert_eq!(PathTracer::new(&prepared, &f, 1).punctual_lights(), &[eye_light(&prepared, &cam)]);
+    assert_eq!(prepared.punctual_lights(&cam), [eye_light(&prepared.bounds(), &cam)]);
     let n = assert_in_range(&prepared, &cam, |d| {
         hit_floor(cam.position, d, 9.0).map(|p| point_lit(p, position, intensity, RHO))
     });
