@@ -152,19 +152,38 @@ pub struct Incident {
     pub irradiance: Vec3,
 }
 
+/// Shadow rays toward a light or a VPL stop this fraction short of it, so that the surface it
+/// lies on does not block them.
+pub const SHADOW_SHORTEN: f32 = 1.0 - 1e-4;
+
+/// The hard-edged cone of a spot light: full intensity where the angle to the axis is at most
+/// half of the light's `angle_deg`, nothing outside (no smooth falloff).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpotCone {
+    /// Unit axis, the direction the light points in (zero for a zero direction, which lights
+    /// nothing).
+    pub axis: Vec3,
+    /// Cosine of the half angle.
+    pub cos_half: f32,
+}
+
+impl SpotCone {
+    /// The cone of a spot light pointing along `direction` with full opening angle `angle_deg`.
+    #[inline]
+    pub fn new(direction: Vec3, angle_deg: f32) -> Self {
+        Self { axis: direction.normalize_or_zero(), cos_half: (0.5 * angle_deg.to_radians()).cos() }
+    }
+}
+
 /// The light `light` sends toward the point `x`, ignoring occlusion; `None` if it sends
 /// nothing (outside a spot cone, or at the light's own position).
-///
-/// Spot lights have a hard-edged cone: full intensity where the angle to the axis is at most
-/// half of `angle_deg`, nothing outside (no smooth falloff).
 pub fn incident(light: &Light, x: Vec3) -> Option<Incident> {
     match *light {
         Light::Point { position, intensity } => towards_point(x, position, intensity),
         Light::Spot { position, direction, angle_deg, intensity } => {
             let inc = towards_point(x, position, intensity)?;
-            let cos_half = (0.5 * angle_deg.to_radians()).cos();
-            let axis = direction.normalize_or_zero();
-            (axis.dot(-inc.dir) >= cos_half).then_some(inc)
+            let cone = SpotCone::new(direction, angle_deg);
+            (cone.axis.dot(-inc.dir) >= cone.cos_half).then_some(inc)
         }
         Light::Directional { direction, irradiance } => {
             let dir = -direction.normalize_or_zero();

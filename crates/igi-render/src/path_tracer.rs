@@ -97,7 +97,7 @@ use crate::camera::PinholeCamera;
 use crate::cancel::CancelToken;
 use crate::film::Film;
 use crate::frame::{FrameState, SettingsError};
-use crate::lights::{self, luminance};
+use crate::lights::{self, SHADOW_SHORTEN, luminance};
 use crate::prepared::{PreparedScene, SurfacePoint};
 use crate::sampling::{MAX_SAMPLES, hash_combine, pixel_seed, sobol4};
 use crate::scheduler::TileScheduler;
@@ -113,10 +113,6 @@ pub const MAX_VERTICES: u32 = 64;
 /// Number of vertices a path keeps without Russian roulette: the first bounces carry most of
 /// the indirect light and are cheap to keep.
 pub const ROULETTE_START: u32 = 3;
-
-/// Shadow rays stop this fraction short of the light so the light's own surface does not
-/// block them.
-const SHADOW_SHORTEN: f32 = 1.0 - 1e-4;
 
 /// Checks a samples-per-pixel count from the user: it must be between 1 and
 /// [`MAX_SAMPLES`] (the length of the per-pixel Sobol sequence). [`PathTracer::new`] clamps

@@ -107,7 +107,7 @@
 
 use crate::frame::FrameState;
 use crate::frame::limits::MAX_BOUNCES;
-use crate::lights::luminance;
+use crate::lights::{SpotCone, luminance};
 use crate::prepared::PreparedScene;
 use crate::sampling::{Cdf, MAX_SAMPLES, hash_combine, sobol4};
 use crate::sampling::{concentric_disc, uniform_cone, uniform_sphere};
@@ -307,8 +307,8 @@ enum Source {
     Area,
     /// A point light.
     Point { position: Vec3 },
-    /// A spot light: unit cone axis and cosine of the half angle.
-    Spot { position: Vec3, axis: Vec3, cos_half: f32 },
+    /// A spot light and its cone.
+    Spot { position: Vec3, cone: SpotCone },
     /// A directional light: unit direction of travel.
     Directional { direction: Vec3 },
     /// The sky ([`PreparedScene::environment`]).
@@ -347,12 +347,13 @@ impl<'a> Emitters<'a> {
             sources.push(match *light {
                 Light::Point { position, intensity } => (Source::Point { position }, 4.0 * PI * intensity),
                 Light::Spot { position, direction, angle_deg, intensity } => {
-                    // The hard cone of `lights::incident`: half angle angle_deg / 2.
-                    let cos_half = (0.5 * angle_deg.to_radians()).cos();
-                    let axis = direction.normalize_or_zero();
-                    let power =
-                        if axis == Vec3::ZERO { Vec3::ZERO } else { 2.0 * PI * (1.0 - cos_half) * intensity };
-                    (Source::Spot { position, axis, cos_half }, power)
+                    let cone = SpotCone::new(direction, angle_deg);
+                    let power = if cone.axis == Vec3::ZERO {
+                        Vec3::ZERO
+                    } else {
+                        2.0 * PI * (1.0 - cone.cos_half) * intensity
+                    };
+                    (Source::Spot { position, cone }, power)
                 }
                 Light::Directional { direction, irradiance } => {
                     let direction = direction.normalize_or_zero();
@@ -409,8 +410,8 @@ impl<'a> Emitters<'a> {
                 (offset_ray_origin(y.point, y.normal), dir, power)
             }
             Source::Point { position } => (position, uniform_sphere(Vec2::new(d0, d1)), power * scale),
-            Source::Spot { position, axis, cos_half } => {
-                (position, uniform_cone(axis, cos_half, Vec2::new(d0, d1)), power * scale)
+            Source::Spot { position, cone } => {
+                (position, uniform_cone(cone.axis, cone.cos_half, Vec2::new(d0, d1)), power * scale)
             }
             Source::Directional { direction } => {
                 let (centre, radius) = self.sphere;
