@@ -15,8 +15,9 @@
 //! - [`tile_pipeline`] and [`vpl_lighting`]: the streaming per-tile pipeline and its inner
 //!   shadow-ray loop.
 //! - [`discontinuity`]: the discontinuity-buffer filter.
-//! - [`tile`], [`scheduler`] and [`frame_renderer`]: tiles, persistent worker threads taking
-//!   tiles on demand, and [`FrameRenderer`], which puts a frame together.
+//! - [`pixel_rect`], [`tile`], [`scheduler`] and [`frame_renderer`]: rectangles of pixels,
+//!   tiles, persistent worker threads taking tiles on demand, and [`FrameRenderer`], which puts
+//!   a frame together.
 //! - [`cancel`]: [`CancelToken`], which abandons a frame between tiles.
 //! - [`path_tracer`]: the reference path tracer.
 //! - [`stats`], [`film`], [`tonemap`] and [`output`]: costs, the framebuffer, tone mapping,
@@ -49,6 +50,7 @@ pub mod interleave;
 pub mod lights;
 pub mod output;
 pub mod path_tracer;
+pub mod pixel_rect;
 pub mod prepared;
 pub mod sampling;
 pub mod scheduler;
@@ -65,6 +67,7 @@ pub use film::Film;
 pub use frame::{FrameState, IgiSettings};
 pub use frame_renderer::{FrameError, FrameOutput, FrameRenderer};
 pub use output::{OutputError, write_exr, write_image, write_png};
+pub use pixel_rect::PixelRect;
 pub use prepared::{PreparedScene, SurfacePoint};
 pub use stats::{Phase, PhaseTimes, RayCounts};
 pub use tile::{Tile, TileGrid};

@@ -27,7 +27,8 @@
 use crate::camera::PinholeCamera;
 use crate::discontinuity::{DiscontinuityBuffer, FilterSample, Filtered};
 use crate::frame::{FilterSettings, FrameState, SequenceSpan};
-use crate::interleave::{Interleave, Region};
+use crate::interleave::Interleave;
+use crate::pixel_rect::PixelRect;
 use crate::prepared::{PreparedScene, SurfacePoint};
 use crate::sampling::{pixel_seed, sobol4};
 use crate::stats::{Phase, PhaseTimes, RayCounts};
@@ -227,7 +228,7 @@ impl<'a> TilePipeline<'a> {
         let region = il.region(&tile, self.size.0, self.size.1);
         let aa = il.aa;
         scratch.emitted.clear();
-        scratch.emitted.resize(region.len() * aa as usize, Vec3::ZERO);
+        scratch.emitted.resize(region.pixel_count() * aa as usize, Vec3::ZERO);
         scratch.points.clear();
         let mut rays = RayCounts::default();
         let mut times = PhaseTimes::default();
@@ -263,7 +264,7 @@ impl<'a> TilePipeline<'a> {
     /// Step 1: the camera rays of sample `sample` of the pixels of `set`, packet by packet.
     fn trace_primary(
         &self,
-        region: &Region,
+        region: &PixelRect,
         set: u32,
         sample: u32,
         s: &mut TileScratch,
@@ -513,7 +514,7 @@ impl<'a> TilePipeline<'a> {
     /// contacts.
     fn compensate(
         &self,
-        region: &Region,
+        region: &PixelRect,
         sample: u32,
         first: usize,
         s: &mut TileScratch,
@@ -521,7 +522,6 @@ impl<'a> TilePipeline<'a> {
     ) {
         let d_min = self.d_min2.sqrt();
         let accel = self.scene.accel();
-        let rw = region.width();
         let index = self.sequence.first + sample;
         // Level 0 starts from the group's own points; each level compensates the points the
         // previous one found (their near field is clamped too).
@@ -535,7 +535,7 @@ impl<'a> TilePipeline<'a> {
                 let mut bits = 0u32;
                 for (lane, i) in (start..chunk_end).enumerate() {
                     let p = &s.points[i];
-                    let (x, y) = (region.x0 + p.state.pixel % rw, region.y0 + p.state.pixel / rw);
+                    let (x, y) = region.pixel(p.state.pixel);
                     let [_, _, u, v] = sobol4(index, 1 + level, pixel_seed(x, y, self.sequence.seed));
                     let dir = cosine_hemisphere(p.ns, glam::Vec2::new(u, v));
                     if dir.dot(p.ng) <= 0.0 {
@@ -619,7 +619,7 @@ impl<'a> TilePipeline<'a> {
     }
 
     /// Filters the irradiance and composes the tile's pixels.
-    fn compose(&self, tile: &Tile, region: &Region, s: &mut TileScratch) -> Vec<Vec3> {
+    fn compose(&self, tile: &Tile, region: &PixelRect, s: &mut TileScratch) -> Vec<Vec3> {
         let TileScratch { points, emitted, filter_samples, glossy, filtered, filter, .. } = s;
         // Most tiles have no glossy point; their glossy term stays out of the filter.
         glossy.clear();
@@ -659,13 +659,10 @@ impl<'a> TilePipeline<'a> {
         }
 
         let aa = self.interleave.aa as usize;
-        let tw = tile.width() as usize;
-        let rw = region.width();
         let mut pixels = vec![Vec3::ZERO; tile.pixel_count()];
         let tile_index = |pixel: u32| {
-            let (x, y) = (region.x0 + pixel % rw, region.y0 + pixel / rw);
-            (x >= tile.x0 && x < tile.x1 && y >= tile.y0 && y < tile.y1)
-                .then(|| (y - tile.y0) as usize * tw + (x - tile.x0) as usize)
+            let (x, y) = region.pixel(pixel);
+            tile.rect.contains(x, y).then(|| tile.rect.index(x, y))
         };
         for (i, (p, d)) in points.iter().zip(&filtered.irradiance).enumerate() {
             if let Some(pixel) = tile_index(p.state.pixel) {
@@ -678,7 +675,7 @@ impl<'a> TilePipeline<'a> {
             for x in tile.x0..tile.x1 {
                 let r = region.index(x, y);
                 let e: Vec3 = emitted[r * aa..(r + 1) * aa].iter().sum();
-                let i = (y - tile.y0) as usize * tw + (x - tile.x0) as usize;
+                let i = tile.rect.index(x, y);
                 pixels[i] = (pixels[i] + e) * scale;
             }
         }
