@@ -49,6 +49,7 @@ pub mod frame_renderer;
 pub mod interleave;
 pub mod lights;
 pub mod output;
+mod packet;
 pub mod path_tracer;
 pub mod pixel_rect;
 pub mod prepared;
