@@ -128,12 +128,6 @@ impl IgiSettings {
         self.interleave[0] * self.interleave[1]
     }
 
-    /// The VPL set of pixel `(x, y)`: (x mod n) + n (y mod m) (DESIGN.md section 1).
-    #[inline]
-    pub fn set_of_pixel(&self, x: u32, y: u32) -> u32 {
-        x % self.interleave[0] + self.interleave[0] * (y % self.interleave[1])
-    }
-
     /// Checks every field; the error names the offending flag.
     pub fn validate(&self) -> Result<(), SettingsError> {
         let err = |field, message: String| Err(SettingsError { field, message });

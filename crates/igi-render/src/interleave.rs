@@ -36,12 +36,6 @@ impl Interleave {
         self.n * self.m
     }
 
-    /// The set of pixel `(x, y)`.
-    #[inline]
-    pub fn set_of(&self, x: u32, y: u32) -> u32 {
-        x % self.n + self.n * (y % self.m)
-    }
-
     /// The filter window around a pixel as offsets `[left, right]` in x and `[up, down]` in y:
     /// the pixel at offset 0 plus (n − 1) neighbours in x split as evenly as possible, the same
     /// in y. Any such window holds one pixel of each set.
@@ -101,6 +95,11 @@ impl Interleave {
 mod tests {
     use super::*;
 
+    /// The set of pixel `(x, y)`, (x mod n) + n·(y mod m) (the module documentation).
+    fn set_of(il: &Interleave, x: u32, y: u32) -> u32 {
+        x % il.n + il.n * (y % il.m)
+    }
+
     #[test]
     fn every_window_holds_every_set_once() {
         for (n, m) in [(3, 3), (2, 4), (4, 1), (1, 1)] {
@@ -112,7 +111,7 @@ mod tests {
                 let mut seen = vec![0; il.sets() as usize];
                 for y in cy - u..=cy + d {
                     for x in cx - l..=cx + r {
-                        seen[il.set_of(x, y) as usize] += 1;
+                        seen[set_of(&il, x, y) as usize] += 1;
                     }
                 }
                 assert!(seen.iter().all(|&c| c == 1), "{n}x{m}: {seen:?}");
@@ -129,7 +128,7 @@ mod tests {
             il.packets(&region, set, |lanes| {
                 assert!(!lanes.is_empty() && lanes.len() <= 8);
                 for &(x, y) in lanes {
-                    assert_eq!(il.set_of(x, y), set);
+                    assert_eq!(set_of(&il, x, y), set);
                     count[region.index(x, y)] += 1;
                 }
             });

@@ -100,11 +100,6 @@ impl AreaLights {
         &self.triangles
     }
 
-    /// Number of emissive triangles.
-    pub fn len(&self) -> usize {
-        self.triangles.len()
-    }
-
     /// True if the scene has no area light.
     pub fn is_empty(&self) -> bool {
         self.triangles.is_empty()
@@ -113,11 +108,6 @@ impl AreaLights {
     /// Total emitted power per channel.
     pub fn total_power(&self) -> Vec3 {
         self.triangles.iter().map(EmissiveTriangle::power).sum()
-    }
-
-    /// Probability of choosing triangle `i`.
-    pub fn pmf(&self, i: usize) -> f32 {
-        self.cdf.pmf(i)
     }
 
     /// A point on the area lights from three numbers in [0, 1): `select` picks the triangle

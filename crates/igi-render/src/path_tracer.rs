@@ -96,7 +96,7 @@
 use crate::camera::PinholeCamera;
 use crate::cancel::CancelToken;
 use crate::film::Film;
-use crate::frame::{FrameState, SettingsError};
+use crate::frame::FrameState;
 use crate::lights::{self, SHADOW_SHORTEN, luminance};
 use crate::prepared::{PreparedScene, SurfacePoint};
 use crate::sampling::{MAX_SAMPLES, hash_combine, pixel_seed, sobol4};
@@ -114,17 +114,6 @@ pub const MAX_VERTICES: u32 = 64;
 /// the indirect light and are cheap to keep.
 pub const ROULETTE_START: u32 = 3;
 
-/// Checks a samples-per-pixel count from the user: it must be between 1 and
-/// [`MAX_SAMPLES`] (the length of the per-pixel Sobol sequence). [`PathTracer::new`] clamps
-/// instead; call this first to report the mistake.
-pub fn validate_spp(spp: u32) -> Result<(), SettingsError> {
-    if (1..=MAX_SAMPLES).contains(&spp) {
-        Ok(())
-    } else {
-        Err(SettingsError { field: "spp", message: format!("{spp} is not between 1 and {MAX_SAMPLES}") })
-    }
-}
-
 /// The reference path tracer for one frame.
 #[derive(Clone, Debug)]
 pub struct PathTracer<'a> {
@@ -141,8 +130,8 @@ pub struct PathTracer<'a> {
 
 impl<'a> PathTracer<'a> {
     /// The path tracer of `scene` for `frame` (camera, image size `frame.settings.width` ×
-    /// `height`, seed) with `spp` paths per pixel, clamped to 1..=[`MAX_SAMPLES`] (see
-    /// [`validate_spp`]).
+    /// `height`, seed) with `spp` paths per pixel, clamped to 1..=[`MAX_SAMPLES`] (the length
+    /// of a pixel's Sobol sequence; a caller reports a value outside it as the user's mistake).
     pub fn new(scene: &'a PreparedScene, frame: &FrameState, spp: u32) -> Self {
         Self {
             scene,

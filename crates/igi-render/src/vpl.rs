@@ -74,7 +74,8 @@
 //!
 //! The sets of a frame are consecutive blocks of one Owen-scrambled Sobol sequence
 //! ([`sobol4`]): the frame's paths are samples `first …` of one sequence, set s taking the
-//! s-th block of [`VplSets::paths_in_set`] of them, with the scramble seed
+//! s-th block of them (the frame's [`VplSets::paths`] shared out, the first sets taking one
+//! more where they do not divide evenly), with the scramble seed
 //! `hash_combine(span.seed, VPL_STREAM)` and `span = frame.sequence(paths)`. Each set is then an
 //! unbiased randomized quasi-Monte Carlo estimate on its own (a stratified net when P is a
 //! power of two), the S sets that the filter combines are spread evenly together, and
@@ -190,8 +191,8 @@ pub struct VplSets {
 }
 
 impl VplSets {
-    /// Generates the sets of `frame` in `scene`: `frame.settings.set_count()` sets of
-    /// [`VplSets::paths_in_set`] light paths each (see the module documentation). The result
+    /// Generates the sets of `frame` in `scene`: `frame.settings.set_count()` sets sharing
+    /// [`VplSets::paths`] light paths (see the module documentation). The result
     /// depends only on `scene` and `frame`. A scene whose lights all have zero power gets
     /// empty sets.
     pub fn generate(scene: &PreparedScene, frame: &FrameState) -> Self {
@@ -266,12 +267,6 @@ impl VplSets {
     /// Light paths started in all sets together.
     pub fn paths(&self) -> u32 {
         self.paths
-    }
-
-    /// Light paths started in set `s`: the frame's [`VplSets::paths`] shared out, the first
-    /// sets taking one more where they do not divide evenly.
-    pub fn paths_in_set(&self, s: u32) -> u32 {
-        share(self.paths, self.set_count(), s).1
     }
 
     /// Surface and sky VPLs of all sets together.

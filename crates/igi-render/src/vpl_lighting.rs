@@ -123,16 +123,6 @@ impl Receivers {
         self.len = 0;
     }
 
-    /// Number of points.
-    pub fn len(&self) -> usize {
-        self.len
-    }
-
-    /// True if there is no point.
-    pub fn is_empty(&self) -> bool {
-        self.len == 0
-    }
-
     /// Adds a point with its shadow-ray origin and unit shading and geometric normals, both
     /// turned to the side being lit, and for a point with a glossy lobe the lobe's unit axis
     /// and Phong exponent. Points are lit in the order they were added; neighbours in that
