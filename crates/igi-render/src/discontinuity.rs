@@ -13,7 +13,8 @@
 //! neighbour keeps its own value, so a constant irradiance stays constant.
 
 use crate::frame::FilterSettings;
-use crate::interleave::{Interleave, Region};
+use crate::interleave::Interleave;
+use crate::pixel_rect::PixelRect;
 use crate::tile::Tile;
 use glam::Vec3;
 
@@ -82,7 +83,7 @@ impl DiscontinuityBuffer {
     /// `points` must cover `region`, the tile plus the apron of [`Interleave::region`].
     pub fn filter(
         &mut self,
-        region: &Region,
+        region: &PixelRect,
         tile: &Tile,
         interleave: &Interleave,
         settings: &FilterSettings,
@@ -97,10 +98,9 @@ impl DiscontinuityBuffer {
         glossy_out.clear();
         glossy_out.extend_from_slice(glossy_in);
         let ([left, right], [up, down]) = interleave.window();
-        let w = region.width();
         for (i, p) in points.iter().enumerate() {
-            let (x, y) = (region.x0 + p.pixel % w, region.y0 + p.pixel / w);
-            if !(x >= tile.x0 && x < tile.x1 && y >= tile.y0 && y < tile.y1) {
+            let (x, y) = region.pixel(p.pixel);
+            if !tile.rect.contains(x, y) {
                 continue;
             }
             let grid = &self.grids[self.layers[i] as usize];
@@ -130,7 +130,7 @@ impl DiscontinuityBuffer {
     }
 
     /// Builds one pixel grid per (sample, path) layer holding the points.
-    fn index(&mut self, region: &Region, points: &[FilterSample], glossy: &[Vec3]) {
+    fn index(&mut self, region: &PixelRect, points: &[FilterSample], glossy: &[Vec3]) {
         self.keys.clear();
         self.layers.clear();
         let mut last: Option<((u32, u32), u32)> = None;
@@ -149,11 +149,11 @@ impl DiscontinuityBuffer {
                         }
                         let grid = &mut self.grids[self.keys.len() - 1];
                         grid.clear();
-                        grid.resize(region.len(), EMPTY_CELL);
+                        grid.resize(region.pixel_count(), EMPTY_CELL);
                         let glossy_grid = &mut self.glossy[self.keys.len() - 1];
                         glossy_grid.clear();
                         if !glossy.is_empty() {
-                            glossy_grid.resize(region.len(), Vec3::ZERO);
+                            glossy_grid.resize(region.pixel_count(), Vec3::ZERO);
                         }
                         (self.keys.len() - 1) as u32
                     }
@@ -183,7 +183,7 @@ fn similar(a: &FilterSample, b: &Cell, settings: &FilterSettings) -> bool {
 mod tests {
     use super::*;
 
-    fn grid_points(region: &Region, f: impl Fn(u32, u32) -> (Vec3, f32, Vec3)) -> Vec<FilterSample> {
+    fn grid_points(region: &PixelRect, f: impl Fn(u32, u32) -> (Vec3, f32, Vec3)) -> Vec<FilterSample> {
         let mut points = Vec::new();
         for y in region.y0..region.y1 {
             for x in region.x0..region.x1 {
@@ -202,7 +202,7 @@ mod tests {
         points
     }
 
-    fn run(points: &[FilterSample], region: &Region, tile: &Tile) -> Vec<Vec3> {
+    fn run(points: &[FilterSample], region: &PixelRect, tile: &Tile) -> Vec<Vec3> {
         let mut out = Filtered::default();
         let il = Interleave { n: 3, m: 3, aa: 1 };
         DiscontinuityBuffer::default().filter(
@@ -218,8 +218,8 @@ mod tests {
 
     #[test]
     fn constant_irradiance_stays_constant() {
-        let region = Region { x0: 0, y0: 0, x1: 10, y1: 8 };
-        let tile = Tile { index: 0, x0: 0, y0: 0, x1: 10, y1: 8 };
+        let region = PixelRect { x0: 0, y0: 0, x1: 10, y1: 8 };
+        let tile = Tile { index: 0, rect: region };
         let c = Vec3::new(0.3, 0.7, 1.9);
         let points = grid_points(&region, |x, _| (Vec3::Y, 1.0 + 0.01 * x as f32, c));
         // Equal up to the rounding of a sum of up to nine values divided by their count.
@@ -232,8 +232,8 @@ mod tests {
 
     #[test]
     fn averages_the_window_and_never_across_an_edge() {
-        let region = Region { x0: 0, y0: 0, x1: 9, y1: 9 };
-        let tile = Tile { index: 0, x0: 0, y0: 0, x1: 9, y1: 9 };
+        let region = PixelRect { x0: 0, y0: 0, x1: 9, y1: 9 };
+        let tile = Tile { index: 0, rect: region };
         // Left half: a floor at depth 1; right half (x ≥ 5): a wall at depth 1 with another
         // normal. Irradiance alternates to show the averaging.
         let points = grid_points(&region, |x, y| {
@@ -254,8 +254,8 @@ mod tests {
 
     #[test]
     fn depth_steps_separate() {
-        let region = Region { x0: 0, y0: 0, x1: 6, y1: 6 };
-        let tile = Tile { index: 0, x0: 0, y0: 0, x1: 6, y1: 6 };
+        let region = PixelRect { x0: 0, y0: 0, x1: 6, y1: 6 };
+        let tile = Tile { index: 0, rect: region };
         let points = grid_points(&region, |x, _| {
             if x < 3 { (Vec3::Z, 1.0, Vec3::ONE) } else { (Vec3::Z, 2.0, Vec3::splat(5.0)) }
         });

@@ -40,7 +40,7 @@ pub struct IgiSettings {
     pub specular_depth: u32,
     /// Largest number of surface interactions of a light path, each leaving a VPL: 0 lights
     /// the scene with the VPLs on the lights only (direct light), 1 adds one bounce of
-    /// indirect light, and so on up to [`MAX_BOUNCES`](crate::vpl::MAX_BOUNCES).
+    /// indirect light, and so on up to [`MAX_BOUNCES`](limits::MAX_BOUNCES).
     pub bounces: u32,
     /// Edge length of the square tiles; the image does not depend on it.
     pub tile_size: u32,
@@ -86,7 +86,7 @@ impl Default for IgiSettings {
             clamp: 0.0,
             compensate_clamp: false,
             specular_depth: 5,
-            bounces: crate::vpl::MAX_BOUNCES,
+            bounces: limits::MAX_BOUNCES,
             tile_size: 64,
             reseed_per_frame: false,
         }
@@ -115,6 +115,11 @@ pub mod limits {
     pub const MAX_AA: u32 = 64;
     /// Deepest specular chain.
     pub const MAX_SPECULAR_DEPTH: u32 = 16;
+    /// Surface interactions (diffuse, mirror or glass) followed per light path; a path leaves
+    /// at most `MAX_BOUNCES + 1` VPLs. The walk is truncated there: with a scene albedo of 0.8
+    /// the energy dropped is 0.8³² ≈ 0.08 % of the indirect light, and every interaction keeps
+    /// its own Sobol dimensions (see [`crate::vpl`]).
+    pub const MAX_BOUNCES: u32 = 32;
     /// Largest tile side.
     pub const MAX_TILE: u32 = 1024;
     /// Largest number of tiles in a frame (each carries its own buffers).
@@ -125,12 +130,6 @@ impl IgiSettings {
     /// Number of VPL sets, n·m.
     pub fn set_count(&self) -> u32 {
         self.interleave[0] * self.interleave[1]
-    }
-
-    /// The VPL set of pixel `(x, y)`: (x mod n) + n (y mod m) (DESIGN.md section 1).
-    #[inline]
-    pub fn set_of_pixel(&self, x: u32, y: u32) -> u32 {
-        x % self.interleave[0] + self.interleave[0] * (y % self.interleave[1])
     }
 
     /// Checks every field; the error names the offending flag.
@@ -172,8 +171,8 @@ impl IgiSettings {
                 format!("{} is more than {}", self.specular_depth, limits::MAX_SPECULAR_DEPTH),
             );
         }
-        if self.bounces > crate::vpl::MAX_BOUNCES {
-            return err("bounces", format!("{} is more than {}", self.bounces, crate::vpl::MAX_BOUNCES));
+        if self.bounces > limits::MAX_BOUNCES {
+            return err("bounces", format!("{} is more than {}", self.bounces, limits::MAX_BOUNCES));
         }
         if !(1..=limits::MAX_TILE).contains(&self.tile_size) {
             return err("tile-size", format!("{} is not between 1 and {}", self.tile_size, limits::MAX_TILE));

@@ -10,55 +10,9 @@
 //! primary rays only.
 
 use crate::frame::IgiSettings;
+use crate::pixel_rect::PixelRect;
 use crate::sampling::{pixel_seed, sobol4};
 use crate::tile::Tile;
-
-/// A rectangle of pixels `[x0, x1) × [y0, y1)`: a tile together with its filter apron.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Region {
-    /// First column.
-    pub x0: u32,
-    /// First row.
-    pub y0: u32,
-    /// One past the last column.
-    pub x1: u32,
-    /// One past the last row.
-    pub y1: u32,
-}
-
-impl Region {
-    /// Width in pixels.
-    pub fn width(&self) -> u32 {
-        self.x1 - self.x0
-    }
-
-    /// Height in pixels.
-    pub fn height(&self) -> u32 {
-        self.y1 - self.y0
-    }
-
-    /// Number of pixels.
-    pub fn len(&self) -> usize {
-        self.width() as usize * self.height() as usize
-    }
-
-    /// True if the region has no pixel.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
-    /// Row-major index of pixel `(x, y)` inside the region.
-    #[inline]
-    pub fn index(&self, x: u32, y: u32) -> usize {
-        (y - self.y0) as usize * self.width() as usize + (x - self.x0) as usize
-    }
-
-    /// True if `(x, y)` lies inside.
-    #[inline]
-    pub fn contains(&self, x: u32, y: u32) -> bool {
-        x >= self.x0 && x < self.x1 && y >= self.y0 && y < self.y1
-    }
-}
 
 /// The interleaving pattern of a frame: n×m VPL sets and N samples per pixel.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -82,12 +36,6 @@ impl Interleave {
         self.n * self.m
     }
 
-    /// The set of pixel `(x, y)`.
-    #[inline]
-    pub fn set_of(&self, x: u32, y: u32) -> u32 {
-        x % self.n + self.n * (y % self.m)
-    }
-
     /// The filter window around a pixel as offsets `[left, right]` in x and `[up, down]` in y:
     /// the pixel at offset 0 plus (n − 1) neighbours in x split as evenly as possible, the same
     /// in y. Any such window holds one pixel of each set.
@@ -97,9 +45,9 @@ impl Interleave {
 
     /// `tile` grown by the filter window (the apron, paper 3.4) and clipped to a `width` ×
     /// `height` image. Every pixel the filter of the tile reads lies in it.
-    pub fn region(&self, tile: &Tile, width: u32, height: u32) -> Region {
+    pub fn region(&self, tile: &Tile, width: u32, height: u32) -> PixelRect {
         let ([left, right], [up, down]) = self.window();
-        Region {
+        PixelRect {
             x0: tile.x0.saturating_sub(left),
             y0: tile.y0.saturating_sub(up),
             x1: (tile.x1 + right).min(width),
@@ -124,7 +72,7 @@ impl Interleave {
     /// sub-grid (paper Figure 2: neighbouring pixels of one set, so each packet's rays stay
     /// coherent). Each packet lists up to 8 pixels; the last ones of a row or column may be
     /// partial.
-    pub fn packets(&self, region: &Region, set: u32, mut f: impl FnMut(&[(u32, u32)])) {
+    pub fn packets(&self, region: &PixelRect, set: u32, mut f: impl FnMut(&[(u32, u32)])) {
         let (sx, sy) = (set % self.n, set / self.n);
         let first = |start: u32, phase: u32, period: u32| start + (phase + period - start % period) % period;
         let (x_first, y_first) = (first(region.x0, sx, self.n), first(region.y0, sy, self.m));
@@ -147,6 +95,11 @@ impl Interleave {
 mod tests {
     use super::*;
 
+    /// The set of pixel `(x, y)`, (x mod n) + n·(y mod m) (the module documentation).
+    fn set_of(il: &Interleave, x: u32, y: u32) -> u32 {
+        x % il.n + il.n * (y % il.m)
+    }
+
     #[test]
     fn every_window_holds_every_set_once() {
         for (n, m) in [(3, 3), (2, 4), (4, 1), (1, 1)] {
@@ -158,7 +111,7 @@ mod tests {
                 let mut seen = vec![0; il.sets() as usize];
                 for y in cy - u..=cy + d {
                     for x in cx - l..=cx + r {
-                        seen[il.set_of(x, y) as usize] += 1;
+                        seen[set_of(&il, x, y) as usize] += 1;
                     }
                 }
                 assert!(seen.iter().all(|&c| c == 1), "{n}x{m}: {seen:?}");
@@ -169,13 +122,13 @@ mod tests {
     #[test]
     fn packets_cover_each_pixel_of_a_set_once() {
         let il = Interleave { n: 3, m: 3, aa: 1 };
-        let region = Region { x0: 5, y0: 2, x1: 40, y1: 23 };
-        let mut count = vec![0; region.len()];
+        let region = PixelRect { x0: 5, y0: 2, x1: 40, y1: 23 };
+        let mut count = vec![0; region.pixel_count()];
         for set in 0..il.sets() {
             il.packets(&region, set, |lanes| {
                 assert!(!lanes.is_empty() && lanes.len() <= 8);
                 for &(x, y) in lanes {
-                    assert_eq!(il.set_of(x, y), set);
+                    assert_eq!(set_of(&il, x, y), set);
                     count[region.index(x, y)] += 1;
                 }
             });
@@ -186,7 +139,7 @@ mod tests {
     #[test]
     fn region_is_the_tile_plus_the_apron_inside_the_image() {
         let il = Interleave { n: 3, m: 3, aa: 1 };
-        let tile = Tile { index: 0, x0: 0, y0: 16, x1: 16, y1: 32 };
-        assert_eq!(il.region(&tile, 20, 32), Region { x0: 0, y0: 15, x1: 17, y1: 32 });
+        let tile = Tile { index: 0, rect: PixelRect { x0: 0, y0: 16, x1: 16, y1: 32 } };
+        assert_eq!(il.region(&tile, 20, 32), PixelRect { x0: 0, y0: 15, x1: 17, y1: 32 });
     }
 }

@@ -18,9 +18,9 @@
 //! - [`tile_pipeline`] and [`vpl_lighting`]: the streaming per-tile pipeline and its inner
 //!   shadow-ray loop.
 //! - [`discontinuity`]: the discontinuity-buffer filter.
-//! - [`tile`], [`scheduler`] and [`frame_renderer`]: tiles, persistent worker threads taking
-//!   tiles on demand, and [`FrameRenderer`], which poses the scene, plans a frame
-//!   ([`FramePlan`]) and puts it together.
+//! - [`pixel_rect`], [`tile`], [`scheduler`] and [`frame_renderer`]: rectangles of pixels,
+//!   tiles, persistent worker threads taking tiles on demand, and [`FrameRenderer`], which
+//!   poses the scene, plans a frame ([`FramePlan`]) and puts it together.
 //! - [`cancel`]: [`CancelToken`], which abandons a frame between tiles.
 //! - [`path_tracer`]: the reference path tracer.
 //! - [`stats`], [`film`], [`tonemap`] and [`output`]: costs, the framebuffer, tone mapping,
@@ -52,7 +52,9 @@ pub mod frame_renderer;
 pub mod interleave;
 pub mod lights;
 pub mod output;
+mod packet;
 pub mod path_tracer;
+pub mod pixel_rect;
 pub mod prepared;
 pub mod progressive;
 pub mod sampling;
@@ -71,6 +73,7 @@ pub use frame::{FrameState, IgiSettings, ScenePose};
 pub use frame_image::{FrameImage, PixelFormat, Pixels};
 pub use frame_renderer::{FrameError, FrameOutput, FramePlan, FrameRenderer};
 pub use output::{OutputError, write_exr, write_image, write_png};
+pub use pixel_rect::PixelRect;
 pub use prepared::{PreparedScene, SurfacePoint};
 pub use progressive::{Progressive, Shown};
 pub use stats::{Phase, PhaseTimes, RayCounts};

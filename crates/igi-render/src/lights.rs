@@ -8,6 +8,7 @@
 
 use crate::sampling::{Cdf, uniform_triangle};
 use glam::{Vec2, Vec3};
+use igi_bvh::Aabb;
 use igi_scene::{Camera, Light};
 
 /// Relative luminance of linear RGB (Rec. 709 primaries).
@@ -51,10 +52,10 @@ impl EmissiveTriangle {
 }
 
 /// The headlight for a scene without lights: a point light at the camera position whose
-/// intensity (d² with d the distance from the camera to the centre of the scene bounds, at
+/// intensity (d² with d the distance from the camera to the centre of the scene's `bounds`, at
 /// least 1) gives irradiance about 1 at the scene's centre.
-pub fn eye_light(scene: &crate::prepared::PreparedScene, camera: &Camera) -> Light {
-    let b = scene.bounds();
+pub fn eye_light(bounds: &Aabb, camera: &Camera) -> Light {
+    let b = bounds;
     let d2 = if b.is_empty() { 1.0 } else { (b.centroid() - camera.position).length_squared().max(1.0) };
     Light::Point { position: camera.position, intensity: Vec3::splat(d2) }
 }
@@ -99,11 +100,6 @@ impl AreaLights {
         &self.triangles
     }
 
-    /// Number of emissive triangles.
-    pub fn len(&self) -> usize {
-        self.triangles.len()
-    }
-
     /// True if the scene has no area light.
     pub fn is_empty(&self) -> bool {
         self.triangles.is_empty()
@@ -112,11 +108,6 @@ impl AreaLights {
     /// Total emitted power per channel.
     pub fn total_power(&self) -> Vec3 {
         self.triangles.iter().map(EmissiveTriangle::power).sum()
-    }
-
-    /// Probability of choosing triangle `i`.
-    pub fn pmf(&self, i: usize) -> f32 {
-        self.cdf.pmf(i)
     }
 
     /// A point on the area lights from three numbers in [0, 1): `select` picks the triangle
@@ -151,19 +142,38 @@ pub struct Incident {
     pub irradiance: Vec3,
 }
 
+/// Shadow rays toward a light or a VPL stop this fraction short of it, so that the surface it
+/// lies on does not block them.
+pub const SHADOW_SHORTEN: f32 = 1.0 - 1e-4;
+
+/// The hard-edged cone of a spot light: full intensity where the angle to the axis is at most
+/// half of the light's `angle_deg`, nothing outside (no smooth falloff).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpotCone {
+    /// Unit axis, the direction the light points in (zero for a zero direction, which lights
+    /// nothing).
+    pub axis: Vec3,
+    /// Cosine of the half angle.
+    pub cos_half: f32,
+}
+
+impl SpotCone {
+    /// The cone of a spot light pointing along `direction` with full opening angle `angle_deg`.
+    #[inline]
+    pub fn new(direction: Vec3, angle_deg: f32) -> Self {
+        Self { axis: direction.normalize_or_zero(), cos_half: (0.5 * angle_deg.to_radians()).cos() }
+    }
+}
+
 /// The light `light` sends toward the point `x`, ignoring occlusion; `None` if it sends
 /// nothing (outside a spot cone, or at the light's own position).
-///
-/// Spot lights have a hard-edged cone: full intensity where the angle to the axis is at most
-/// half of `angle_deg`, nothing outside (no smooth falloff).
 pub fn incident(light: &Light, x: Vec3) -> Option<Incident> {
     match *light {
         Light::Point { position, intensity } => towards_point(x, position, intensity),
         Light::Spot { position, direction, angle_deg, intensity } => {
             let inc = towards_point(x, position, intensity)?;
-            let cos_half = (0.5 * angle_deg.to_radians()).cos();
-            let axis = direction.normalize_or_zero();
-            (axis.dot(-inc.dir) >= cos_half).then_some(inc)
+            let cone = SpotCone::new(direction, angle_deg);
+            (cone.axis.dot(-inc.dir) >= cone.cos_half).then_some(inc)
         }
         Light::Directional { direction, irradiance } => {
             let dir = -direction.normalize_or_zero();

@@ -96,8 +96,8 @@
 use crate::camera::PinholeCamera;
 use crate::cancel::CancelToken;
 use crate::film::Film;
-use crate::frame::{FrameState, SettingsError};
-use crate::lights::{self, luminance};
+use crate::frame::FrameState;
+use crate::lights::{self, SHADOW_SHORTEN, luminance};
 use crate::prepared::{PreparedScene, SurfacePoint};
 use crate::sampling::{MAX_SAMPLES, hash_combine, pixel_seed, sobol4};
 use crate::scheduler::TileScheduler;
@@ -114,27 +114,12 @@ pub const MAX_VERTICES: u32 = 64;
 /// the indirect light and are cheap to keep.
 pub const ROULETTE_START: u32 = 3;
 
-/// Shadow rays stop this fraction short of the light so the light's own surface does not
-/// block them.
-const SHADOW_SHORTEN: f32 = 1.0 - 1e-4;
-
-/// Checks a samples-per-pixel count from the user: it must be between 1 and
-/// [`MAX_SAMPLES`] (the length of the per-pixel Sobol sequence). [`PathTracer::new`] clamps
-/// instead; call this first to report the mistake.
-pub fn validate_spp(spp: u32) -> Result<(), SettingsError> {
-    if (1..=MAX_SAMPLES).contains(&spp) {
-        Ok(())
-    } else {
-        Err(SettingsError { field: "spp", message: format!("{spp} is not between 1 and {MAX_SAMPLES}") })
-    }
-}
-
 /// The reference path tracer for one frame.
 #[derive(Clone, Debug)]
 pub struct PathTracer<'a> {
     scene: &'a PreparedScene,
     camera: PinholeCamera,
-    /// The scene's point, spot and directional lights, or the headlight if it has no light.
+    /// The point, spot and directional lights ([`PreparedScene::punctual_lights`]).
     punctual: Vec<Light>,
     /// Σ area × luminance(L_e) over the area lights: they are sampled with the density
     /// p_A(y) = luminance(L_e(y)) / `area_light_weight` (power × uniform area).
@@ -145,18 +130,13 @@ pub struct PathTracer<'a> {
 
 impl<'a> PathTracer<'a> {
     /// The path tracer of `scene` for `frame` (camera, image size `frame.settings.width` ×
-    /// `height`, seed) with `spp` paths per pixel, clamped to 1..=[`MAX_SAMPLES`] (see
-    /// [`validate_spp`]).
+    /// `height`, seed) with `spp` paths per pixel, clamped to 1..=[`MAX_SAMPLES`] (the length
+    /// of a pixel's Sobol sequence; a caller reports a value outside it as the user's mistake).
     pub fn new(scene: &'a PreparedScene, frame: &FrameState, spp: u32) -> Self {
-        let punctual = if scene.has_lights() {
-            scene.lights().to_vec()
-        } else {
-            vec![lights::eye_light(scene, &frame.camera)]
-        };
         Self {
             scene,
             camera: PinholeCamera::new(&frame.camera, frame.settings.width, frame.settings.height),
-            punctual,
+            punctual: scene.punctual_lights(&frame.camera),
             area_light_weight: scene
                 .area_lights()
                 .triangles()
@@ -171,12 +151,6 @@ impl<'a> PathTracer<'a> {
     /// Paths per pixel (after clamping).
     pub fn spp(&self) -> u32 {
         self.spp
-    }
-
-    /// The point, spot and directional lights evaluated at every diffuse vertex (the scene's,
-    /// or the headlight).
-    pub fn punctual_lights(&self) -> &[Light] {
-        &self.punctual
     }
 
     /// Radiance of pixel (x, y): the mean of its spp paths. Also counts rays traced into `rays`.

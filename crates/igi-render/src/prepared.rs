@@ -14,7 +14,7 @@
 
 use crate::environment::EnvironmentLight;
 use crate::frame::ScenePose;
-use crate::lights::{AreaLights, EmissiveTriangle};
+use crate::lights::{AreaLights, EmissiveTriangle, eye_light};
 use glam::{Affine3A, Mat3A, Vec2, Vec3};
 use igi_bvh::{Aabb, Accel, Hit, TriangleMesh};
 use igi_scene::{Animation, Camera, Light, Material, Pose, Scene, Texture};
@@ -298,6 +298,12 @@ impl PreparedScene {
     /// Point, spot and directional lights.
     pub fn lights(&self) -> &[Light] {
         &self.lights
+    }
+
+    /// The point, spot and directional lights the renderers evaluate exactly: the scene's, or
+    /// for a scene without any light source the headlight [`eye_light`] of `camera`.
+    pub fn punctual_lights(&self, camera: &Camera) -> Vec<Light> {
+        if self.has_lights() { self.lights.clone() } else { vec![eye_light(&self.bounds(), camera)] }
     }
 
     /// The scene's own camera, if it had one.

@@ -1,37 +1,28 @@
 //! Image tiles: the unit of work of the renderer. An image is cut into a fixed grid of square
 //! tiles (the last row and column may be smaller), numbered row by row. A tile's pixels depend
 //! only on the scene, the settings and the tile, so tiles can be rendered in any order, on any
-//! thread or node (DESIGN.md section 1).
+//! thread or node (paper 3.4).
 
-/// One rectangle of pixels `[x0, x1) × [y0, y1)`.
+use crate::pixel_rect::PixelRect;
+use std::ops::Deref;
+
+/// One tile: its index in the grid and its rectangle of pixels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Tile {
     /// Row-major index of the tile in its grid.
     pub index: u32,
-    /// First column.
-    pub x0: u32,
-    /// First row.
-    pub y0: u32,
-    /// One past the last column.
-    pub x1: u32,
-    /// One past the last row.
-    pub y1: u32,
+    /// The tile's pixels.
+    pub rect: PixelRect,
 }
 
-impl Tile {
-    /// Width in pixels.
-    pub fn width(&self) -> u32 {
-        self.x1 - self.x0
-    }
+/// A tile reads as its rectangle: `tile.x0`, `tile.width()`, `tile.pixel_count()` are those of
+/// `tile.rect`.
+impl Deref for Tile {
+    type Target = PixelRect;
 
-    /// Height in pixels.
-    pub fn height(&self) -> u32 {
-        self.y1 - self.y0
-    }
-
-    /// Number of pixels.
-    pub fn pixel_count(&self) -> usize {
-        self.width() as usize * self.height() as usize
+    #[inline]
+    fn deref(&self) -> &PixelRect {
+        &self.rect
     }
 }
 
@@ -72,7 +63,9 @@ impl TileGrid {
         assert!(index < self.len(), "tile {index} out of range");
         let (cx, cy) = (index % self.columns, index / self.columns);
         let (x0, y0) = (cx * self.size, cy * self.size);
-        Tile { index, x0, y0, x1: (x0 + self.size).min(self.width), y1: (y0 + self.size).min(self.height) }
+        let rect =
+            PixelRect { x0, y0, x1: (x0 + self.size).min(self.width), y1: (y0 + self.size).min(self.height) };
+        Tile { index, rect }
     }
 
     /// All tiles in index order.

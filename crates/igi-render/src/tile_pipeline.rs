@@ -28,7 +28,9 @@ use crate::camera::PinholeCamera;
 use crate::discontinuity::{DiscontinuityBuffer, FilterSample, Filtered};
 use crate::frame::{FilterSettings, FrameState, SequenceSpan};
 use crate::frame_image::{PixelFormat, Pixels};
-use crate::interleave::{Interleave, Region};
+use crate::interleave::Interleave;
+use crate::packet::Packet8;
+use crate::pixel_rect::PixelRect;
 use crate::prepared::{PreparedScene, SurfacePoint};
 use crate::sampling::{pixel_seed, sobol4};
 use crate::stats::{Phase, PhaseTimes, RayCounts};
@@ -37,12 +39,11 @@ use crate::tonemap::{LuminanceStats, ToneMapper};
 use crate::vpl::VplSets;
 use crate::vpl_lighting::Receivers;
 use glam::Vec3;
-use igi_bvh::{Hit, HitPacket8, Ray, RayPacket8, offset_ray_origin};
+use igi_bvh::{Hit, Ray, offset_ray_origin};
 use igi_shade::BrdfParams;
 use igi_shade::brdf::cosine_hemisphere;
 use igi_shade::brdf::dielectric::{Interface, glass_exit_side, reflect, refract};
 use igi_shade::brdf::phong::mirror_direction;
-use igi_simd::M32x8;
 use std::time::Instant;
 
 /// Specular chains carrying less than this (per channel, relative to the camera ray) end: glass
@@ -142,20 +143,6 @@ struct PrimaryPacket {
     bits: u32,
 }
 
-/// The hits of a packet as single records (one store per field instead of one per lane and
-/// field).
-fn unpack_hits(h: &HitPacket8) -> [Hit; 8] {
-    let (t, u, v) = (h.t.to_array(), h.u.to_array(), h.v.to_array());
-    let (instance, prim) = (h.instance.to_array(), h.prim.to_array());
-    std::array::from_fn(|i| Hit {
-        t: t[i],
-        u: u[i],
-        v: v[i],
-        instance: instance[i] as u32,
-        prim: prim[i] as u32,
-    })
-}
-
 /// A ray of the specular stream.
 #[derive(Clone, Copy, Debug)]
 struct SpecularRay {
@@ -229,7 +216,7 @@ impl<'a> TilePipeline<'a> {
         let region = il.region(&tile, self.size.0, self.size.1);
         let aa = il.aa;
         scratch.emitted.clear();
-        scratch.emitted.resize(region.len() * aa as usize, Vec3::ZERO);
+        scratch.emitted.resize(region.pixel_count() * aa as usize, Vec3::ZERO);
         scratch.points.clear();
         let mut rays = RayCounts::default();
         let mut times = PhaseTimes::default();
@@ -271,7 +258,7 @@ impl<'a> TilePipeline<'a> {
     /// Step 1: the camera rays of sample `sample` of the pixels of `set`, packet by packet.
     fn trace_primary(
         &self,
-        region: &Region,
+        region: &PixelRect,
         set: u32,
         sample: u32,
         s: &mut TileScratch,
@@ -282,7 +269,7 @@ impl<'a> TilePipeline<'a> {
         let mut primary = 0u64;
         self.interleave.packets(region, set, |lanes| {
             primary += lanes.len() as u64;
-            let mut batch = [Ray::new(self.camera.origin, self.camera.forward); 8];
+            let mut packet = Packet8::new();
             let mut pixels = [0u32; 8];
             for (lane, &(x, y)) in lanes.iter().enumerate() {
                 let (dx, dy) = self.interleave.sample_offset(
@@ -292,29 +279,22 @@ impl<'a> TilePipeline<'a> {
                     self.sequence.seed,
                     self.pixel_centres,
                 );
-                batch[lane] = self.camera.ray_at(x, y, dx, dy);
+                packet.set(lane, self.camera.ray_at(x, y, dx, dy));
                 pixels[lane] = region.index(x, y) as u32;
             }
-            // Unused lanes repeat the first ray so every lane is valid.
-            for lane in lanes.len()..8 {
-                batch[lane] = batch[0];
-            }
-            let bits = (1u32 << lanes.len()) - 1;
-            let packet = RayPacket8::from_rays(&batch);
-            let hits = accel.intersect8(&packet, M32x8::from_bitmask(bits));
-            let missed = bits & !hits.hit_mask().bitmask();
-            let bits = bits & hits.hit_mask().bitmask();
+            let traced = packet.intersect(accel);
+            let missed = packet.bits() & !traced.bits;
             if missed != 0 && self.scene.environment().is_some() {
                 for lane in (0..8).filter(|lane| missed & (1 << lane) != 0) {
                     s.emitted[(pixels[lane] * self.interleave.aa + sample) as usize] +=
-                        self.scene.background(batch[lane].dir);
+                        self.scene.background(packet.ray(lane).dir);
                 }
             }
             s.packets.push(PrimaryPacket {
-                dirs: batch.map(|r| r.dir),
-                hits: unpack_hits(&hits),
+                dirs: std::array::from_fn(|lane| packet.ray(lane).dir),
+                hits: traced.hits,
                 pixels,
-                bits,
+                bits: traced.bits,
             });
         });
         rays.primary += primary;
@@ -348,15 +328,13 @@ impl<'a> TilePipeline<'a> {
             }
             let stream = std::mem::take(&mut s.stream);
             for chunk in stream.chunks(8) {
-                let mut batch = [chunk[0].ray; 8];
+                let mut packet = Packet8::new();
                 for (lane, r) in chunk.iter().enumerate() {
-                    batch[lane] = r.ray;
+                    packet.set(lane, r.ray);
                 }
-                let bits = (1u32 << chunk.len()) - 1;
-                rays.specular += u64::from(bits.count_ones());
-                let packet = RayPacket8::from_rays(&batch);
-                let hits = unpack_hits(&accel.intersect8(&packet, M32x8::from_bitmask(bits)));
-                for (r, hit) in chunk.iter().zip(&hits) {
+                rays.specular += u64::from(packet.len());
+                let traced = packet.intersect(accel);
+                for (r, hit) in chunk.iter().zip(&traced.hits) {
                     if hit.is_hit() {
                         self.queue_hit(r.ray.dir, hit, r.state, s);
                     } else {
@@ -521,7 +499,7 @@ impl<'a> TilePipeline<'a> {
     /// contacts.
     fn compensate(
         &self,
-        region: &Region,
+        region: &PixelRect,
         sample: u32,
         first: usize,
         s: &mut TileScratch,
@@ -529,7 +507,6 @@ impl<'a> TilePipeline<'a> {
     ) {
         let d_min = self.d_min2.sqrt();
         let accel = self.scene.accel();
-        let rw = region.width();
         let index = self.sequence.first + sample;
         // Level 0 starts from the group's own points; each level compensates the points the
         // previous one found (their near field is clamped too).
@@ -538,36 +515,24 @@ impl<'a> TilePipeline<'a> {
             let mut start = lo;
             while start < hi {
                 let chunk_end = (start + 8).min(hi);
-                let mut batch = [Ray::new(Vec3::ZERO, Vec3::Z); 8];
+                let mut packet = Packet8::new();
                 let mut parents = [usize::MAX; 8];
-                let mut bits = 0u32;
                 for (lane, i) in (start..chunk_end).enumerate() {
                     let p = &s.points[i];
-                    let (x, y) = (region.x0 + p.state.pixel % rw, region.y0 + p.state.pixel / rw);
+                    let (x, y) = region.pixel(p.state.pixel);
                     let [_, _, u, v] = sobol4(index, 1 + level, pixel_seed(x, y, self.sequence.seed));
                     let dir = cosine_hemisphere(p.ns, glam::Vec2::new(u, v));
                     if dir.dot(p.ng) <= 0.0 {
                         continue;
                     }
-                    batch[lane] = Ray { origin: p.origin, dir, tnear: 0.0, tfar: d_min };
+                    packet.set(lane, Ray { origin: p.origin, dir, tnear: 0.0, tfar: d_min });
                     parents[lane] = i;
-                    bits |= 1 << lane;
                 }
                 start = chunk_end;
-                if bits == 0 {
-                    continue;
-                }
-                let first_lane = bits.trailing_zeros() as usize;
-                for lane in 0..8 {
-                    if bits & (1 << lane) == 0 {
-                        batch[lane] = batch[first_lane];
-                    }
-                }
-                rays.compensation += u64::from(bits.count_ones());
-                let packet = RayPacket8::from_rays(&batch);
-                let hits = unpack_hits(&accel.intersect8(&packet, M32x8::from_bitmask(bits)));
-                for (lane, hit) in hits.iter().enumerate() {
-                    if bits & (1 << lane) == 0 || !hit.is_hit() {
+                rays.compensation += u64::from(packet.len());
+                let traced = packet.intersect(accel);
+                for (lane, hit) in traced.hits.iter().enumerate() {
+                    if traced.bits & (1 << lane) == 0 {
                         continue;
                     }
                     let p = s.points[parents[lane]];
@@ -583,7 +548,7 @@ impl<'a> TilePipeline<'a> {
                         bounces: self.specular_depth,
                         ..p.state
                     };
-                    self.queue_hit(batch[lane].dir, hit, state, s);
+                    self.queue_hit(packet.ray(lane).dir, hit, state, s);
                 }
             }
             self.shade_queued(s);
@@ -627,7 +592,7 @@ impl<'a> TilePipeline<'a> {
     }
 
     /// Filters the irradiance and composes the tile's pixels.
-    fn compose(&self, tile: &Tile, region: &Region, s: &mut TileScratch) -> Vec<Vec3> {
+    fn compose(&self, tile: &Tile, region: &PixelRect, s: &mut TileScratch) -> Vec<Vec3> {
         let TileScratch { points, emitted, filter_samples, glossy, filtered, filter, .. } = s;
         // Most tiles have no glossy point; their glossy term stays out of the filter.
         glossy.clear();
@@ -667,13 +632,10 @@ impl<'a> TilePipeline<'a> {
         }
 
         let aa = self.interleave.aa as usize;
-        let tw = tile.width() as usize;
-        let rw = region.width();
         let mut pixels = vec![Vec3::ZERO; tile.pixel_count()];
         let tile_index = |pixel: u32| {
-            let (x, y) = (region.x0 + pixel % rw, region.y0 + pixel / rw);
-            (x >= tile.x0 && x < tile.x1 && y >= tile.y0 && y < tile.y1)
-                .then(|| (y - tile.y0) as usize * tw + (x - tile.x0) as usize)
+            let (x, y) = region.pixel(pixel);
+            tile.rect.contains(x, y).then(|| tile.rect.index(x, y))
         };
         for (i, (p, d)) in points.iter().zip(&filtered.irradiance).enumerate() {
             if let Some(pixel) = tile_index(p.state.pixel) {
@@ -686,7 +648,7 @@ impl<'a> TilePipeline<'a> {
             for x in tile.x0..tile.x1 {
                 let r = region.index(x, y);
                 let e: Vec3 = emitted[r * aa..(r + 1) * aa].iter().sum();
-                let i = (y - tile.y0) as usize * tw + (x - tile.x0) as usize;
+                let i = tile.rect.index(x, y);
                 pixels[i] = (pixels[i] + e) * scale;
             }
         }

@@ -5,7 +5,7 @@
 //! # Lights
 //!
 //! Point, spot and directional lights (or, in a scene without any light, the headlight
-//! [`eye_light`]) are evaluated exactly by the renderer in every set; they are kept in
+//! [`eye_light`](crate::lights::eye_light)) are evaluated exactly by the renderer in every set; they are kept in
 //! [`VplSets::lights`] and paths starting at them leave no VPL at the light. The emissive
 //! triangles have no such exact term: the first vertex of a path on an area light is a VPL
 //! ("light-surface samples are VPLs too"), and these VPLs are the direct light of area lights.
@@ -74,7 +74,8 @@
 //!
 //! The sets of a frame are consecutive blocks of one Owen-scrambled Sobol sequence
 //! ([`sobol4`]): the frame's paths are samples `first …` of one sequence, set s taking the
-//! s-th block of [`VplSets::paths_in_set`] of them, with the scramble seed
+//! s-th block of them (the frame's [`VplSets::paths`] shared out, the first sets taking one
+//! more where they do not divide evenly), with the scramble seed
 //! `hash_combine(span.seed, VPL_STREAM)` and `span = frame.sequence(paths)`. Each set is then an
 //! unbiased randomized quasi-Monte Carlo estimate on its own (a stratified net when P is a
 //! power of two), the S sets that the filter combines are spread evenly together, and
@@ -106,7 +107,8 @@
 //! [`AreaLights::sample`]: crate::lights::AreaLights::sample
 
 use crate::frame::FrameState;
-use crate::lights::{eye_light, luminance};
+use crate::frame::limits::MAX_BOUNCES;
+use crate::lights::{SpotCone, luminance};
 use crate::prepared::PreparedScene;
 use crate::sampling::{Cdf, MAX_SAMPLES, hash_combine, sobol4};
 use crate::sampling::{concentric_disc, uniform_cone, uniform_sphere};
@@ -116,12 +118,6 @@ use igi_scene::Light;
 use igi_shade::brdf::{Bsdf, cosine_hemisphere, phong::mirror_direction};
 use rayon::prelude::*;
 use std::f32::consts::PI;
-
-/// Surface interactions (diffuse, mirror or glass) followed per light path; a path leaves at
-/// most `MAX_BOUNCES + 1` VPLs. The walk is truncated there: with a scene albedo of 0.8 the
-/// energy dropped is 0.8³² ≈ 0.08 % of the indirect light, and every interaction keeps its
-/// own Sobol dimensions.
-pub const MAX_BOUNCES: u32 = 32;
 
 /// Light paths of the pilot that measures the expected VPLs per path.
 pub const PILOT_PATHS: u32 = 256;
@@ -195,13 +191,12 @@ pub struct VplSets {
 }
 
 impl VplSets {
-    /// Generates the sets of `frame` in `scene`: `frame.settings.set_count()` sets of
-    /// [`VplSets::paths_in_set`] light paths each (see the module documentation). The result
+    /// Generates the sets of `frame` in `scene`: `frame.settings.set_count()` sets sharing
+    /// [`VplSets::paths`] light paths (see the module documentation). The result
     /// depends only on `scene` and `frame`. A scene whose lights all have zero power gets
     /// empty sets.
     pub fn generate(scene: &PreparedScene, frame: &FrameState) -> Self {
-        let lights =
-            if scene.has_lights() { scene.lights().to_vec() } else { vec![eye_light(scene, &frame.camera)] };
+        let lights = scene.punctual_lights(&frame.camera);
         let Some(emitters) = Emitters::new(scene, &lights, frame.settings.bounces) else {
             let sets = vec![Vec::new(); frame.settings.set_count() as usize];
             let sky = sets.iter().map(|_| Vec::new()).collect();
@@ -274,12 +269,6 @@ impl VplSets {
         self.paths
     }
 
-    /// Light paths started in set `s`: the frame's [`VplSets::paths`] shared out, the first
-    /// sets taking one more where they do not divide evenly.
-    pub fn paths_in_set(&self, s: u32) -> u32 {
-        share(self.paths, self.set_count(), s).1
-    }
-
     /// Surface and sky VPLs of all sets together.
     pub fn total_vpls(&self) -> usize {
         self.sets.iter().map(Vec::len).sum::<usize>() + self.sky.iter().map(Vec::len).sum::<usize>()
@@ -313,8 +302,8 @@ enum Source {
     Area,
     /// A point light.
     Point { position: Vec3 },
-    /// A spot light: unit cone axis and cosine of the half angle.
-    Spot { position: Vec3, axis: Vec3, cos_half: f32 },
+    /// A spot light and its cone.
+    Spot { position: Vec3, cone: SpotCone },
     /// A directional light: unit direction of travel.
     Directional { direction: Vec3 },
     /// The sky ([`PreparedScene::environment`]).
@@ -353,12 +342,13 @@ impl<'a> Emitters<'a> {
             sources.push(match *light {
                 Light::Point { position, intensity } => (Source::Point { position }, 4.0 * PI * intensity),
                 Light::Spot { position, direction, angle_deg, intensity } => {
-                    // The hard cone of `lights::incident`: half angle angle_deg / 2.
-                    let cos_half = (0.5 * angle_deg.to_radians()).cos();
-                    let axis = direction.normalize_or_zero();
-                    let power =
-                        if axis == Vec3::ZERO { Vec3::ZERO } else { 2.0 * PI * (1.0 - cos_half) * intensity };
-                    (Source::Spot { position, axis, cos_half }, power)
+                    let cone = SpotCone::new(direction, angle_deg);
+                    let power = if cone.axis == Vec3::ZERO {
+                        Vec3::ZERO
+                    } else {
+                        2.0 * PI * (1.0 - cone.cos_half) * intensity
+                    };
+                    (Source::Spot { position, cone }, power)
                 }
                 Light::Directional { direction, irradiance } => {
                     let direction = direction.normalize_or_zero();
@@ -415,8 +405,8 @@ impl<'a> Emitters<'a> {
                 (offset_ray_origin(y.point, y.normal), dir, power)
             }
             Source::Point { position } => (position, uniform_sphere(Vec2::new(d0, d1)), power * scale),
-            Source::Spot { position, axis, cos_half } => {
-                (position, uniform_cone(axis, cos_half, Vec2::new(d0, d1)), power * scale)
+            Source::Spot { position, cone } => {
+                (position, uniform_cone(cone.axis, cone.cos_half, Vec2::new(d0, d1)), power * scale)
             }
             Source::Directional { direction } => {
                 let (centre, radius) = self.sphere;

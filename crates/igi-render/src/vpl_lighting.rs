@@ -24,6 +24,7 @@
 //! paper mentions). Point and directional lights are exact direct light, not samples of it,
 //! so they are neither clamped nor weighted.
 
+use crate::lights::{SHADOW_SHORTEN, SpotCone};
 use crate::stats::RayCounts;
 use crate::vpl::Vpl;
 use glam::Vec3;
@@ -32,10 +33,6 @@ use igi_scene::Light;
 use igi_shade::brdf::phong::phong_lobe8;
 use igi_simd::{F32x8, M32x8, Vec3x8};
 use std::f32::consts::{FRAC_1_PI, PI};
-
-/// Shadow rays stop this fraction short of their target so the surface a VPL lies on does not
-/// block them.
-const SHADOW_SHORTEN: f32 = 1.0 - 1e-4;
 
 /// Eight shading points in structure-of-arrays form.
 #[derive(Clone, Copy, Debug)]
@@ -124,16 +121,6 @@ impl Receivers {
         self.irradiance.clear();
         self.glossy.clear();
         self.len = 0;
-    }
-
-    /// Number of points.
-    pub fn len(&self) -> usize {
-        self.len
-    }
-
-    /// True if there is no point.
-    pub fn is_empty(&self) -> bool {
-        self.len == 0
     }
 
     /// Adds a point with its shadow-ray origin and unit shading and geometric normals, both
@@ -260,9 +247,9 @@ impl Receivers {
                     }
                     Light::Spot { position, direction, angle_deg, intensity } => {
                         let (wi, dist, dist2) = towards(origin, position);
-                        let axis = Vec3x8::splat(direction.normalize_or_zero().to_array());
-                        let cos_half = F32x8::splat((0.5 * angle_deg.to_radians()).cos());
-                        let inside = (-axis.dot(wi)).ge(cos_half);
+                        let cone = SpotCone::new(direction, angle_deg);
+                        let axis = Vec3x8::splat(cone.axis.to_array());
+                        let inside = (-axis.dot(wi)).ge(F32x8::splat(cone.cos_half));
                         (
                             wi,
                             dist,

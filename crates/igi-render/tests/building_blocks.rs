@@ -2,7 +2,7 @@
 
 use glam::Vec2;
 use igi_render::sampling::{Cdf, hash_combine, pixel_seed, sobol4, uniform_triangle};
-use igi_render::{Tile, TileGrid};
+use igi_render::{PixelRect, Tile, TileGrid};
 
 #[test]
 fn cdf_picks_in_proportion_and_skips_zero_weights() {
@@ -47,7 +47,7 @@ fn tile_grid_covers_every_pixel_once() {
     let grid = TileGrid::new(37, 21, 16);
     assert_eq!(grid.len(), 3 * 2);
     let mut covered = vec![0u8; 37 * 21];
-    for Tile { x0, y0, x1, y1, .. } in grid.tiles() {
+    for Tile { rect: PixelRect { x0, y0, x1, y1 }, .. } in grid.tiles() {
         for y in y0..y1 {
             for x in x0..x1 {
                 covered[(y * 37 + x) as usize] += 1;
@@ -55,5 +55,5 @@ fn tile_grid_covers_every_pixel_once() {
         }
     }
     assert!(covered.iter().all(|&c| c == 1));
-    assert_eq!(grid.tile(5), Tile { index: 5, x0: 32, y0: 16, x1: 37, y1: 21 });
+    assert_eq!(grid.tile(5), Tile { index: 5, rect: PixelRect { x0: 32, y0: 16, x1: 37, y1: 21 } });
 }

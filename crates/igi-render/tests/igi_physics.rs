@@ -238,7 +238,7 @@ fn scene_without_lights_gets_the_headlight() {
     let mut prepared = PreparedScene::new(plane_scene(vec![], vec![], vec![]));
     assert!(!prepared.has_lights());
     let cam = camera(Vec3::new(0.0, 2.0, 2.0), Vec3::ZERO, 45.0);
-    let Light::Point { position, intensity } = eye_light(&prepared, &cam) else {
+    let Light::Point { position, intensity } = eye_light(&prepared.bounds(), &cam) else {
         panic!("the headlight is a point light")
     };
     assert_eq!(position, cam.position);

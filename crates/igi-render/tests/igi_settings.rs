@@ -76,7 +76,7 @@ fn validate_rejects_each_bad_setting_and_names_its_flag() {
         clamp: 0.0,
         compensate_clamp: true,
         specular_depth: limits::MAX_SPECULAR_DEPTH,
-        bounces: igi_render::vpl::MAX_BOUNCES,
+        bounces: igi_render::frame::limits::MAX_BOUNCES,
         tile_size: limits::MAX_TILE,
         reseed_per_frame: true,
     };

@@ -7,9 +7,10 @@ mod common;
 use common::*;
 use glam::{Vec2, Vec3};
 use igi_render::PreparedScene;
+use igi_render::frame::limits::MAX_BOUNCES;
 use igi_render::frame::{FrameState, IgiSettings};
 use igi_render::lights::eye_light;
-use igi_render::vpl::{MAX_BOUNCES, Vpl, VplSets};
+use igi_render::vpl::{Vpl, VplSets};
 use igi_scene::{Light, Material, MaterialKind, Mesh};
 use std::f64::consts::PI;
 
@@ -283,7 +284,7 @@ fn scene_without_lights_walks_from_the_headlight() {
     let scene = PreparedScene::new(scene(vec![plane(0.0, 3.0, true, 0)], vec![diffuse("grey", 0.5)], vec![]));
     let f = frame(0, 16);
     let sets = VplSets::generate(&scene, &f);
-    assert_eq!(sets.lights(), &[eye_light(&scene, &f.camera)]);
+    assert_eq!(sets.lights(), &[eye_light(&scene.bounds(), &f.camera)]);
     assert!(sets.total_vpls() > 0, "the headlight's particles should light the plane");
     for s in 0..sets.set_count() {
         assert!(sets.set(s).iter().all(|v| v.position.y.abs() < 1e-6 && v.normal == Vec3::Y));

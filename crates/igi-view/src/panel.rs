@@ -3,6 +3,7 @@
 //! frame and a plot of the last frame times.
 
 use eframe::egui::{self, DragValue, Ui};
+use igi_render::frame::limits::MAX_BOUNCES;
 use igi_session::{CameraMode, Frame, FrameStats, Input};
 use std::collections::VecDeque;
 use std::time::Instant;
@@ -84,7 +85,7 @@ impl Panel {
                 ui.label("×");
                 ui.add(DragValue::new(&mut s.interleave[1]).range(1..=16));
             });
-            row(ui, "light bounces", DragValue::new(&mut s.bounces).range(0..=igi_render::vpl::MAX_BOUNCES));
+            row(ui, "light bounces", DragValue::new(&mut s.bounces).range(0..=MAX_BOUNCES));
             row(ui, "clamp d_min", DragValue::new(&mut s.clamp).range(0.0..=f32::MAX).speed(0.01));
             row(ui, "AA samples", DragValue::new(&mut s.aa).range(1..=64));
             row(ui, "specular depth", DragValue::new(&mut s.specular_depth).range(0..=16));

@@ -57,7 +57,7 @@ pub struct FrameArgs {
     pub specular_depth: u32,
     /// Largest number of bounces of a light path (each leaves a VPL): 0 is direct light only,
     /// 1 adds one bounce of indirect light.
-    #[arg(long, default_value_t = igi_render::vpl::MAX_BOUNCES)]
+    #[arg(long, default_value_t = igi_render::frame::limits::MAX_BOUNCES)]
     pub bounces: u32,
     /// Seed of the VPLs and sample patterns (same seed, same image).
     #[arg(long, default_value_t = 0)]

@@ -3,13 +3,13 @@
 //! cost and bytes per triangle. Ray definitions, tiling and timing follow
 //! `../shared/tools/embree-bench` (its README), so both tools measure the same work.
 
-use super::workload::{BenchVpl, PinholeCamera, WalkSource, random_walk_vpls, read_vpl_file};
+use super::workload::{BenchVpl, WalkSource, random_walk_vpls, read_vpl_file};
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use glam::Vec3;
 use igi_bvh::{Accel, Ray, RayPacket8, TriangleMesh};
-use igi_render::PreparedScene;
 use igi_render::frame::limits::{MAX_INTERLEAVE, MAX_SIDE, MAX_VPLS_PER_PIXEL};
+use igi_render::{PinholeCamera, PreparedScene};
 use igi_simd::{F32x8, M32x8, Vec3x8};
 use serde::Serialize;
 use std::path::PathBuf;
@@ -268,7 +268,7 @@ pub fn run(args: &RaysArgs) -> Result<()> {
         "Mrays/s"
     );
     for &(w, h) in &args.res {
-        let cam = PinholeCamera::new(camera.position, camera.target, camera.up, camera.fov_y_deg, w, h);
+        let cam = PinholeCamera::new(&camera, w, h);
         let size = 16 * args.sets as u32;
         let tiling = Tiling { size, cols: w.div_ceil(size), rows: h.div_ceil(size) };
         let tile_px = (size * size) as usize;

@@ -1,51 +1,12 @@
 //! The ray workload of `../shared/tools/embree-bench`, reproduced so that `igi bench rays` and
-//! `embree_bench` trace identical rays: its pinhole camera, its per-pixel hit records, its VPL
-//! random walk and its VPL file format (`set slot px py pz nx ny nz depth`).
+//! `embree_bench` trace identical rays: its VPL random walk and its VPL file format
+//! (`set slot px py pz nx ny nz depth`). Its pinhole camera is the renderer's
+//! ([`igi_render::PinholeCamera`], which computes embree-bench's primary rays bit for bit).
 
 use anyhow::{Context, Result, bail};
 use glam::Vec3;
 use igi_bvh::{Accel, Ray};
 use std::path::Path;
-
-/// embree-bench's pinhole camera (pixel (0, 0) at the top left, rays through pixel centres).
-pub struct PinholeCamera {
-    org: Vec3,
-    fwd: Vec3,
-    right: Vec3,
-    up: Vec3,
-    tan_half: f32,
-    aspect: f32,
-    /// Image width in pixels.
-    pub width: u32,
-    /// Image height in pixels.
-    pub height: u32,
-}
-
-impl PinholeCamera {
-    /// The camera at `org` looking at `target`, vertical field of view `fov_deg`.
-    pub fn new(org: Vec3, target: Vec3, up: Vec3, fov_deg: f32, width: u32, height: u32) -> Self {
-        let fwd = (target - org).normalize();
-        let right = fwd.cross(up).normalize();
-        Self {
-            org,
-            fwd,
-            right,
-            up: right.cross(fwd),
-            tan_half: (0.5 * fov_deg * std::f32::consts::PI / 180.0).tan(),
-            aspect: width as f32 / height as f32,
-            width,
-            height,
-        }
-    }
-
-    /// The primary ray through the centre of pixel (x, y).
-    #[inline]
-    pub fn ray(&self, x: u32, y: u32) -> Ray {
-        let sx = (2.0 * (x as f32 + 0.5) / self.width as f32 - 1.0) * self.tan_half * self.aspect;
-        let sy = (1.0 - 2.0 * (y as f32 + 0.5) / self.height as f32) * self.tan_half;
-        Ray::new(self.org, (self.fwd + self.right * sx + self.up * sy).normalize())
-    }
-}
 
 /// A virtual point light as embree-bench writes it: position, normal ((0,0,0) for an omni
 /// start point) and path depth (0 on the light).
