@@ -484,7 +484,7 @@ fn check_tile(rank: usize, job: &FrameJob, grid: &TileGrid, result: &TileResult)
     if result.tile >= grid.len() {
         return bad(format!("tile {} of a frame of {} tiles", result.tile, grid.len()));
     }
-    let expected = grid.tile(result.tile).pixel_count();
+    let expected = grid.tile(result.tile).rect.pixel_count();
     let whole_pixels = !matches!(&result.pixels, Pixels::Srgb8(b) if b.len() % 3 != 0);
     let format_ok = whole_pixels && result.pixels.format() == job.frame.pixels;
     if !format_ok || result.pixels.len() != expected {

@@ -65,7 +65,7 @@ impl Film {
 
     /// Copies a tile's pixels (row-major within the tile) into place.
     pub fn write_tile(&mut self, tile: &Tile, pixels: &[Vec3]) {
-        assert!(tile.x1 <= self.width && tile.y1 <= self.height, "tile outside the film");
+        assert!(tile.rect.x1 <= self.width && tile.rect.y1 <= self.height, "tile outside the film");
         copy_tile(&mut self.pixels, self.width as usize, tile, pixels, 1);
     }
 }
@@ -79,10 +79,10 @@ pub(crate) fn copy_tile<T: Copy>(
     values: &[T],
     per_pixel: usize,
 ) {
-    let w = tile.width() as usize * per_pixel;
-    assert_eq!(values.len(), w * tile.height() as usize, "tile pixel count");
+    let w = tile.rect.width() as usize * per_pixel;
+    assert_eq!(values.len(), w * tile.rect.height() as usize, "tile pixel count");
     for (row, src) in values.chunks_exact(w).enumerate() {
-        let start = (tile.y0 as usize + row) * row_len + tile.x0 as usize * per_pixel;
+        let start = (tile.rect.y0 as usize + row) * row_len + tile.rect.x0 as usize * per_pixel;
         image[start..start + w].copy_from_slice(src);
     }
 }

@@ -48,10 +48,10 @@ impl Interleave {
     pub fn region(&self, tile: &Tile, width: u32, height: u32) -> PixelRect {
         let ([left, right], [up, down]) = self.window();
         PixelRect {
-            x0: tile.x0.saturating_sub(left),
-            y0: tile.y0.saturating_sub(up),
-            x1: (tile.x1 + right).min(width),
-            y1: (tile.y1 + down).min(height),
+            x0: tile.rect.x0.saturating_sub(left),
+            y0: tile.rect.y0.saturating_sub(up),
+            x1: (tile.rect.x1 + right).min(width),
+            y1: (tile.rect.y1 + down).min(height),
         }
     }
 

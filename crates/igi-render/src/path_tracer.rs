@@ -166,10 +166,10 @@ impl<'a> PathTracer<'a> {
     /// Renders `tile` row-major into `out` (resized); returns rays traced.
     pub fn render_tile(&self, tile: &Tile, out: &mut Vec<Vec3>) -> u64 {
         out.clear();
-        out.reserve(tile.pixel_count());
+        out.reserve(tile.rect.pixel_count());
         let mut rays = 0;
-        for y in tile.y0..tile.y1 {
-            for x in tile.x0..tile.x1 {
+        for y in tile.rect.y0..tile.rect.y1 {
+            for x in tile.rect.x0..tile.rect.x1 {
                 out.push(self.pixel(x, y, &mut rays));
             }
         }

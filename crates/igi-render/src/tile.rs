@@ -4,7 +4,6 @@
 //! thread or node (paper 3.4).
 
 use crate::pixel_rect::PixelRect;
-use std::ops::Deref;
 
 /// One tile: its index in the grid and its rectangle of pixels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -13,17 +12,6 @@ pub struct Tile {
     pub index: u32,
     /// The tile's pixels.
     pub rect: PixelRect,
-}
-
-/// A tile reads as its rectangle: `tile.x0`, `tile.width()`, `tile.pixel_count()` are those of
-/// `tile.rect`.
-impl Deref for Tile {
-    type Target = PixelRect;
-
-    #[inline]
-    fn deref(&self) -> &PixelRect {
-        &self.rect
-    }
 }
 
 /// The tiling of a `width` × `height` image into `size` × `size` tiles.

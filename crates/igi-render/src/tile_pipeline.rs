@@ -632,7 +632,7 @@ impl<'a> TilePipeline<'a> {
         }
 
         let aa = self.interleave.aa as usize;
-        let mut pixels = vec![Vec3::ZERO; tile.pixel_count()];
+        let mut pixels = vec![Vec3::ZERO; tile.rect.pixel_count()];
         let tile_index = |pixel: u32| {
             let (x, y) = region.pixel(pixel);
             tile.rect.contains(x, y).then(|| tile.rect.index(x, y))
@@ -644,8 +644,8 @@ impl<'a> TilePipeline<'a> {
             }
         }
         let scale = 1.0 / aa as f32;
-        for y in tile.y0..tile.y1 {
-            for x in tile.x0..tile.x1 {
+        for y in tile.rect.y0..tile.rect.y1 {
+            for x in tile.rect.x0..tile.rect.x1 {
                 let r = region.index(x, y);
                 let e: Vec3 = emitted[r * aa..(r + 1) * aa].iter().sum();
                 let i = tile.rect.index(x, y);
