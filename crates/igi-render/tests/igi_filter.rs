@@ -9,17 +9,13 @@ mod common;
 
 use common::*;
 use glam::{Vec2, Vec3};
-use igi_render::frame::{FilterSettings, FrameState};
+use igi_render::frame::FilterSettings;
 use igi_render::{Film, FrameRenderer, IgiSettings, PinholeCamera, PreparedScene};
 use igi_scene::{Light, Material};
 use igi_shade::{BrdfParams8, ShadingHit8, SurfaceShader};
 use igi_simd::{F32x8, Vec3x8};
 use std::f32::consts::PI;
 use std::sync::Arc;
-
-fn render(scene: &mut PreparedScene, frame: &FrameState) -> Film {
-    FrameRenderer::new(2).render(scene, frame, &|_, _| {}).expect("valid settings").image.into_film().unwrap()
-}
 
 /// The filter window of the interleave `[n, m]` around (x, y), clipped to the image: the
 /// pixel plus (n − 1) neighbours in x split as evenly as possible (⌊(n−1)/2⌋ left), the same
@@ -99,7 +95,7 @@ fn exact_light_is_not_filtered() {
         frame.settings.aa = 1;
         frame.settings.interleave = interleave;
         frame.settings.tile_size = 7;
-        let film = render(&mut prepared, &frame);
+        let film = render_igi(&mut prepared, &frame);
         let (mut checked, mut smoothed) = (0, 0);
         for y in 0..h {
             for x in 0..w {
@@ -161,7 +157,7 @@ fn constant_irradiance_stays_constant_and_texture_detail_stays_sharp() {
     let pin = PinholeCamera::new(&cam, w, h);
     let mut frame = igi_frame(cam, w, h);
     frame.settings.aa = 1;
-    let film = render(&mut prepared, &frame);
+    let film = render_igi(&mut prepared, &frame);
     let albedo = |p: Vec3| UvChecks::albedo((p.x + 2.0) / 4.0, (2.0 - p.z) / 4.0);
     let (mut checked, mut at_edges) = (0, 0);
     for y in 0..h {
@@ -251,9 +247,9 @@ fn filter_never_averages_across_a_depth_normal_or_material_edge() {
     let mut frame = igi_frame(cam, w, h);
     frame.settings.aa = 1;
     frame.settings.filter = None;
-    let raw = render(&mut prepared, &frame);
+    let raw = render_igi(&mut prepared, &frame);
     frame.settings.filter = Some(FilterSettings::default());
-    let filtered = render(&mut prepared, &frame);
+    let filtered = render_igi(&mut prepared, &frame);
 
     let (mut edge_pixels, mut would_leak) = ([0u32; 4], 0);
     for y in 0..h {

@@ -8,9 +8,8 @@ mod common;
 use common::*;
 use glam::{Vec2, Vec3};
 use igi_render::lights::luminance;
-use igi_render::path_tracer::render_path_traced;
 use igi_render::vpl::VplSets;
-use igi_render::{Film, FrameRenderer, PinholeCamera, PreparedScene};
+use igi_render::{PinholeCamera, PreparedScene};
 use igi_scene::{Light, Material};
 use std::f32::consts::PI;
 
@@ -53,12 +52,7 @@ fn point_light_highlight_on_a_glossy_plane_matches_the_closed_form() {
     let mut frame = igi_frame(cam, w, h);
     frame.settings.aa = 1;
     frame.settings.filter = None;
-    let film = FrameRenderer::new(2)
-        .render(&mut prepared, &frame, &|_, _| {})
-        .expect("valid settings")
-        .image
-        .into_film()
-        .unwrap();
+    let film = render_igi(&mut prepared, &frame);
     let pin = PinholeCamera::new(&cam, w, h);
     let (mut checked, mut highlight) = (0, 0);
     for y in 0..h {
@@ -122,10 +116,6 @@ fn glossy_cornell() -> (PreparedScene, igi_scene::Camera) {
     (PreparedScene::new(scene), camera)
 }
 
-fn mean(film: &Film) -> Vec3 {
-    film.pixels().iter().sum::<Vec3>() / film.pixels().len() as f32
-}
-
 #[test]
 fn converged_igi_with_glossy_vpls_matches_the_path_tracer() {
     // Glossy receivers and glossy VPLs: unclamped IGI is unbiased (up to the bounce cap), so
@@ -133,17 +123,7 @@ fn converged_igi_with_glossy_vpls_matches_the_path_tracer() {
     // sampling. Dropping the VPLs' lobes (treating them as Lambertian emitters) changes the
     // indirect light by more than the tolerance.
     let (mut scene, camera) = glossy_cornell();
-    const SIZE: u32 = 32;
-    let renderer = FrameRenderer::new(2);
-    let frame = igi_frame(camera, SIZE, SIZE);
-    let (pt, _) = render_path_traced(&mut scene, &frame, 512, renderer.scheduler(), &|_, _| {});
-    let igi = renderer
-        .render_accumulated(&mut scene, &frame, 256, &|_, _| {})
-        .expect("valid settings")
-        .image
-        .into_film()
-        .unwrap();
-    let (mi, mp) = (mean(&igi), mean(&pt));
+    let (mi, mp) = converged_means(&mut scene, camera, 32, 256, 512);
     eprintln!("glossy Cornell: IGI {mi}, PT {mp}, ratio {}", luminance(mi) / luminance(mp));
     assert!(rel_err(mi, mp) < 0.03, "IGI mean {mi}, path-traced mean {mp}");
 }

@@ -18,44 +18,12 @@ use common::*;
 use glam::{Affine3A, Quat, Vec2, Vec3};
 use igi_render::frame::FrameState;
 use igi_render::path_tracer::render_path_traced;
-use igi_render::{Film, FrameRenderer, PinholeCamera, PreparedScene, lights::eye_light};
-use igi_scene::{Instance, Light, Material, Mesh, Scene, Texture};
+use igi_render::{FrameRenderer, PinholeCamera, PreparedScene, lights::eye_light};
+use igi_scene::{Instance, Light, Material, Texture};
 use std::f32::consts::PI;
-
-const RHO: f32 = 0.5;
 
 /// Relative tolerance of "exact" comparisons (see the module documentation).
 const EXACT: f32 = 1e-4;
-
-/// A 20 × 20 grey plane at y = 0 facing up, plus `extra` meshes (materials 1..).
-fn plane_scene(extra: Vec<Mesh>, mut materials: Vec<Material>, lights: Vec<Light>) -> Scene {
-    let mut meshes = vec![horizontal_square("plane", Vec3::ZERO, Vec2::new(10.0, 10.0), true, 0)];
-    meshes.extend(extra);
-    materials.insert(0, diffuse("grey", RHO));
-    scene(meshes, materials, lights)
-}
-
-/// One frame with aa 1 (pixel-centre rays) and the filter off: the image is exact where the
-/// lighting is.
-fn exact_frame(camera: igi_scene::Camera, width: u32, height: u32) -> FrameState {
-    let mut f = igi_frame(camera, width, height);
-    f.settings.aa = 1;
-    f.settings.filter = None;
-    f
-}
-
-fn render(scene: &mut PreparedScene, frame: &FrameState) -> Film {
-    FrameRenderer::new(2).render(scene, frame, &|_, _| {}).expect("valid settings").image.into_film().unwrap()
-}
-
-/// Where the ray from `origin` along `d` meets the plane y = 0 inside |x|, |z| < `half`.
-fn hit_floor(origin: Vec3, d: Vec3, half: f32) -> Option<Vec3> {
-    if d.y >= 0.0 {
-        return None;
-    }
-    let p = origin - origin.y / d.y * d;
-    (p.x.abs() < half && p.z.abs() < half).then_some(p)
-}
 
 /// Calls `f(x, y, p)` for every pixel whose centre ray hits the plane y = 0 at `p` (computed
 /// analytically) and whose whole footprint (its four corners) lies on it within |x|, |z| <
@@ -80,30 +48,31 @@ fn for_plane_pixels(cam: &PinholeCamera, half: f32, mut f: impl FnMut(u32, u32, 
     n
 }
 
-/// Radiance of the plane (albedo [`RHO`]) at `p` lit by a point light: ρ/π · I cos θ / d².
-fn point_lit(p: Vec3, light: Vec3, intensity: Vec3) -> Vec3 {
-    let l = light - p;
-    RHO / PI * intensity * (l.y / l.length()) / l.length_squared()
+/// Renders `frame` of `scene` and calls `f(x, y, p, pixel)` for every pixel of
+/// [`for_plane_pixels`] within |x|, |z| < 9; returns how many.
+fn for_rendered_plane_pixels(
+    scene: &mut PreparedScene,
+    frame: &FrameState,
+    mut f: impl FnMut(u32, u32, Vec3, Vec3),
+) -> usize {
+    let film = render_igi(scene, frame);
+    let cam = PinholeCamera::new(&frame.camera, frame.settings.width, frame.settings.height);
+    for_plane_pixels(&cam, 9.0, |x, y, p| f(x, y, p, film.get(x, y)))
 }
 
-/// Asserts that every plane pixel (|x|, |z| < 9) equals `want(p)` to [`EXACT`]; returns how
-/// many pixels were checked.
-fn assert_plane_exact(film: &Film, cam: &PinholeCamera, want: impl Fn(Vec3) -> Vec3) -> usize {
-    for_plane_pixels(cam, 9.0, |x, y, p| {
-        let (got, want) = (film.get(x, y), want(p));
+/// Renders `frame` of `scene` and asserts that every plane pixel (|x|, |z| < 9) equals
+/// `want(p)` to [`EXACT`]; returns how many pixels were checked.
+fn assert_plane_exact(scene: &mut PreparedScene, frame: &FrameState, want: impl Fn(Vec3) -> Vec3) -> usize {
+    for_rendered_plane_pixels(scene, frame, |x, y, p, got| {
+        let want = want(p);
         assert!(rel_err(got, want) < EXACT, "pixel ({x}, {y}) at {p}: got {got}, want {want}");
     })
 }
 
 #[test]
 fn point_light_matches_the_inverse_square_law_in_one_frame() {
-    let light = Vec3::new(0.3, 2.0, -0.2);
-    let intensity = Vec3::new(3.0, 2.0, 1.0);
-    let mut prepared =
-        PreparedScene::new(plane_scene(vec![], vec![], vec![Light::Point { position: light, intensity }]));
-    let cam = camera(Vec3::new(0.0, 3.0, 4.0), Vec3::ZERO, 40.0);
-    let film = render(&mut prepared, &exact_frame(cam, 48, 36));
-    let n = assert_plane_exact(&film, &PinholeCamera::new(&cam, 48, 36), |p| point_lit(p, light, intensity));
+    let (mut prepared, cam, want) = point_light_case();
+    let n = assert_plane_exact(&mut prepared, &exact_frame(cam, 48, 36), want);
     assert!(n > 1000, "the plane should fill most of the image, saw {n} pixels");
 }
 
@@ -112,35 +81,23 @@ fn directional_light_gives_rho_over_pi_e_cos_with_filter_and_antialiasing() {
     // The answer is the same constant everywhere on the plane, so the default settings (aa 4,
     // filter on) must reproduce it too: every sub-pixel sample sees the same value, and the
     // filter averages equal values.
-    let direction = Vec3::new(0.3, -1.0, 0.2).normalize();
-    let irradiance = Vec3::new(2.0, 1.5, 1.0);
-    let mut prepared =
-        PreparedScene::new(plane_scene(vec![], vec![], vec![Light::Directional { direction, irradiance }]));
-    let cam = camera(Vec3::new(1.0, 2.0, 3.0), Vec3::new(0.0, 0.0, -1.0), 50.0);
-    let want = RHO / PI * irradiance * -direction.y;
+    let (mut prepared, cam, want) = directional_light_case();
     for frame in [exact_frame(cam, 32, 24), igi_frame(cam, 32, 24)] {
-        let film = render(&mut prepared, &frame);
-        let n = assert_plane_exact(&film, &PinholeCamera::new(&cam, 32, 24), |_| want);
+        let n = assert_plane_exact(&mut prepared, &frame, |_| want);
         assert!(n > 300, "{n} plane pixels");
     }
 }
 
 #[test]
 fn spot_light_lights_its_cone_only() {
-    let light = Vec3::new(0.0, 2.0, 0.0);
-    let intensity = Vec3::splat(5.0);
-    // Full opening 60°: the cone meets the plane at radius 2 tan 30° = 1.155. Pixel centres
-    // within 5 % of that radius are skipped (the hard edge).
-    let spot = Light::Spot { position: light, direction: -Vec3::Y, angle_deg: 60.0, intensity };
-    let mut prepared = PreparedScene::new(plane_scene(vec![], vec![], vec![spot]));
-    let cam = camera(Vec3::new(0.0, 4.0, 3.0), Vec3::ZERO, 50.0);
-    let film = render(&mut prepared, &exact_frame(cam, 48, 36));
+    // Pixel centres within 5 % of the cone's radius on the plane (1.155) are skipped (the hard
+    // edge).
+    let (mut prepared, cam, radiance) = spot_light_case();
     let (mut inside, mut outside) = (0, 0);
-    for_plane_pixels(&PinholeCamera::new(&cam, 48, 36), 9.0, |x, y, p| {
+    for_rendered_plane_pixels(&mut prepared, &exact_frame(cam, 48, 36), |_, _, p, got| {
         let r = (p.x * p.x + p.z * p.z).sqrt();
-        let got = film.get(x, y);
         if r < 1.1 {
-            let want = point_lit(p, light, intensity);
+            let want = radiance(p);
             assert!(rel_err(got, want) < EXACT, "inside the cone at {p}: got {got}, want {want}");
             inside += 1;
         } else if r > 1.2 {
@@ -153,27 +110,16 @@ fn spot_light_lights_its_cone_only() {
 
 #[test]
 fn occluded_points_are_black() {
-    let light = Vec3::new(0.0, 2.0, 0.0);
-    let intensity = Vec3::splat(4.0);
-    // A black 0.4 × 0.4 blocker half way up: its shadow on the plane is 0.8 × 0.8. Black, so
-    // its underside (lit by the plane's bounce VPLs) reflects nothing back into the shadow,
-    // and the shadow is exactly 0, not just dim.
-    let blocker = horizontal_square("blocker", Vec3::new(0.0, 1.0, 0.0), Vec2::new(0.2, 0.2), true, 1);
-    let mut prepared = PreparedScene::new(plane_scene(
-        vec![blocker],
-        vec![diffuse("black", 0.0)],
-        vec![Light::Point { position: light, intensity }],
-    ));
-    let cam = camera(Vec3::new(0.0, 0.5, 3.0), Vec3::ZERO, 40.0);
-    let film = render(&mut prepared, &exact_frame(cam, 48, 36));
+    // The blocker is black, so its underside (lit by the plane's bounce VPLs) reflects nothing
+    // back into the shadow, and the shadow is exactly 0, not just dim.
+    let (mut prepared, cam, radiance) = blocker_case();
     let (mut dark, mut lit) = (0, 0);
-    for_plane_pixels(&PinholeCamera::new(&cam, 48, 36), 9.0, |x, y, p| {
-        let got = film.get(x, y);
+    for_rendered_plane_pixels(&mut prepared, &exact_frame(cam, 48, 36), |x, y, p, got| {
         if p.x.abs() < 0.35 && p.z.abs() < 0.35 {
             assert_eq!(got, Vec3::ZERO, "pixel ({x}, {y}) at {p} is behind the blocker");
             dark += 1;
         } else if p.x.abs() > 0.45 || p.z.abs() > 0.45 {
-            let want = point_lit(p, light, intensity);
+            let want = radiance(p);
             assert!(rel_err(got, want) < EXACT, "pixel ({x}, {y}) at {p}: got {got}, want {want}");
             lit += 1;
         }
@@ -183,18 +129,13 @@ fn occluded_points_are_black() {
 
 #[test]
 fn black_emitter_shows_le_on_its_front_side_only() {
-    let le = Vec3::new(5.0, 4.0, 3.0);
-    // A down-facing black emitter at y = 1 over the plane.
-    let light = horizontal_square("light", Vec3::new(0.0, 1.0, 0.0), Vec2::new(1.0, 1.0), false, 1);
-    let mut prepared = PreparedScene::new(plane_scene(vec![light], vec![emitter("light", le)], vec![]));
+    let (mut prepared, le, below, above) = emitter_case();
     // From below, looking up at the front side: L_e and nothing else (black: no reflection),
     // with the default aa 4 and filter (the mean of four equal samples is exact).
-    let below = camera(Vec3::new(0.0, 0.2, 0.0), Vec3::new(0.0, 1.0, 0.0), 40.0);
-    let film = render(&mut prepared, &igi_frame(below, 8, 8));
+    let film = render_igi(&mut prepared, &igi_frame(below, 8, 8));
     assert!(film.pixels().iter().all(|&p| p == le), "front side must show L_e exactly: {:?}", film.pixels());
     // From above, the back side: no emission, black albedo.
-    let above = camera(Vec3::new(0.0, 3.0, 0.0), Vec3::new(0.0, 1.0, 0.0), 40.0);
-    let film = render(&mut prepared, &igi_frame(above, 8, 8));
+    let film = render_igi(&mut prepared, &igi_frame(above, 8, 8));
     assert!(film.pixels().iter().all(|&p| p == Vec3::ZERO), "back side must be black: {:?}", film.pixels());
 }
 
@@ -216,14 +157,14 @@ fn emitter_back_side_reflects_like_a_diffuse_surface_without_emission() {
     ));
     let cam = camera(Vec3::new(0.0, 4.0, 2.0), Vec3::new(0.0, 1.0, 0.0), 40.0);
     let pin = PinholeCamera::new(&cam, 24, 24);
-    let film = render(&mut prepared, &exact_frame(cam, 24, 24));
+    let film = render_igi(&mut prepared, &exact_frame(cam, 24, 24));
     let mut n = 0;
     for y in 0..24 {
         for x in 0..24 {
             let d = pin.direction(x, y);
             let p = cam.position + (1.0 - cam.position.y) / d.y * d;
             if p.x.abs() < 2.9 && p.z.abs() < 2.9 {
-                let want = point_lit(p - Vec3::Y, lamp - Vec3::Y, intensity);
+                let want = point_lit(p - Vec3::Y, lamp - Vec3::Y, intensity, RHO);
                 let got = film.get(x, y);
                 assert!(rel_err(got, want) < EXACT, "back side at {p}: got {got}, want {want} (L_e is {le})");
                 n += 1;
@@ -235,16 +176,15 @@ fn emitter_back_side_reflects_like_a_diffuse_surface_without_emission() {
 
 #[test]
 fn scene_without_lights_gets_the_headlight() {
-    let mut prepared = PreparedScene::new(plane_scene(vec![], vec![], vec![]));
+    let (mut prepared, cam) = headlight_case();
     assert!(!prepared.has_lights());
-    let cam = camera(Vec3::new(0.0, 2.0, 2.0), Vec3::ZERO, 45.0);
     let Light::Point { position, intensity } = eye_light(&prepared.bounds(), &cam) else {
         panic!("the headlight is a point light")
     };
     assert_eq!(position, cam.position);
-    let film = render(&mut prepared, &exact_frame(cam, 32, 24));
-    let n =
-        assert_plane_exact(&film, &PinholeCamera::new(&cam, 32, 24), |p| point_lit(p, position, intensity));
+    let n = assert_plane_exact(&mut prepared, &exact_frame(cam, 32, 24), |p| {
+        point_lit(p, position, intensity, RHO)
+    });
     assert!(n > 100, "{n} plane pixels");
 }
 
@@ -269,8 +209,8 @@ fn instance_transform_moves_shading_normals() {
     sc.lights.push(Light::Point { position: light, intensity });
     let mut prepared = PreparedScene::new(sc);
     let cam = camera(Vec3::new(0.0, 3.0, 4.0), Vec3::ZERO, 40.0);
-    let film = render(&mut prepared, &exact_frame(cam, 32, 24));
-    let n = assert_plane_exact(&film, &PinholeCamera::new(&cam, 32, 24), |p| point_lit(p, light, intensity));
+    let n =
+        assert_plane_exact(&mut prepared, &exact_frame(cam, 32, 24), |p| point_lit(p, light, intensity, RHO));
     assert!(n > 300, "{n} plane pixels");
 }
 
@@ -288,21 +228,10 @@ fn diffuse_texture_multiplies_the_albedo() {
     let mut prepared = PreparedScene::new(sc);
     let cam = camera(Vec3::new(0.0, 2.0, 2.0), Vec3::ZERO, 40.0);
     let want = Vec3::new(0.4, 0.2, 0.8) / PI * irradiance;
-    let film = render(&mut prepared, &igi_frame(cam, 16, 12));
-    let n = for_plane_pixels(&PinholeCamera::new(&cam, 16, 12), 9.0, |x, y, _| {
-        let got = film.get(x, y);
+    let n = for_rendered_plane_pixels(&mut prepared, &igi_frame(cam, 16, 12), |x, y, _, got| {
         assert!(rel_err(got, want) < EXACT, "pixel ({x}, {y}): got {got}, want {want}");
     });
     assert!(n > 50, "{n} plane pixels");
-}
-
-/// Form factor from a differential area to a parallel rectangle `a` × `b` at distance `h`
-/// whose corner lies straight above it (Howell's catalogue, B-3); odd in `a` and in `b`, so
-/// signed rectangles add up.
-fn corner_form_factor(a: f64, b: f64, h: f64) -> f64 {
-    let (x, y) = (a / h, b / h);
-    let (sx, sy) = ((1.0 + x * x).sqrt(), (1.0 + y * y).sqrt());
-    (x / sx * (y / sx).atan() + y / sy * (x / sy).atan()) / (2.0 * std::f64::consts::PI)
 }
 
 #[test]
@@ -326,11 +255,7 @@ fn area_light_converges_to_the_form_factor() {
             for i in 0..4 {
                 let d = pin.direction_at(x, y, (i as f32 + 0.5) / 4.0, (j as f32 + 0.5) / 4.0);
                 let p = cam.position - cam.position.y / d.y * d;
-                let (px, pz) = (f64::from(p.x), f64::from(p.z));
-                sum += corner_form_factor(hx - px, hz - pz, h)
-                    + corner_form_factor(hx + px, hz - pz, h)
-                    + corner_form_factor(hx - px, hz + pz, h)
-                    + corner_form_factor(hx + px, hz + pz, h);
+                sum += rectangle_form_factor(f64::from(p.x), f64::from(p.z), hx, hz, h);
             }
         }
         sum / 16.0
@@ -380,12 +305,7 @@ fn white_furnace_converges_to_le_over_one_minus_albedo() {
     // VPLs all later ones, so this checks the power of area-light and bounce VPLs, the
     // Russian roulette on the albedo and D = E/π together (a lost bounce order gives at most
     // 1.5 L_e + …, a double-counted one 2.5 L_e).
-    let (a, le) = (0.5, Vec3::new(1.0, 0.5, 0.25));
-    let wall = Material { diffuse: Vec3::splat(a), emission: le, ..Material::default() };
-    let mut prepared =
-        PreparedScene::new(scene(box_faces(Vec3::ZERO, Vec3::ONE, true, 0), vec![wall], vec![]));
-    let cam = camera(Vec3::new(0.2, -0.1, 0.6), Vec3::new(-0.3, 0.2, -1.0), 100.0);
-    let want = le / (1.0 - a);
+    let (mut prepared, cam, want) = white_furnace_case();
     let (w, h) = (32, 32);
     let renderer = FrameRenderer::new(2);
 

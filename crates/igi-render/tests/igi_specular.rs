@@ -9,25 +9,10 @@ mod common;
 
 use common::*;
 use glam::{Vec2, Vec3};
-use igi_render::frame::FrameState;
-use igi_render::{Film, FrameRenderer, PinholeCamera, PreparedScene};
+use igi_render::{FrameRenderer, PinholeCamera, PreparedScene};
 use igi_scene::{Light, Material, MaterialKind, Mesh};
 use igi_shade::brdf::dielectric::fresnel_dielectric;
 use std::f32::consts::PI;
-
-const RHO: f32 = 0.5;
-
-fn render(scene: &mut PreparedScene, frame: &FrameState) -> Film {
-    FrameRenderer::new(2).render(scene, frame, &|_, _| {}).expect("valid settings").image.into_film().unwrap()
-}
-
-/// aa 1 (pixel-centre rays) and no filter: each pixel is its own closed-form value.
-fn exact_frame(camera: igi_scene::Camera, width: u32, height: u32) -> FrameState {
-    let mut f = igi_frame(camera, width, height);
-    f.settings.aa = 1;
-    f.settings.filter = None;
-    f
-}
 
 #[test]
 fn plane_seen_in_a_mirror_is_the_plane_times_the_reflectance() {
@@ -63,7 +48,7 @@ fn plane_seen_in_a_mirror_is_the_plane_times_the_reflectance() {
         }
         hit_floor(m, Vec3::new(-d.x, d.y, d.z), 0.49)
     };
-    let film = render(&mut with_mirror, &exact_frame(cam, w, h));
+    let film = render_igi(&mut with_mirror, &exact_frame(cam, w, h));
     let mut n = 0;
     for y in 0..h {
         for x in 0..w {
@@ -88,8 +73,8 @@ fn plane_seen_in_a_mirror_is_the_plane_times_the_reflectance() {
     let (mut through, mut directly) = (igi_frame(cam, w, h), igi_frame(virtual_cam, w, h));
     through.settings.aa = 1;
     directly.settings.aa = 1;
-    let mirrored = render(&mut with_mirror, &through);
-    let seen_directly = render(&mut direct, &directly);
+    let mirrored = render_igi(&mut with_mirror, &through);
+    let seen_directly = render_igi(&mut direct, &directly);
     let mut compared = 0;
     for y in 0..h {
         for x in 0..w {
@@ -111,17 +96,6 @@ fn plane_seen_in_a_mirror_is_the_plane_times_the_reflectance() {
     }
     eprintln!("{n} pixels in closed form, {compared} against the direct view");
     assert!(compared > 150, "{compared} pixels compared");
-}
-
-/// A square of half size `half` in the plane z = `z`, facing toward `toward`.
-fn square_z(z: f32, half: f32, toward: Vec3, material: u32) -> Mesh {
-    let p = [
-        Vec3::new(-half, -half, z),
-        Vec3::new(half, -half, z),
-        Vec3::new(half, half, z),
-        Vec3::new(-half, half, z),
-    ];
-    quad_facing("square", p, toward, material)
 }
 
 /// A glass slab of index 1.5 between z = -1.1 and z = -0.9, 0.6 wide, faces wound outward.
@@ -164,7 +138,7 @@ fn emitter_behind_glass_is_dimmed_by_the_fresnel_chain_up_to_the_specular_depth(
     for depth in [0, 1, 2, 3, 4, 5, 16] {
         let mut f = exact_frame(cam, w, h);
         f.settings.specular_depth = depth;
-        let film = render(&mut prepared, &f);
+        let film = render_igi(&mut prepared, &f);
         for y in 0..h {
             for x in 0..w {
                 let want = le * slab_transmission(pin.direction(x, y), depth);
@@ -203,7 +177,7 @@ fn lit_plane_behind_glass_is_dimmed_by_the_fresnel_chain() {
     let lit = RHO / PI * irradiance * (1.0 / 2.0f32.sqrt());
     let want = lit * slab_transmission(Vec3::new(0.0, 0.0, -1.0), 5);
     for frame in [exact_frame(cam, 12, 12), igi_frame(cam, 12, 12)] {
-        let film = render(&mut prepared, &frame);
+        let film = render_igi(&mut prepared, &frame);
         for (i, got) in film.pixels().iter().enumerate() {
             assert!(rel_err(*got, want) < 1e-4, "pixel {i}: got {got}, want {want} (unobstructed {lit})");
         }

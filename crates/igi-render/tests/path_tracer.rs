@@ -12,10 +12,7 @@ use igi_render::path_tracer::{MAX_VERTICES, PathTracer, render_path_traced};
 use igi_render::sampling::MAX_SAMPLES;
 use igi_render::scheduler::TileScheduler;
 use igi_render::{Film, PinholeCamera, PreparedScene, lights::eye_light};
-use igi_scene::{Camera, Light, Material, MaterialKind, Mesh, Scene};
-use std::f32::consts::PI;
-
-const RHO: f32 = 0.5;
+use igi_scene::{Camera, Light, Material, MaterialKind};
 
 fn frame(camera: Camera, width: u32, height: u32, seed: u32, tile_size: u32) -> FrameState {
     FrameState {
@@ -27,14 +24,6 @@ fn frame(camera: Camera, width: u32, height: u32, seed: u32, tile_size: u32) -> 
 /// The whole image on two threads.
 fn render(scene: &mut PreparedScene, frame: &FrameState, spp: u32) -> Film {
     render_path_traced(scene, frame, spp, &TileScheduler::new(2), &|_, _| {}).0
-}
-
-/// A 20 × 20 grey plane at y = 0 facing up, plus `extra` meshes (materials 1..).
-fn plane_scene(extra: Vec<Mesh>, mut materials: Vec<Material>, lights: Vec<Light>) -> Scene {
-    let mut meshes = vec![horizontal_square("plane", Vec3::ZERO, Vec2::new(10.0, 10.0), true, 0)];
-    meshes.extend(extra);
-    materials.insert(0, diffuse("grey", RHO));
-    scene(meshes, materials, lights)
 }
 
 /// The closed-form radiance over one pixel, from `f` at a 9 × 9 grid of points spanning the
@@ -126,15 +115,10 @@ fn white_furnace_converges_to_le_over_one_minus_albedo() {
     // and the emitter its cosine bounce hits (MIS weights), so this checks emission, both
     // halves of the MIS and their weights, the bounce and Russian roulette together: a
     // double-counted emitter gives up to 3 L_e, a lost one L_e.
-    let (a, le) = (0.5, Vec3::new(1.0, 0.5, 0.25));
-    let wall = Material { diffuse: Vec3::splat(a), emission: le, ..Material::default() };
-    let mut prepared =
-        PreparedScene::new(scene(box_faces(Vec3::ZERO, Vec3::ONE, true, 0), vec![wall], vec![]));
-    // A wide view from off the centre, with edges and corners in sight: where an emitting wall
-    // meets the lit one, the shadow-ray estimate alone would be the noisiest.
-    let cam = camera(Vec3::new(0.2, -0.1, 0.6), Vec3::new(-0.3, 0.2, -1.0), 100.0);
+    // The camera's wide view has edges and corners in sight: where an emitting wall meets the
+    // lit one, the shadow-ray estimate alone would be the noisiest.
+    let (mut prepared, cam, want) = white_furnace_case();
     let film = render(&mut prepared, &frame(cam, 24, 24, 3, 8), 64);
-    let want = le / (1.0 - a);
     // 576 pixels × 64 paths: the mean comes out within 0.03 %; 0.5 % leaves room for another
     // sample pattern and still fails any wrong weight by far.
     let mean = film.pixels().iter().sum::<Vec3>() / film.pixels().len() as f32;
@@ -147,26 +131,14 @@ fn white_furnace_converges_to_le_over_one_minus_albedo() {
 
 #[test]
 fn point_light_matches_inverse_square_law() {
-    let light = Vec3::new(0.3, 2.0, -0.2);
-    let intensity = Vec3::new(3.0, 2.0, 1.0);
-    let prepared =
-        PreparedScene::new(plane_scene(vec![], vec![], vec![Light::Point { position: light, intensity }]));
-    let cam = camera(Vec3::new(0.0, 3.0, 4.0), Vec3::ZERO, 40.0);
-    // The plane cannot see itself, so there is no indirect light.
-    let n = assert_in_range(&prepared, &cam, |d| {
-        hit_floor(cam.position, d, 9.0).map(|p| point_lit(p, light, intensity, RHO))
-    });
+    let (prepared, cam, want) = point_light_case();
+    let n = assert_in_range(&prepared, &cam, |d| hit_floor(cam.position, d, 9.0).map(&want));
     assert!(n > 1000, "the plane should fill most of the image, saw {n} pixels");
 }
 
 #[test]
 fn directional_light_gives_rho_over_pi_e_cos() {
-    let direction = Vec3::new(0.3, -1.0, 0.2).normalize();
-    let irradiance = Vec3::new(2.0, 1.5, 1.0);
-    let prepared =
-        PreparedScene::new(plane_scene(vec![], vec![], vec![Light::Directional { direction, irradiance }]));
-    let cam = camera(Vec3::new(1.0, 2.0, 3.0), Vec3::new(0.0, 0.0, -1.0), 50.0);
-    let want = RHO / PI * irradiance * -direction.y;
+    let (prepared, cam, want) = directional_light_case();
     // Constant radiance, so the range test asks for the value itself (to 1e-4).
     let n = assert_in_range(&prepared, &cam, |d| hit_floor(cam.position, d, 9.0).map(|_| want));
     assert!(n > 300, "{n} plane pixels");
@@ -174,31 +146,17 @@ fn directional_light_gives_rho_over_pi_e_cos() {
 
 #[test]
 fn spot_light_lights_its_cone_only() {
-    let light = Vec3::new(0.0, 2.0, 0.0);
-    let intensity = Vec3::splat(5.0);
-    // Full opening 60°: the cone meets the plane at radius 2 tan 30° = 1.155.
-    let spot = Light::Spot { position: light, direction: -Vec3::Y, angle_deg: 60.0, intensity };
-    let prepared = PreparedScene::new(plane_scene(vec![], vec![], vec![spot]));
-    let cam = camera(Vec3::new(0.0, 4.0, 3.0), Vec3::ZERO, 50.0);
+    // The cone meets the plane at radius 1.155.
+    let (prepared, cam, radiance) = spot_light_case();
     let radius = |p: Vec3| (p.x * p.x + p.z * p.z).sqrt();
     let inside = assert_in_range(&prepared, &cam, |d| {
-        hit_floor(cam.position, d, 9.0)
-            .filter(|&p| radius(p) < 1.1)
-            .map(|p| point_lit(p, light, intensity, RHO))
+        hit_floor(cam.position, d, 9.0).filter(|&p| radius(p) < 1.1).map(&radiance)
     });
     // Outside the cone, exactly nothing (the range is [0, 0]).
     let outside = assert_in_range(&prepared, &cam, |d| {
         hit_floor(cam.position, d, 9.0).filter(|&p| radius(p) > 1.2).map(|_| Vec3::ZERO)
     });
     assert!(inside > 50 && outside > 50, "inside {inside}, outside {outside}");
-}
-
-/// Form factor from a differential area to a parallel rectangle `a` × `b` at distance `h`
-/// whose corner lies straight above it (Howell's catalogue, B-3).
-fn corner_form_factor(a: f64, b: f64, h: f64) -> f64 {
-    let (x, y) = (a / h, b / h);
-    let (sx, sy) = ((1.0 + x * x).sqrt(), (1.0 + y * y).sqrt());
-    (x / sx * (y / sx).atan() + y / sy * (x / sy).atan()) / (2.0 * std::f64::consts::PI)
 }
 
 #[test]
@@ -218,12 +176,8 @@ fn area_light_converges_to_the_form_factor() {
         if p.x.abs() > 0.8 * hx {
             return None;
         }
-        let (px, pz, h, hx, hz) =
-            (f64::from(p.x), f64::from(p.z), f64::from(h), f64::from(hx), f64::from(hz));
-        let f = corner_form_factor(hx - px, hz - pz, h)
-            + corner_form_factor(hx + px, hz - pz, h)
-            + corner_form_factor(hx - px, hz + pz, h)
-            + corner_form_factor(hx + px, hz + pz, h);
+        let f =
+            rectangle_form_factor(f64::from(p.x), f64::from(p.z), f64::from(hx), f64::from(hz), f64::from(h));
         // E = π L_e F, and the Lambertian plane reflects ρ/π E.
         Some(RHO * le * f as f32)
     };
@@ -238,46 +192,28 @@ fn area_light_converges_to_the_form_factor() {
 
 #[test]
 fn occluded_points_are_black() {
-    let light = Vec3::new(0.0, 2.0, 0.0);
-    let intensity = Vec3::splat(4.0);
-    // A black 0.4 × 0.4 blocker half way up: its shadow on the plane is 0.8 × 0.8. Black, so
-    // the light it would reflect from its underside does not light the shadow.
-    let blocker = horizontal_square("blocker", Vec3::new(0.0, 1.0, 0.0), Vec2::new(0.2, 0.2), true, 1);
-    let prepared = PreparedScene::new(plane_scene(
-        vec![blocker],
-        vec![diffuse("black", 0.0)],
-        vec![Light::Point { position: light, intensity }],
-    ));
-    let cam = camera(Vec3::new(0.0, 0.5, 3.0), Vec3::ZERO, 40.0);
+    let (prepared, cam, radiance) = blocker_case();
     let dark = assert_in_range(&prepared, &cam, |d| hit_floor(cam.position, d, 0.35).map(|_| Vec3::ZERO));
     let lit = assert_in_range(&prepared, &cam, |d| {
-        hit_floor(cam.position, d, 9.0)
-            .filter(|p| p.x.abs() > 0.45 || p.z.abs() > 0.45)
-            .map(|p| point_lit(p, light, intensity, RHO))
+        hit_floor(cam.position, d, 9.0).filter(|p| p.x.abs() > 0.45 || p.z.abs() > 0.45).map(&radiance)
     });
     assert!(dark > 20 && lit > 100, "dark {dark}, lit {lit}");
 }
 
 #[test]
 fn emitters_show_their_radiance_on_the_front_side_only() {
-    let le = Vec3::new(5.0, 4.0, 3.0);
-    // A down-facing black emitter at y = 1 over the plane.
-    let light = horizontal_square("light", Vec3::new(0.0, 1.0, 0.0), Vec2::new(1.0, 1.0), false, 1);
-    let mut prepared = PreparedScene::new(plane_scene(vec![light], vec![emitter("light", le)], vec![]));
+    let (mut prepared, le, below, above) = emitter_case();
     // From below, looking up at the front side: L_e exactly, nothing else (the emitter is black).
-    let below = camera(Vec3::new(0.0, 0.2, 0.0), Vec3::new(0.0, 1.0, 0.0), 40.0);
     let film = render(&mut prepared, &frame(below, 8, 8, 0, 4), 4);
     assert!(film.pixels().iter().all(|&p| p == le), "front side must show L_e exactly");
     // From above, the back side: no emission, black albedo.
-    let above = camera(Vec3::new(0.0, 3.0, 0.0), Vec3::new(0.0, 1.0, 0.0), 40.0);
     let film = render(&mut prepared, &frame(above, 8, 8, 0, 4), 4);
     assert!(film.pixels().iter().all(|&p| p == Vec3::ZERO), "back side must be black");
 }
 
 #[test]
 fn scene_without_lights_gets_a_headlight() {
-    let prepared = PreparedScene::new(plane_scene(vec![], vec![], vec![]));
-    let cam = camera(Vec3::new(0.0, 2.0, 2.0), Vec3::ZERO, 45.0);
+    let (prepared, cam) = headlight_case();
     let Light::Point { position, intensity } = eye_light(&prepared.bounds(), &cam) else {
         panic!("headlight is a point light")
     };
@@ -341,20 +277,11 @@ fn glass_slab_transmits_one_minus_f_over_one_plus_f() {
     // toward the camera side, where nothing is: black.
     let le = Vec3::new(1.0, 2.0, 3.0);
     let glass = Material { diffuse: Vec3::ZERO, ior: 1.5, kind: MaterialKind::Glass, ..Material::default() };
-    let square = |z: f32, half: f32, outside: Vec3, material: u32| {
-        let p = [
-            Vec3::new(-half, -half, z),
-            Vec3::new(half, -half, z),
-            Vec3::new(half, half, z),
-            Vec3::new(-half, half, z),
-        ];
-        quad_facing("square", p, outside, material)
-    };
     let meshes = vec![
-        square(-2.0, 10.0, Vec3::ZERO, 0),
+        square_z(-2.0, 10.0, Vec3::ZERO, 0),
         // The slab between z = -1.1 and -0.9, faces wound outward.
-        square(-0.9, 5.0, Vec3::new(0.0, 0.0, 1.0), 1),
-        square(-1.1, 5.0, Vec3::new(0.0, 0.0, -2.0), 1),
+        square_z(-0.9, 5.0, Vec3::new(0.0, 0.0, 1.0), 1),
+        square_z(-1.1, 5.0, Vec3::new(0.0, 0.0, -2.0), 1),
     ];
     let mut prepared = PreparedScene::new(scene(meshes, vec![emitter("light", le), glass], vec![]));
     // A 2° view: every ray within 1.5° of the normal, where F differs from 0.04 by < 1e-8.

@@ -64,17 +64,6 @@ fn total_power(vpls: &[Vpl]) -> Vec3 {
     vpls.iter().map(|v| v.power).sum()
 }
 
-/// The quad `p` wound so that its normal points toward `toward`.
-fn facing(name: &str, p: [Vec3; 4], toward: Vec3, material: u32) -> Mesh {
-    let n = (p[1] - p[0]).cross(p[2] - p[0]);
-    let centre = 0.25 * (p[0] + p[1] + p[2] + p[3]);
-    if n.dot(toward - centre) > 0.0 {
-        quad(name, p, material)
-    } else {
-        quad(name, [p[0], p[3], p[2], p[1]], material)
-    }
-}
-
 /// A square of half size `half` in the plane y = `y`, facing up or down.
 fn plane(y: f32, half: f32, up: bool, material: u32) -> Mesh {
     horizontal_square("plane", Vec3::new(0.0, y, 0.0), Vec2::splat(half), up, material)
@@ -161,7 +150,7 @@ fn closed_box_bounce_power_is_a_geometric_series_per_channel() {
         [c(-1., -1., -1.), c(1., -1., -1.), c(1., 1., -1.), c(-1., 1., -1.)],
         [c(-1., -1., 1.), c(1., -1., 1.), c(1., 1., 1.), c(-1., 1., 1.)],
     ];
-    let mut meshes: Vec<Mesh> = faces.iter().map(|f| facing("wall", *f, Vec3::ZERO, 0)).collect();
+    let mut meshes: Vec<Mesh> = faces.iter().map(|f| quad_facing("wall", *f, Vec3::ZERO, 0)).collect();
     meshes.push(plane(1.0, 1.0, false, 1));
     let wall = Material { name: "wall".into(), diffuse: rho, ..Material::default() };
     let light = Material { name: "light".into(), diffuse: rho, emission: le, ..Material::default() };
@@ -335,14 +324,6 @@ fn glass_conserves_power_between_diffuse_planes() {
     });
     let want = 4.0 * PI * f64::from(rho / (1.0 - rho));
     assert_mean(&samples, want, 0.01, "glass");
-}
-
-/// Form factor from a differential area to a parallel rectangle `a` × `b` at distance `h`
-/// whose corner lies straight above it (Howell's catalogue, B-3).
-fn corner_form_factor(a: f64, b: f64, h: f64) -> f64 {
-    let (x, y) = (a / h, b / h);
-    let (sx, sy) = ((1.0 + x * x).sqrt(), (1.0 + y * y).sqrt());
-    (x / sx * (y / sx).atan() + y / sy * (x / sy).atan()) / (2.0 * PI)
 }
 
 /// The VPL estimate of the irradiance at `x` (unit normal `n`), without visibility:

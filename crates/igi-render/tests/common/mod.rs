@@ -1,8 +1,11 @@
-//! Hand-built scenes for the physics tests: quads, materials and lights with known answers.
+//! Hand-built scenes for the physics tests: quads, materials and lights with known answers,
+//! the closed-form cases both renderers are checked against, and the helpers that render them.
 
 #![allow(dead_code)]
 
 use glam::{Affine3A, Vec2, Vec3};
+use igi_render::path_tracer::render_path_traced;
+use igi_render::{Film, FrameRenderer, FrameState, PreparedScene};
 use igi_scene::{Camera, Instance, Light, Material, Mesh, Scene};
 
 /// A quad `p0 p1 p2 p3` (two triangles 0-1-2, 0-2-3) with winding normal
@@ -65,6 +68,42 @@ pub fn igi_frame(camera: Camera, width: u32, height: u32) -> igi_render::FrameSt
     igi_render::FrameState::new(camera, settings)
 }
 
+/// One IGI frame on two threads.
+pub fn render_igi(scene: &mut PreparedScene, frame: &FrameState) -> Film {
+    FrameRenderer::new(2).render(scene, frame, &|_, _| {}).expect("valid settings").image.into_film().unwrap()
+}
+
+/// [`igi_frame`] with aa 1 (pixel-centre rays) and the filter off: each pixel is the value at
+/// the point its centre ray hits, exact where the lighting is.
+pub fn exact_frame(camera: Camera, width: u32, height: u32) -> FrameState {
+    let mut f = igi_frame(camera, width, height);
+    f.settings.aa = 1;
+    f.settings.filter = None;
+    f
+}
+
+/// The image means of `scene` seen through `camera` at `size` × `size`: instant global
+/// illumination accumulated over `frames` frames ([`igi_frame`]: unclamped, so unbiased up to
+/// the bounce cap) and the path tracer with `spp` paths per pixel, in that order.
+pub fn converged_means(
+    scene: &mut PreparedScene,
+    camera: Camera,
+    size: u32,
+    frames: u32,
+    spp: u32,
+) -> (Vec3, Vec3) {
+    let renderer = FrameRenderer::new(2);
+    let frame = igi_frame(camera, size, size);
+    let (pt, _) = render_path_traced(scene, &frame, spp, renderer.scheduler(), &|_, _| {});
+    let igi = renderer
+        .render_accumulated(scene, &frame, frames, &|_, _| {})
+        .expect("valid settings")
+        .image
+        .into_film()
+        .unwrap();
+    (film_mean(&igi), film_mean(&pt))
+}
+
 /// The quad `p` wound so that its normal points toward `toward`.
 pub fn quad_facing(name: &str, p: [Vec3; 4], toward: Vec3, material: u32) -> Mesh {
     let n = (p[1] - p[0]).cross(p[2] - p[0]);
@@ -74,6 +113,17 @@ pub fn quad_facing(name: &str, p: [Vec3; 4], toward: Vec3, material: u32) -> Mes
     } else {
         quad(name, [p[0], p[3], p[2], p[1]], material)
     }
+}
+
+/// A square of half size `half` in the plane z = `z`, facing toward `toward`.
+pub fn square_z(z: f32, half: f32, toward: Vec3, material: u32) -> Mesh {
+    let p = [
+        Vec3::new(-half, -half, z),
+        Vec3::new(half, -half, z),
+        Vec3::new(half, half, z),
+        Vec3::new(-half, half, z),
+    ];
+    quad_facing("square", p, toward, material)
 }
 
 /// The six faces of the box `centre ± half`, wound to face inward (`inward`) or outward.
@@ -125,6 +175,120 @@ pub fn hit_floor(origin: Vec3, d: Vec3, half: f32) -> Option<Vec3> {
 pub fn point_lit(p: Vec3, light: Vec3, intensity: Vec3, rho: f32) -> Vec3 {
     let l = light - p;
     rho / std::f32::consts::PI * intensity * (l.y / l.length()) / l.length_squared()
+}
+
+/// Form factor from a differential area to a parallel rectangle `a` × `b` at distance `h`
+/// whose corner lies straight above it (Howell's catalogue, B-3); odd in `a` and in `b`, so
+/// signed rectangles add up.
+pub fn corner_form_factor(a: f64, b: f64, h: f64) -> f64 {
+    let (x, y) = (a / h, b / h);
+    let (sx, sy) = ((1.0 + x * x).sqrt(), (1.0 + y * y).sqrt());
+    (x / sx * (y / sx).atan() + y / sy * (x / sy).atan()) / (2.0 * std::f64::consts::PI)
+}
+
+/// Form factor from a differential area at (`px`, `pz`) of the plane y = 0, facing up, to the
+/// rectangle |x| ≤ `hx`, |z| ≤ `hz` at height `h` facing down: four corner rectangles.
+pub fn rectangle_form_factor(px: f64, pz: f64, hx: f64, hz: f64, h: f64) -> f64 {
+    corner_form_factor(hx - px, hz - pz, h)
+        + corner_form_factor(hx + px, hz - pz, h)
+        + corner_form_factor(hx - px, hz + pz, h)
+        + corner_form_factor(hx + px, hz + pz, h)
+}
+
+// ---- The grey plane under one light: cases with a closed-form image, checked against both
+// ---- renderers (tests/igi_physics.rs and tests/path_tracer.rs). The plane cannot see itself,
+// ---- so it has no indirect light: its radiance is the light's direct light, exactly.
+
+/// Reflectance of the grey plane of [`plane_scene`].
+pub const RHO: f32 = 0.5;
+
+/// A 20 × 20 grey plane (reflectance [`RHO`]) at y = 0 facing up, plus `extra` meshes
+/// (materials 1..).
+pub fn plane_scene(extra: Vec<Mesh>, mut materials: Vec<Material>, lights: Vec<Light>) -> Scene {
+    let mut meshes = vec![horizontal_square("plane", Vec3::ZERO, Vec2::new(10.0, 10.0), true, 0)];
+    meshes.extend(extra);
+    materials.insert(0, diffuse("grey", RHO));
+    scene(meshes, materials, lights)
+}
+
+/// A point light over the plane, a camera that sees the plane fill most of its image, and the
+/// plane's radiance at a point.
+pub fn point_light_case() -> (PreparedScene, Camera, impl Fn(Vec3) -> Vec3) {
+    let light = Vec3::new(0.3, 2.0, -0.2);
+    let intensity = Vec3::new(3.0, 2.0, 1.0);
+    let prepared =
+        PreparedScene::new(plane_scene(vec![], vec![], vec![Light::Point { position: light, intensity }]));
+    let cam = camera(Vec3::new(0.0, 3.0, 4.0), Vec3::ZERO, 40.0);
+    (prepared, cam, move |p| point_lit(p, light, intensity, RHO))
+}
+
+/// A directional light on the plane, a camera, and the plane's radiance: ρ/π E cosθ, the same
+/// everywhere.
+pub fn directional_light_case() -> (PreparedScene, Camera, Vec3) {
+    let direction = Vec3::new(0.3, -1.0, 0.2).normalize();
+    let irradiance = Vec3::new(2.0, 1.5, 1.0);
+    let prepared =
+        PreparedScene::new(plane_scene(vec![], vec![], vec![Light::Directional { direction, irradiance }]));
+    let cam = camera(Vec3::new(1.0, 2.0, 3.0), Vec3::new(0.0, 0.0, -1.0), 50.0);
+    (prepared, cam, RHO / std::f32::consts::PI * irradiance * -direction.y)
+}
+
+/// A spot light 2 above the plane pointing down, full opening 60°: the cone meets the plane
+/// at radius 2 tan 30° = 1.155. A camera, and the plane's radiance at a point inside the cone
+/// (outside it is black).
+pub fn spot_light_case() -> (PreparedScene, Camera, impl Fn(Vec3) -> Vec3) {
+    let light = Vec3::new(0.0, 2.0, 0.0);
+    let intensity = Vec3::splat(5.0);
+    let spot = Light::Spot { position: light, direction: -Vec3::Y, angle_deg: 60.0, intensity };
+    let prepared = PreparedScene::new(plane_scene(vec![], vec![], vec![spot]));
+    let cam = camera(Vec3::new(0.0, 4.0, 3.0), Vec3::ZERO, 50.0);
+    (prepared, cam, move |p| point_lit(p, light, intensity, RHO))
+}
+
+/// A point light 2 above the plane and a black 0.4 × 0.4 blocker half way up: its shadow on
+/// the plane is |x|, |z| < 0.4, exactly 0 (the blocker is black, so the light its underside
+/// would reflect does not reach the shadow). A camera, and the plane's radiance at a point
+/// outside the shadow.
+pub fn blocker_case() -> (PreparedScene, Camera, impl Fn(Vec3) -> Vec3) {
+    let light = Vec3::new(0.0, 2.0, 0.0);
+    let intensity = Vec3::splat(4.0);
+    let blocker = horizontal_square("blocker", Vec3::new(0.0, 1.0, 0.0), Vec2::new(0.2, 0.2), true, 1);
+    let prepared = PreparedScene::new(plane_scene(
+        vec![blocker],
+        vec![diffuse("black", 0.0)],
+        vec![Light::Point { position: light, intensity }],
+    ));
+    let cam = camera(Vec3::new(0.0, 0.5, 3.0), Vec3::ZERO, 40.0);
+    (prepared, cam, move |p| point_lit(p, light, intensity, RHO))
+}
+
+/// A down-facing black emitter of radiance `le` (returned) at y = 1 over the plane, a camera
+/// below it looking up at its front side (L_e and nothing else) and one above it looking down
+/// at its back (black: no emission, no reflection).
+pub fn emitter_case() -> (PreparedScene, Vec3, Camera, Camera) {
+    let le = Vec3::new(5.0, 4.0, 3.0);
+    let light = horizontal_square("light", Vec3::new(0.0, 1.0, 0.0), Vec2::new(1.0, 1.0), false, 1);
+    let prepared = PreparedScene::new(plane_scene(vec![light], vec![emitter("light", le)], vec![]));
+    let below = camera(Vec3::new(0.0, 0.2, 0.0), Vec3::new(0.0, 1.0, 0.0), 40.0);
+    let above = camera(Vec3::new(0.0, 3.0, 0.0), Vec3::new(0.0, 1.0, 0.0), 40.0);
+    (prepared, le, below, above)
+}
+
+/// The plane without any light (lit by the headlight) and a camera.
+pub fn headlight_case() -> (PreparedScene, Camera) {
+    let prepared = PreparedScene::new(plane_scene(vec![], vec![], vec![]));
+    (prepared, camera(Vec3::new(0.0, 2.0, 2.0), Vec3::ZERO, 45.0))
+}
+
+/// The white furnace: a closed box whose walls all emit L_e inward and reflect with albedo a =
+/// 0.5, so the radiance is the same everywhere, L = L_e + a L = L_e / (1 − a) = 2 L_e
+/// (returned). A wide camera from off the centre, with edges and corners in sight.
+pub fn white_furnace_case() -> (PreparedScene, Camera, Vec3) {
+    let (a, le) = (0.5, Vec3::new(1.0, 0.5, 0.25));
+    let wall = Material { diffuse: Vec3::splat(a), emission: le, ..Material::default() };
+    let prepared = PreparedScene::new(scene(box_faces(Vec3::ZERO, Vec3::ONE, true, 0), vec![wall], vec![]));
+    let cam = camera(Vec3::new(0.2, -0.1, 0.6), Vec3::new(-0.3, 0.2, -1.0), 100.0);
+    (prepared, cam, le / (1.0 - a))
 }
 
 /// A small room in which every code path runs: floor, area light, point light, a blocker, a
