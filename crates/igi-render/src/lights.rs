@@ -4,7 +4,8 @@
 //! Area lights emit on one side only, toward the triangle's winding normal
 //! `(p1 - p0) × (p2 - p0)` (taken through the instance transform like any normal), with
 //! constant radiance `emission`. A triangle's power is then `π · area · emission`.
-//! The same table will seed the particle walks of instant radiosity (DESIGN.md section 1).
+//! The same table starts the light paths of instant radiosity ([`crate::vpl`], paper 2.1) and
+//! the path tracer's next-event estimation ([`crate::path_tracer`]).
 
 use crate::sampling::{Cdf, uniform_triangle};
 use glam::{Vec2, Vec3};

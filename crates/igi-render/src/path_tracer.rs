@@ -1,7 +1,6 @@
 //! The reference path tracer (`igi render --mode path`): an unbiased estimate of the same
 //! light transport the instant-global-illumination renderer approximates, on the same
-//! [`PreparedScene`] and BVH, for ground truth in tests and image comparisons (DESIGN.md
-//! section 1, "Reference mode").
+//! [`PreparedScene`] and BVH, for ground truth in tests and image comparisons.
 //!
 //! # Physics
 //!

@@ -4,8 +4,8 @@
 //! warps from the unit square to spheres, cones and discs that start light paths.
 //!
 //! Nothing here keeps state between calls, so a pixel's samples depend only on the pixel, the
-//! sample index and the seed (DESIGN.md section 4): the image is the same whichever thread or
-//! node renders the pixel.
+//! sample index and the seed: the image is the same whichever thread or node renders the pixel
+//! (paper 3.4: tiles go to any node).
 
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;

@@ -33,7 +33,8 @@ impl AddAssign for RayCounts {
     }
 }
 
-/// The phases of a frame (DESIGN.md section 1).
+/// The phases of a frame, in the order the pipeline runs them ([`crate::tile_pipeline`];
+/// ARCHITECTURE.md, "Data flow").
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Phase {
     /// Random walks from the lights.
@@ -42,12 +43,12 @@ pub enum Phase {
     Primary,
     /// Surface shading inputs of every hit (position, normals, albedo, material).
     Shading,
-    /// Shadow rays to the VPLs and accumulation of their contributions.
-    Shadow,
     /// Mirror and glass rays.
     Specular,
     /// Bias compensation of the VPL clamp.
     Compensation,
+    /// Shadow rays to the VPLs and accumulation of their contributions.
+    Shadow,
     /// The discontinuity filter and the final multiply by the albedo.
     Filter,
     /// Luminance statistics and the mapping to display values.
@@ -60,9 +61,9 @@ impl Phase {
         Phase::VplGeneration,
         Phase::Primary,
         Phase::Shading,
-        Phase::Shadow,
         Phase::Specular,
         Phase::Compensation,
+        Phase::Shadow,
         Phase::Filter,
         Phase::ToneMap,
     ];
@@ -84,7 +85,7 @@ impl Phase {
 
 /// Time spent in each phase (summed over threads for the tile phases).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-pub struct PhaseTimes([Duration; 8]);
+pub struct PhaseTimes([Duration; Phase::ALL.len()]);
 
 impl PhaseTimes {
     /// Time of `phase`.

@@ -1,5 +1,5 @@
-//! The streaming tile pipeline of instant global illumination (paper 3.1.2; DESIGN.md
-//! section 1): one tile, breadth first. For each interleave group (VPL set s, sample j):
+//! The streaming tile pipeline of instant global illumination (paper 3.1.2; ARCHITECTURE.md,
+//! "Data flow"): one tile, breadth first. For each interleave group (VPL set s, sample j):
 //!
 //! 1. **primary**: the camera rays of the set's pixels in the tile and its apron, as 8-ray
 //!    packets of neighbouring set pixels (paper Figure 2);

@@ -1,6 +1,6 @@
 //! The inner loop of instant radiosity: for each VPL of a set, the shadow rays of all shading
 //! points of the set as 8-ray packets (any hit), and the accumulation of the contributions
-//! (paper 3.1.2; DESIGN.md section 1), eight points at a time.
+//! (paper 3.1.2), eight points at a time.
 //!
 //! What is accumulated per point is the irradiance divided by π, D = E/π, so that a
 //! Lambertian lobe of reflectance ρ_d reflects L = ρ_d·D, and for points with a glossy lobe

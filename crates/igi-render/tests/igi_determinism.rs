@@ -1,4 +1,4 @@
-//! Reproducibility of the IGI renderer (DESIGN.md section 4): a pixel depends only on the
+//! Reproducibility of the IGI renderer (paper 3.4: any node renders any tile): a pixel depends only on the
 //! scene, the [`FrameState`] and the pixel, so the image is the same bit for bit at any thread
 //! count and tile size (the filter's apron is computed exactly as in the neighbouring tile),
 //! with the filter on or off and with one or several samples per pixel. The seed (and, with

@@ -19,7 +19,7 @@ use std::sync::Arc;
 
 /// The filter window of the interleave `[n, m]` around (x, y), clipped to the image: the
 /// pixel plus (n − 1) neighbours in x split as evenly as possible (⌊(n−1)/2⌋ left), the same
-/// in y (DESIGN.md: every window holds one pixel of every VPL set).
+/// in y (paper 2.1: every window holds one pixel of every VPL set).
 fn window(x: u32, y: u32, [n, m]: [u32; 2], width: u32, height: u32) -> impl Iterator<Item = (u32, u32)> {
     let (left, right, up, down) = ((n - 1) / 2, n / 2, (m - 1) / 2, m / 2);
     let xs = x.saturating_sub(left)..=(x + right).min(width - 1);
