@@ -2,6 +2,7 @@
 //! which the compiler vectorises where the target allows. Results equal the AVX2 backend's
 //! bit for bit (including the NaN rules of `min`/`max` and the single rounding of `mul_add`).
 
+use crate::Lanes;
 use std::array::from_fn;
 use std::ops::{Add, BitAnd, BitOr, BitXor, Div, Mul, Neg, Not, Sub};
 
@@ -87,7 +88,7 @@ impl F32x8 {
     /// `self` with the sign bit of each lane flipped where `sign`'s lane is negative.
     #[inline(always)]
     pub fn xor_sign(self, sign: Self) -> Self {
-        Self(from_fn(|i| f32::from_bits(self.0[i].to_bits() ^ (sign.0[i].to_bits() & 0x8000_0000))))
+        Self(from_fn(|i| Lanes::xor_sign(self.0[i], sign.0[i])))
     }
 
     /// `self < o` per lane (false for NaN).
@@ -161,11 +162,7 @@ impl F32x8 {
     /// `cvttps2dq`).
     #[inline(always)]
     pub fn to_i32(self) -> I32x8 {
-        I32x8(self.0.map(
-            |v| {
-                if !(-2_147_483_648.0..2_147_483_648.0).contains(&v) { i32::MIN } else { v as i32 }
-            },
-        ))
+        I32x8(self.0.map(<f32 as Lanes>::to_i32))
     }
 
     /// The bits of each lane reinterpreted as `i32`.
@@ -177,7 +174,7 @@ impl F32x8 {
     /// Per lane `table[idx & 15]`.
     #[inline(always)]
     pub fn lookup16(table: &[f32; 16], idx: I32x8) -> Self {
-        Self(idx.0.map(|i| table[(i & 15) as usize]))
+        Self(idx.0.map(|i| <f32 as Lanes>::lookup16(table, i)))
     }
 }
 
@@ -288,8 +285,7 @@ impl I32x8 {
     /// Per lane `table[idx & (N - 1)]` (`N` a power of two).
     #[inline(always)]
     pub fn gather<const N: usize>(table: &[i32; N], idx: Self) -> Self {
-        const { assert!(N.is_power_of_two() && N <= 1 << 30) };
-        Self(idx.0.map(|i| table[(i & (N - 1) as i32) as usize]))
+        Self(idx.0.map(|i| <f32 as Lanes>::gather(table, i)))
     }
 
     /// The bits of each lane reinterpreted as `f32`.
