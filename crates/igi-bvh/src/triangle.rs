@@ -31,7 +31,7 @@ pub(crate) trait Shear<L: Lanes> {
 
 /// Picks (kx, ky, kz) for one ray direction.
 #[inline]
-pub(crate) fn permutation(d: Vec3) -> [usize; 3] {
+fn permutation(d: Vec3) -> [usize; 3] {
     let a = d.abs();
     let kz = if a.x >= a.y && a.x >= a.z {
         0
@@ -50,37 +50,32 @@ fn shear_of(d: Vec3, k: [usize; 3]) -> [f32; 3] {
     [d[k[0]] / d[k[2]], d[k[1]] / d[k[2]], 1.0 / d[k[2]]]
 }
 
-/// The test constants of a single ray.
+/// Test constants of rays that all share one permutation: a single ray (`L = f32`), or a packet
+/// whose active lanes do (the common case for coherent rays, where the permutation costs
+/// nothing).
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct ShearScalar {
+pub(crate) struct ShearUniform<L> {
     k: [usize; 3],
-    s: [f32; 3],
+    s: [L; 3],
 }
 
-impl ShearScalar {
+impl ShearUniform<f32> {
+    /// The test constants of one ray along `dir`.
     pub(crate) fn new(dir: Vec3) -> Self {
         let k = permutation(dir);
         Self { k, s: shear_of(dir, k) }
     }
 }
 
-impl Shear<f32> for ShearScalar {
+impl<L: Lanes> Shear<L> for ShearUniform<L> {
     #[inline(always)]
-    fn permute(&self, v: [f32; 3]) -> [f32; 3] {
+    fn permute(&self, v: [L; 3]) -> [L; 3] {
         [v[self.k[0]], v[self.k[1]], v[self.k[2]]]
     }
     #[inline(always)]
-    fn shear(&self) -> [f32; 3] {
+    fn shear(&self) -> [L; 3] {
         self.s
     }
-}
-
-/// Test constants of a packet whose active lanes all share one permutation: the common case for
-/// coherent rays, where the permutation costs nothing.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct ShearUniform8 {
-    k: [usize; 3],
-    s: [F32x8; 3],
 }
 
 /// Test constants of a packet whose lanes differ in permutation: each permuted component is
@@ -96,7 +91,7 @@ pub(crate) struct ShearMixed8 {
 /// Packet test constants, uniform or mixed.
 #[derive(Clone, Copy, Debug)]
 pub(crate) enum Shear8 {
-    Uniform(ShearUniform8),
+    Uniform(ShearUniform<F32x8>),
     Mixed(ShearMixed8),
 }
 
@@ -125,8 +120,8 @@ impl Shear8 {
             let backwards = a != 0 && neg.bitmask() & a == a;
             let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
             let k = if backwards { [ky, kx, kz] } else { [kx, ky, kz] };
-            let s = ShearUniform8 { k, s: [F32x8::ZERO; 3] };
-            return Shear8::Uniform(ShearUniform8 { s: shear_from(s.permute(d)), ..s });
+            let s = ShearUniform { k, s: [F32x8::ZERO; 3] };
+            return Shear8::Uniform(ShearUniform { s: shear_from(s.permute(d)), ..s });
         }
         let pos = !neg;
         let mut s = ShearMixed8 {
@@ -136,17 +131,6 @@ impl Shear8 {
         };
         s.s = shear_from(s.permute(d));
         Shear8::Mixed(s)
-    }
-}
-
-impl Shear<F32x8> for ShearUniform8 {
-    #[inline(always)]
-    fn permute(&self, v: [F32x8; 3]) -> [F32x8; 3] {
-        [v[self.k[0]], v[self.k[1]], v[self.k[2]]]
-    }
-    #[inline(always)]
-    fn shear(&self) -> [F32x8; 3] {
-        self.s
     }
 }
 
@@ -224,7 +208,7 @@ pub(crate) fn intersect<L: Lanes, S: Shear<L>>(
 pub fn intersect_triangle(ray: &crate::Ray, tri: [Vec3; 3]) -> Option<(f32, f32, f32)> {
     let h = intersect(
         ray.origin.to_array(),
-        &ShearScalar::new(ray.dir),
+        &ShearUniform::new(ray.dir),
         tri[0],
         tri[1],
         tri[2],

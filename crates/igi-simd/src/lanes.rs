@@ -16,6 +16,8 @@ pub trait LaneMask: Copy + BitAnd<Output = Self> + BitOr<Output = Self> + Not<Ou
     fn any(self) -> bool;
     /// Number of lanes set.
     fn count(self) -> u32;
+    /// `self & !o`.
+    fn and_not(self, o: Self) -> Self;
 }
 
 /// The operations of one `f32` or of eight lanes ([`F32x8`]), with equal results lane for lane.
@@ -75,6 +77,10 @@ impl LaneMask for bool {
     fn count(self) -> u32 {
         self as u32
     }
+    #[inline(always)]
+    fn and_not(self, o: Self) -> Self {
+        self & !o
+    }
 }
 
 impl LaneMask for M32x8 {
@@ -85,6 +91,10 @@ impl LaneMask for M32x8 {
     #[inline(always)]
     fn count(self) -> u32 {
         self.bitmask().count_ones()
+    }
+    #[inline(always)]
+    fn and_not(self, o: Self) -> Self {
+        M32x8::and_not(self, o)
     }
 }
 

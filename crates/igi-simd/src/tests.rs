@@ -161,7 +161,7 @@ fn lanes_kernel<L: Lanes>(a: L, b: L, idx: L::Int) -> ([L; 8], [L::Int; 2]) {
         a.xor_sign(b),
         L::select(a.lt(b) | a.eq(b), a, b),
         L::select(a.gt(b) & !a.ge(b), a, L::splat(2.0)),
-        L::select(a.le(b), b, L::splat(-0.0)),
+        L::select(a.le(b).and_not(a.lt(b)), b, L::splat(-0.0)),
         a.recompute(a.lt(b), [a, b], |[x, y]| x * 4.0 - y),
         L::lookup16(&grad, idx),
     ];
