@@ -161,11 +161,6 @@ impl Accel {
         self.tlas.nodes.first().map_or(Aabb::EMPTY, Node::bounds)
     }
 
-    /// The bottom-level BVH of mesh `i`.
-    pub fn mesh_bvh(&self, i: usize) -> &Bvh {
-        &self.blas[i]
-    }
-
     /// Bytes of triangle data plus all BVH nodes and the top level.
     pub fn bytes(&self) -> usize {
         self.meshes.iter().map(TriangleMesh::bytes).sum::<usize>()

@@ -202,9 +202,10 @@ pub(crate) fn intersect<L: Lanes, S: Shear<L>>(
     TriangleHit { mask, t, u: v * rcp, v: w * rcp }
 }
 
-/// The watertight test for one ray and one triangle, for callers outside the BVH (brute-force
-/// references, light sampling): the hit distance in `[ray.tnear, ray.tfar]` and the barycentric
-/// weights (u, v) of the second and third vertex. Exactly the arithmetic of the BVH kernels.
+/// The watertight test for one ray and one triangle, outside any BVH: the hit distance in
+/// `[ray.tnear, ray.tfar]` and the barycentric weights (u, v) of the second and third vertex.
+/// Exactly the arithmetic of the BVH kernels, so a brute-force loop over the triangles (the
+/// traversal tests' reference) must agree with them bit for bit.
 pub fn intersect_triangle(ray: &crate::Ray, tri: [Vec3; 3]) -> Option<(f32, f32, f32)> {
     let h = intersect(
         ray.origin.to_array(),

@@ -82,8 +82,6 @@ f32_compare! {
     ge = _CMP_GE_OQ;
     /// `self == o` per lane (false for NaN).
     eq = _CMP_EQ_OQ;
-    /// `self != o` per lane (true for NaN).
-    ne = _CMP_NEQ_UQ;
 }
 
 impl F32x8 {
@@ -151,13 +149,6 @@ impl F32x8 {
     #[inline(always)]
     pub fn reduce_max(self) -> f32 {
         reduce(self.0, |a, b| unsafe { _mm256_max_ps(a, b) })
-    }
-
-    /// Sum of the lanes (pairwise, in a fixed order).
-    #[inline(always)]
-    pub fn reduce_add(self) -> f32 {
-        let a = self.to_array();
-        ((a[0] + a[4]) + (a[2] + a[6])) + ((a[1] + a[5]) + (a[3] + a[7]))
     }
 
     /// Lanes converted to `i32`, truncating toward zero.
@@ -333,12 +324,6 @@ impl M32x8 {
     #[inline(always)]
     pub fn any(self) -> bool {
         unsafe { _mm256_testz_ps(self.0, self.0) == 0 }
-    }
-
-    /// True if every lane is set.
-    #[inline(always)]
-    pub fn all(self) -> bool {
-        self.bitmask() == 0xff
     }
 
     /// True if no lane is set.

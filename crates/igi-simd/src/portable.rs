@@ -121,12 +121,6 @@ impl F32x8 {
         M32x8(from_fn(|i| self.0[i] == o.0[i]))
     }
 
-    /// `self != o` per lane (true for NaN).
-    #[inline(always)]
-    pub fn ne(self, o: Self) -> M32x8 {
-        M32x8(from_fn(|i| self.0[i] != o.0[i]))
-    }
-
     /// Per lane: `a` where `m` is set, else `b`.
     #[inline(always)]
     pub fn select(m: M32x8, a: Self, b: Self) -> Self {
@@ -149,13 +143,6 @@ impl F32x8 {
         let m4: [f32; 4] = from_fn(|i| if a[i] > a[i + 4] { a[i] } else { a[i + 4] });
         let m2: [f32; 2] = from_fn(|i| if m4[i] > m4[i + 2] { m4[i] } else { m4[i + 2] });
         if m2[0] > m2[1] { m2[0] } else { m2[1] }
-    }
-
-    /// Sum of the lanes (pairwise, in a fixed order).
-    #[inline(always)]
-    pub fn reduce_add(self) -> f32 {
-        let a = self.0;
-        ((a[0] + a[4]) + (a[2] + a[6])) + ((a[1] + a[5]) + (a[3] + a[7]))
     }
 
     /// Lanes converted to `i32`, truncating toward zero (out of range: `i32::MIN`, as
@@ -323,12 +310,6 @@ impl M32x8 {
     #[inline(always)]
     pub fn any(self) -> bool {
         self.0.iter().any(|&b| b)
-    }
-
-    /// True if every lane is set.
-    #[inline(always)]
-    pub fn all(self) -> bool {
-        self.0.iter().all(|&b| b)
     }
 
     /// True if no lane is set.
