@@ -46,7 +46,7 @@ pub use builtin::{builtin, builtin_names};
 pub use environment::Environment;
 pub use error::{Location, SceneError};
 pub use model::CameraDefect;
-pub use model::{Bounds, Camera, Instance, Light, Material, MaterialKind, Mesh, Scene, Texture, Wrap};
+pub use model::{Camera, Instance, Light, Material, MaterialKind, Mesh, Scene, Texture, Wrap};
 pub use report::LoadReport;
 pub use resources::read_regular_file;
 pub use shader::{Pattern, ShaderDesc};
