@@ -19,7 +19,7 @@ impl Default for Aabb {
 }
 
 impl Aabb {
-    /// The empty box, identity of [`Aabb::union`].
+    /// The empty box, where [`Aabb::grow`] and [`Aabb::from_points`] start.
     pub const EMPTY: Self = Self { min: Vec3::INFINITY, max: Vec3::NEG_INFINITY };
 
     /// The box spanning two corners given in any order.
@@ -36,12 +36,6 @@ impl Aabb {
     #[inline]
     pub fn grow(self, p: Vec3) -> Self {
         Self { min: self.min.min(p), max: self.max.max(p) }
-    }
-
-    /// The smallest box containing both boxes.
-    #[inline]
-    pub fn union(self, o: Self) -> Self {
-        Self { min: self.min.min(o.min), max: self.max.max(o.max) }
     }
 
     /// True if the box contains no point.
@@ -70,11 +64,6 @@ impl Aabb {
         }
         let e = self.extent();
         e.x * e.y + e.y * e.z + e.z * e.x
-    }
-
-    /// True if `o` lies inside this box (boundaries included).
-    pub fn contains(&self, o: &Self) -> bool {
-        self.min.cmple(o.min).all() && self.max.cmpge(o.max).all()
     }
 
     /// Length of the diagonal (0 for an empty box).

@@ -12,10 +12,10 @@ use crate::build::{BuildParams, build_binned_sah};
 use crate::bvh::Bvh;
 use crate::node::Node;
 use crate::ray::{Hit, HitPacket8, INVALID_ID, Ray, RayPacket8};
-use crate::traverse::{BoxRay1, BoxRay8, Boxes8, Query1, Query8, walk1, walk8};
-use crate::triangle::{Shear, Shear8, ShearScalar, intersect};
+use crate::traverse::{BoxRay1, BoxRay8, BoxTest, Query, walk};
+use crate::triangle::{Shear, Shear8, ShearUniform, TriangleHit, intersect};
 use glam::{Affine3A, Vec3};
-use igi_simd::{F32x8, I32x8, M32x8, Vec3x8};
+use igi_simd::{F32x8, I32x8, LaneMask, Lanes, M32x8, Vec3x8};
 
 /// Triangle geometry as the acceleration structure stores it.
 #[derive(Clone, Debug, Default)]
@@ -161,11 +161,6 @@ impl Accel {
         self.tlas.nodes.first().map_or(Aabb::EMPTY, Node::bounds)
     }
 
-    /// The bottom-level BVH of mesh `i`.
-    pub fn mesh_bvh(&self, i: usize) -> &Bvh {
-        &self.blas[i]
-    }
-
     /// Bytes of triangle data plus all BVH nodes and the top level.
     pub fn bytes(&self) -> usize {
         self.meshes.iter().map(TriangleMesh::bytes).sum::<usize>()
@@ -209,83 +204,99 @@ impl Accel {
 
     /// True if anything lies on `ray` within `[tnear, tfar]` (shadow rays).
     pub fn occluded(&self, ray: &Ray) -> bool {
-        let mut q = Any1 { tfar: ray.tfar, hit: false };
+        let mut q = Any { tfar: ray.tfar, active: true };
         self.trace1(ray, &mut q);
-        q.hit
+        !q.active
     }
 
     /// The closest hits of the active lanes of `rays` (same rules as [`Accel::intersect`], lane
     /// for lane; inactive lanes report a miss).
     pub fn intersect8(&self, rays: &RayPacket8, active: M32x8) -> HitPacket8 {
-        let mut q = Closest8 {
-            t: rays.tfar,
-            u: F32x8::ZERO,
-            v: F32x8::ZERO,
-            instance: I32x8::splat(INVALID_ID as i32),
-            prim: I32x8::splat(INVALID_ID as i32),
-            active,
-        };
+        let miss = I32x8::splat(INVALID_ID as i32);
+        let hit = HitPacket8 { t: rays.tfar, u: F32x8::ZERO, v: F32x8::ZERO, instance: miss, prim: miss };
+        let mut q = Closest8 { hit, active };
         self.trace8(rays, active, &mut q);
-        HitPacket8 { t: q.t, u: q.u, v: q.v, instance: q.instance, prim: q.prim }
+        q.hit
     }
 
     /// Lanes of `rays` (among `active`) that are blocked within `[tnear, tfar]`.
     pub fn occluded8(&self, rays: &RayPacket8, active: M32x8) -> M32x8 {
-        let mut q = Any8 { tfar: rays.tfar, active };
+        let mut q = Any { tfar: rays.tfar, active };
         self.trace8(rays, active, &mut q);
         active.and_not(q.active)
     }
 
     /// One ray through both levels: the top level finds instances, each instance's BVH is
     /// walked in its object space, and the query handles the triangles of its leaves.
-    fn trace1<Q: Leaf1>(&self, ray: &Ray, q: &mut Q) {
+    fn trace1<Q: TriangleQuery<f32>>(&self, ray: &Ray, q: &mut Q) {
         let world = Local1::new(ray.origin, ray.dir, ray.tnear);
-        walk1(&self.tlas.nodes, &world.boxes, q, |q, leaf| {
-            for &inst in self.tlas_leaf(leaf) {
-                let p = &self.placements[inst as usize];
-                let local = if p.identity { world } else { world.transformed(ray, &p.world_to_object) };
-                let mesh = &self.meshes[p.mesh as usize];
-                walk1(&self.blas[p.mesh as usize].nodes, &local.boxes, q, |q, leaf| {
-                    q.triangles(mesh, &local, leaf, inst)
-                });
-                if q.done() {
+        self.walk_instances(&world.boxes, q, |q, inst, p| {
+            let local = if p.identity { world } else { world.transformed(ray, &p.world_to_object) };
+            self.walk_mesh(p.mesh, inst, &local.start, &local.shear, &local.boxes, q);
+        });
+    }
+
+    /// Eight rays through both levels, as [`Accel::trace1`]; each instance's walk is
+    /// monomorphised for the packet's kind of shear and box test.
+    fn trace8<Q: TriangleQuery<F32x8>>(&self, rays: &RayPacket8, active: M32x8, q: &mut Q) {
+        let world = Local8::new(rays.origin, rays.dir, rays.tnear, active);
+        let instance = |q: &mut Q, inst: u32, p: &Placement| {
+            let local =
+                if p.identity { world } else { world.transformed(rays, &p.world_to_object, q.active()) };
+            let start = &local.start;
+            match (&local.shear, &local.boxes) {
+                (Shear8::Uniform(s), BoxRay8::Octant(b)) => self.walk_mesh(p.mesh, inst, start, s, b, q),
+                (Shear8::Uniform(s), BoxRay8::Mixed(b)) => self.walk_mesh(p.mesh, inst, start, s, b, q),
+                (Shear8::Mixed(s), BoxRay8::Octant(b)) => self.walk_mesh(p.mesh, inst, start, s, b, q),
+                (Shear8::Mixed(s), BoxRay8::Mixed(b)) => self.walk_mesh(p.mesh, inst, start, s, b, q),
+            }
+        };
+        match &world.boxes {
+            BoxRay8::Octant(b) => self.walk_instances(b, q, instance),
+            BoxRay8::Mixed(b) => self.walk_instances(b, q, instance),
+        }
+    }
+
+    /// Walks the top level and hands each instance of every leaf reached to `instance`, with
+    /// its placement, until no ray is left active.
+    #[inline(always)]
+    fn walk_instances<L: Lanes, Q: Query<L>, B: BoxTest<L>>(
+        &self,
+        boxes: &B,
+        q: &mut Q,
+        mut instance: impl FnMut(&mut Q, u32, &Placement),
+    ) {
+        walk(&self.tlas.nodes, boxes, q, |q, leaf| {
+            for &inst in &self.tlas.prim_order[leaf.offset as usize..(leaf.offset + leaf.count) as usize] {
+                instance(q, inst, &self.placements[inst as usize]);
+                if !q.active().any() {
                     return;
                 }
             }
         });
     }
 
-    /// Eight rays through both levels, as [`Accel::trace1`]; each instance's walk is
-    /// monomorphised for the packet's kind of shear and box test.
-    fn trace8<Q: Leaf8>(&self, rays: &RayPacket8, active: M32x8, q: &mut Q) {
-        let world = Local8::new(rays.origin, rays.dir, rays.tnear, active);
-        let tlas = |q: &mut Q, leaf: &Node| {
-            for &inst in self.tlas_leaf(leaf) {
-                let p = &self.placements[inst as usize];
-                let local =
-                    if p.identity { world } else { world.transformed(rays, &p.world_to_object, q.active()) };
-                let (mesh, nodes) = (&self.meshes[p.mesh as usize], &self.blas[p.mesh as usize].nodes);
-                match (&local.shear, &local.boxes) {
-                    (Shear8::Uniform(s), BoxRay8::Octant(b)) => blas8(nodes, mesh, &local, s, b, inst, q),
-                    (Shear8::Uniform(s), BoxRay8::Mixed(b)) => blas8(nodes, mesh, &local, s, b, inst, q),
-                    (Shear8::Mixed(s), BoxRay8::Octant(b)) => blas8(nodes, mesh, &local, s, b, inst, q),
-                    (Shear8::Mixed(s), BoxRay8::Mixed(b)) => blas8(nodes, mesh, &local, s, b, inst, q),
-                }
-                if q.active().none() {
+    /// Walks the bottom-level BVH of `mesh`, placed as instance `inst`, with rays in its object
+    /// space, and tests the triangles of every leaf reached until the query has its answer.
+    #[inline(always)]
+    fn walk_mesh<L: Lanes, Q: TriangleQuery<L>, S: Shear<L>, B: BoxTest<L>>(
+        &self,
+        mesh: u32,
+        inst: u32,
+        start: &RayStart<L>,
+        shear: &S,
+        boxes: &B,
+        q: &mut Q,
+    ) {
+        let triangles = &self.meshes[mesh as usize];
+        walk(&self.blas[mesh as usize].nodes, boxes, q, |q, leaf| {
+            for prim in leaf.offset..leaf.offset + leaf.count {
+                let [a, b, c] = triangles.triangle(prim);
+                if !q.take(intersect(start.org, shear, a, b, c, start.tnear, q.tfar()), inst, prim) {
                     return;
                 }
             }
-        };
-        match &world.boxes {
-            BoxRay8::Octant(b) => walk8(&self.tlas.nodes, b, q, tlas),
-            BoxRay8::Mixed(b) => walk8(&self.tlas.nodes, b, q, tlas),
-        }
-    }
-
-    /// Instances referenced by a top-level leaf.
-    #[inline(always)]
-    fn tlas_leaf(&self, leaf: &Node) -> &[u32] {
-        &self.tlas.prim_order[leaf.offset as usize..(leaf.offset + leaf.count) as usize]
+        });
     }
 }
 
@@ -295,17 +306,29 @@ fn closer(t: f32, inst: u32, prim: u32, best: &Hit) -> bool {
     t < best.t || (t == best.t && (inst, prim) < (best.instance, best.prim))
 }
 
+/// Where rays start in one instance's object space, as the triangle test takes them: the
+/// origins and the smallest accepted distance.
+#[derive(Clone, Copy)]
+struct RayStart<L> {
+    org: [L; 3],
+    tnear: L,
+}
+
 /// A single ray in one instance's object space, ready for box and triangle tests.
 #[derive(Clone, Copy)]
 struct Local1 {
-    org: [f32; 3],
-    shear: ShearScalar,
+    start: RayStart<f32>,
+    shear: ShearUniform<f32>,
     boxes: BoxRay1,
 }
 
 impl Local1 {
     fn new(org: Vec3, dir: Vec3, tnear: f32) -> Self {
-        Self { org: org.to_array(), shear: ShearScalar::new(dir), boxes: BoxRay1::new(org, dir, tnear) }
+        Self {
+            start: RayStart { org: org.to_array(), tnear },
+            shear: ShearUniform::new(dir),
+            boxes: BoxRay1::new(org, dir, tnear),
+        }
     }
 
     /// The ray in the space of `world_to_object`. Directions are not renormalised, so
@@ -319,75 +342,10 @@ impl Local1 {
     }
 }
 
-struct Closest1 {
-    hit: Hit,
-}
-
-impl Query1 for Closest1 {
-    const SHRINKS: bool = true;
-    #[inline(always)]
-    fn tfar(&self) -> f32 {
-        self.hit.t
-    }
-    #[inline(always)]
-    fn done(&self) -> bool {
-        false
-    }
-}
-
-struct Any1 {
-    tfar: f32,
-    hit: bool,
-}
-
-impl Query1 for Any1 {
-    const SHRINKS: bool = false;
-    #[inline(always)]
-    fn tfar(&self) -> f32 {
-        self.tfar
-    }
-    #[inline(always)]
-    fn done(&self) -> bool {
-        self.hit
-    }
-}
-
-/// A single-ray query's handling of one leaf's triangles.
-trait Leaf1: Query1 {
-    fn triangles(&mut self, mesh: &TriangleMesh, local: &Local1, leaf: &Node, inst: u32);
-}
-
-impl Leaf1 for Closest1 {
-    #[inline(always)]
-    fn triangles(&mut self, mesh: &TriangleMesh, local: &Local1, leaf: &Node, inst: u32) {
-        for prim in leaf.offset..leaf.offset + leaf.count {
-            let [a, b, c] = mesh.triangle(prim);
-            let h = intersect(local.org, &local.shear, a, b, c, local.boxes.tnear, self.hit.t);
-            if h.mask && closer(h.t, inst, prim, &self.hit) {
-                self.hit = Hit { t: h.t, u: h.u, v: h.v, instance: inst, prim };
-            }
-        }
-    }
-}
-
-impl Leaf1 for Any1 {
-    #[inline(always)]
-    fn triangles(&mut self, mesh: &TriangleMesh, local: &Local1, leaf: &Node, _inst: u32) {
-        for prim in leaf.offset..leaf.offset + leaf.count {
-            let [a, b, c] = mesh.triangle(prim);
-            if intersect(local.org, &local.shear, a, b, c, local.boxes.tnear, self.tfar).mask {
-                self.hit = true;
-                return;
-            }
-        }
-    }
-}
-
 /// Eight rays in one instance's object space.
 #[derive(Clone, Copy)]
 struct Local8 {
-    org: [F32x8; 3],
-    tnear: F32x8,
+    start: RayStart<F32x8>,
     shear: Shear8,
     boxes: BoxRay8,
 }
@@ -395,8 +353,7 @@ struct Local8 {
 impl Local8 {
     fn new(org: Vec3x8, dir: Vec3x8, tnear: F32x8, active: M32x8) -> Self {
         Self {
-            org: [org.x, org.y, org.z],
-            tnear,
+            start: RayStart { org: org.into(), tnear },
             shear: Shear8::new(&dir, active),
             boxes: BoxRay8::new(&org, &dir, tnear, active),
         }
@@ -419,119 +376,104 @@ impl Local8 {
     }
 }
 
-struct Closest8 {
-    t: F32x8,
-    u: F32x8,
-    v: F32x8,
-    instance: I32x8,
-    prim: I32x8,
-    active: M32x8,
+/// A query's use of triangle tests, for one ray (`L = f32`) or a packet (`L = F32x8`).
+trait TriangleQuery<L: Lanes>: Query<L> {
+    /// Takes the test of the rays against triangle `prim` of instance `inst`; false once the
+    /// query has its answer.
+    fn take(&mut self, h: TriangleHit<L>, inst: u32, prim: u32) -> bool;
 }
 
-impl Query8 for Closest8 {
-    const SHRINKS: bool = true;
-    #[inline(always)]
-    fn tfar(&self) -> F32x8 {
-        self.t
-    }
-    #[inline(always)]
-    fn active(&self) -> M32x8 {
-        self.active
-    }
+/// The any-hit query (shadow rays): the rays not yet blocked.
+struct Any<L: Lanes> {
+    tfar: L,
+    active: L::Mask,
 }
 
-struct Any8 {
-    tfar: F32x8,
-    active: M32x8,
-}
-
-impl Query8 for Any8 {
+impl<L: Lanes> Query<L> for Any<L> {
     const SHRINKS: bool = false;
     #[inline(always)]
-    fn tfar(&self) -> F32x8 {
+    fn tfar(&self) -> L {
         self.tfar
     }
     #[inline(always)]
+    fn active(&self) -> L::Mask {
+        self.active
+    }
+}
+
+impl<L: Lanes> TriangleQuery<L> for Any<L> {
+    #[inline(always)]
+    fn take(&mut self, h: TriangleHit<L>, _inst: u32, _prim: u32) -> bool {
+        // No branch on the hit mask: whether a packet hits a triangle is hard to predict, and
+        // the branch cost 7 % of the shadow-packet throughput on the Cornell box.
+        self.active = self.active.and_not(h.mask);
+        self.active.any()
+    }
+}
+
+/// The closest-hit query of one ray.
+struct Closest1 {
+    hit: Hit,
+}
+
+impl Query<f32> for Closest1 {
+    const SHRINKS: bool = true;
+    #[inline(always)]
+    fn tfar(&self) -> f32 {
+        self.hit.t
+    }
+    #[inline(always)]
+    fn active(&self) -> bool {
+        true
+    }
+}
+
+impl TriangleQuery<f32> for Closest1 {
+    #[inline(always)]
+    fn take(&mut self, h: TriangleHit<f32>, inst: u32, prim: u32) -> bool {
+        if h.mask && closer(h.t, inst, prim, &self.hit) {
+            self.hit = Hit { t: h.t, u: h.u, v: h.v, instance: inst, prim };
+        }
+        true
+    }
+}
+
+/// The closest-hit query of a packet: the best hits so far of the `active` lanes.
+struct Closest8 {
+    hit: HitPacket8,
+    active: M32x8,
+}
+
+impl Query<F32x8> for Closest8 {
+    const SHRINKS: bool = true;
+    #[inline(always)]
+    fn tfar(&self) -> F32x8 {
+        self.hit.t
+    }
+    #[inline(always)]
     fn active(&self) -> M32x8 {
         self.active
     }
 }
 
-/// A packet query's handling of one leaf's triangles.
-trait Leaf8: Query8 {
-    fn triangles<S: Shear<F32x8>>(
-        &mut self,
-        mesh: &TriangleMesh,
-        local: &Local8,
-        shear: &S,
-        leaf: &Node,
-        inst: u32,
-    );
-}
-
-/// Walks one bottom-level BVH with a packet.
-#[inline(always)]
-fn blas8<Q: Leaf8, S: Shear<F32x8>, B: Boxes8>(
-    nodes: &[Node],
-    mesh: &TriangleMesh,
-    local: &Local8,
-    shear: &S,
-    boxes: &B,
-    inst: u32,
-    q: &mut Q,
-) {
-    walk8(nodes, boxes, q, |q, leaf| q.triangles(mesh, local, shear, leaf, inst));
-}
-
-impl Leaf8 for Closest8 {
+impl TriangleQuery<F32x8> for Closest8 {
     #[inline(always)]
-    fn triangles<S: Shear<F32x8>>(
-        &mut self,
-        mesh: &TriangleMesh,
-        local: &Local8,
-        shear: &S,
-        leaf: &Node,
-        inst: u32,
-    ) {
-        let inst_v = I32x8::splat(inst as i32);
-        for prim in leaf.offset..leaf.offset + leaf.count {
-            let [a, b, c] = mesh.triangle(prim);
-            let h = intersect(local.org, shear, a, b, c, local.tnear, self.t);
-            let prim_v = I32x8::splat(prim as i32);
-            // The tie rule of `closer`, lane by lane: ids compare as unsigned, and INVALID_ID
-            // (-1 as i32) is the largest.
-            let tie = h.t.eq(self.t)
-                & (lt_u32(inst_v, self.instance) | (inst_v.eq(self.instance) & lt_u32(prim_v, self.prim)));
-            let take = h.mask & self.active & (h.t.lt(self.t) | tie);
-            if take.any() {
-                self.t = F32x8::select(take, h.t, self.t);
-                self.u = F32x8::select(take, h.u, self.u);
-                self.v = F32x8::select(take, h.v, self.v);
-                self.instance = I32x8::select(take, inst_v, self.instance);
-                self.prim = I32x8::select(take, prim_v, self.prim);
-            }
+    fn take(&mut self, h: TriangleHit<F32x8>, inst: u32, prim: u32) -> bool {
+        let best = &mut self.hit;
+        let (inst, prim) = (I32x8::splat(inst as i32), I32x8::splat(prim as i32));
+        // The tie rule of `closer`, lane by lane: ids compare as unsigned, and INVALID_ID
+        // (-1 as i32) is the largest.
+        let tie = h.t.eq(best.t)
+            & (lt_u32(inst, best.instance) | (inst.eq(best.instance) & lt_u32(prim, best.prim)));
+        let take = h.mask & self.active & (h.t.lt(best.t) | tie);
+        if take.any() {
+            best.t = F32x8::select(take, h.t, best.t);
+            best.u = F32x8::select(take, h.u, best.u);
+            best.v = F32x8::select(take, h.v, best.v);
+            best.instance = I32x8::select(take, inst, best.instance);
+            best.prim = I32x8::select(take, prim, best.prim);
         }
-    }
-}
-
-impl Leaf8 for Any8 {
-    #[inline(always)]
-    fn triangles<S: Shear<F32x8>>(
-        &mut self,
-        mesh: &TriangleMesh,
-        local: &Local8,
-        shear: &S,
-        leaf: &Node,
-        _inst: u32,
-    ) {
-        for prim in leaf.offset..leaf.offset + leaf.count {
-            let [a, b, c] = mesh.triangle(prim);
-            let h = intersect(local.org, shear, a, b, c, local.tnear, self.tfar);
-            self.active = self.active.and_not(h.mask);
-            if self.active.none() {
-                return;
-            }
-        }
+        true
     }
 }
 

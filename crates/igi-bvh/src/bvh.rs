@@ -8,8 +8,8 @@ use crate::node::Node;
 /// [`build_sweep_sah`](crate::build::build_sweep_sah).
 ///
 /// Invariants, relied on by the traversal kernels and by [`Bvh::refit`]:
-/// - An empty BVH (no primitives) has no nodes at all: traversal must check
-///   [`Bvh::is_empty`] (or `nodes.is_empty()`) before reading the root.
+/// - An empty BVH (no primitives) has no nodes at all: traversal must check `nodes.is_empty()`
+///   before reading the root.
 /// - Otherwise node 0 is the root. A BVH over one primitive is a single leaf.
 /// - The children of inner node `i` are `offset` and `offset + 1`, and `offset > i`: children
 ///   always come after their parent. Nodes are laid out depth first, so the nodes of the left
@@ -31,11 +31,6 @@ pub struct Bvh {
 }
 
 impl Bvh {
-    /// True if the BVH has no primitives (and no nodes).
-    pub fn is_empty(&self) -> bool {
-        self.nodes.is_empty()
-    }
-
     /// The SAH cost of the tree (MacDonald & Booth 1990): the expected cost of a ray that hits
     /// the root box, `Σ_inner C_trav A(n)/A(root) + Σ_leaves C_isect count(n) A(n)/A(root)`
     /// with the costs of `params`. Zero for an empty BVH. If the root box has no area (all

@@ -114,15 +114,4 @@ impl HitPacket8 {
     pub fn hit_mask(&self) -> M32x8 {
         !self.prim.eq(I32x8::splat(INVALID_ID as i32))
     }
-
-    /// Lane `i` as a single hit record.
-    pub fn hit(&self, i: usize) -> Hit {
-        Hit {
-            t: self.t.lane(i),
-            u: self.u.lane(i),
-            v: self.v.lane(i),
-            instance: self.instance.lane(i) as u32,
-            prim: self.prim.lane(i) as u32,
-        }
-    }
 }

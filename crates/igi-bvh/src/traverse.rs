@@ -1,13 +1,15 @@
 //! Depth-first BVH traversal for one ray and for 8-ray packets: the walk over the node array,
 //! shared by the top level (instances) and the bottom level (triangles) of [`crate::Accel`].
 //!
-//! Both walkers visit the nearer child first (closest-hit queries; any-hit queries use a fixed
-//! order, see `walk8`) and keep the other on a small stack together with
+//! One walker, [`walk`], written over [`Lanes`] (as the triangle test is), serves both: a single
+//! ray is a packet of one lane. It visits the nearer child first (closest-hit queries; any-hit
+//! queries use a fixed order, see [`walk`]) and keeps the other on a small stack together with
 //! its entry distance, so that a subtree beyond the closest hit found so far is dropped when it
-//! is popped (the interval early-out). The packet walker tests both child boxes against all
-//! eight rays at once (one SIMD slab test per box), descends while any active ray hits, orders
-//! children by the majority of rays (Wald et al. 2001, Embree's hybrid traversal), and stops as
-//! soon as no ray is left active (any-hit queries).
+//! is popped (the interval early-out). A packet tests both child boxes against all eight rays at
+//! once (one SIMD slab test per box), descends while any active ray hits, orders children by
+//! the majority of rays (Wald et al. 2001, Embree's hybrid traversal), and stops as soon as no
+//! ray is left active (any-hit queries). For one lane the majority is the ray itself, so the
+//! single-ray walk is the classic near-first traversal with no extra work.
 //!
 //! Box tests follow Ize, "Robust BVH Ray Traversal" (JCGT 2(2), 2013): slab distances are
 //! computed as (b - o) · (1/d) and the exit distance is enlarged by 1 + 2γ₃, so a box is never
@@ -16,7 +18,7 @@
 
 use crate::node::Node;
 use glam::Vec3;
-use igi_simd::{F32x8, M32x8, Vec3x8};
+use igi_simd::{F32x8, LaneMask, Lanes, M32x8, Vec3x8};
 
 /// Maximum BVH depth the fixed traversal stacks allow; the builders never exceed it.
 pub const MAX_DEPTH: usize = 64;
@@ -46,94 +48,27 @@ impl BoxRay1 {
     pub(crate) fn new(org: Vec3, dir: Vec3, tnear: f32) -> Self {
         Self { org, inv: Vec3::new(safe_rcp(dir.x), safe_rcp(dir.y), safe_rcp(dir.z)), tnear }
     }
+}
 
-    /// Entry distance into `n`'s box if the ray overlaps it within `[tnear, tfar]`.
+impl BoxTest<f32> for BoxRay1 {
     #[inline(always)]
-    fn enter(&self, n: &Node, tfar: f32) -> Option<f32> {
+    fn enter(&self, n: &Node, tfar: f32) -> (bool, f32) {
         let t0 = (Vec3::from(n.min) - self.org) * self.inv;
         let t1 = (Vec3::from(n.max) - self.org) * self.inv;
         let tmin = t0.min(t1).max_element().max(self.tnear);
         let tmax = t0.max(t1).min_element().min(tfar) * EXIT_SCALE;
-        (tmin <= tmax).then_some(tmin)
+        (tmin <= tmax, tmin)
     }
 }
 
-/// What a single-ray walk needs from its query.
-pub(crate) trait Query1 {
-    /// True if `tfar` shrinks during the walk (closest hit); any-hit queries visit children in
-    /// a fixed order (see `walk8`).
-    const SHRINKS: bool;
-    /// Current end of the ray's interval (shrinks as closer hits are found).
-    fn tfar(&self) -> f32;
-    /// True once the query has its answer (any-hit found).
-    fn done(&self) -> bool;
-}
-
-/// Walks `nodes` with one ray, calling `leaf` for every leaf the ray reaches.
-#[inline(always)]
-pub(crate) fn walk1<Q: Query1>(
-    nodes: &[Node],
-    ray: &BoxRay1,
-    q: &mut Q,
-    mut leaf: impl FnMut(&mut Q, &Node),
-) {
-    let Some(root) = nodes.first() else { return };
-    if ray.enter(root, q.tfar()).is_none() {
-        return;
-    }
-    let mut stack = [(0u32, 0f32); MAX_DEPTH];
-    let mut sp = 0;
-    let mut node = root;
-    loop {
-        if node.is_leaf() {
-            leaf(q, node);
-            if q.done() {
-                return;
-            }
-        } else {
-            let (l, r) = (&nodes[node.offset as usize], &nodes[node.offset as usize + 1]);
-            let tfar = q.tfar();
-            match (ray.enter(l, tfar), ray.enter(r, tfar)) {
-                (Some(tl), Some(tr)) => {
-                    let (near, far, tfar_entry) =
-                        if !Q::SHRINKS || tl <= tr { (l, node.offset + 1, tr) } else { (r, node.offset, tl) };
-                    stack[sp] = (far, tfar_entry);
-                    sp += 1;
-                    node = near;
-                    continue;
-                }
-                (Some(_), None) => {
-                    node = l;
-                    continue;
-                }
-                (None, Some(_)) => {
-                    node = r;
-                    continue;
-                }
-                (None, None) => {}
-            }
-        }
-        loop {
-            if sp == 0 {
-                return;
-            }
-            sp -= 1;
-            let (n, entry) = stack[sp];
-            if entry <= q.tfar() * EXIT_SCALE {
-                node = &nodes[n as usize];
-                break;
-            }
-        }
-    }
-}
-
-/// Box tests for eight rays. Two implementations: [`OctantBoxes8`] when the active rays'
-/// directions share their signs on every axis (nearly always for coherent packets: primary
-/// rays of a tile, shadow rays of neighbouring pixels to one VPL), which reads each slab's near
-/// and far plane directly, and [`MixedBoxes8`] otherwise, which orders the planes per lane.
-pub(crate) trait Boxes8: Copy {
+/// A ray or packet prepared for box tests: [`BoxRay1`] for one ray; for eight, [`OctantBoxes8`]
+/// when the active rays' directions share their signs on every axis (nearly always for coherent
+/// packets: primary rays of a tile, shadow rays of neighbouring pixels to one VPL), which reads
+/// each slab's near and far plane directly, and [`MixedBoxes8`] otherwise, which orders the
+/// planes per lane.
+pub(crate) trait BoxTest<L: Lanes>: Copy {
     /// Lanes overlapping `n`'s box within `[tnear, tfar]`, and their entry distances.
-    fn enter(&self, n: &Node, tfar: F32x8) -> (M32x8, F32x8);
+    fn enter(&self, n: &Node, tfar: L) -> (L::Mask, L);
 }
 
 /// Origins, safe reciprocal directions and `tnear` of eight rays.
@@ -173,7 +108,7 @@ impl BoxRay8 {
         let tiny = F32x8::splat(SAFE_RCP_TINY);
         let rcp = |d: F32x8| F32x8::splat(1.0) / F32x8::select(d.abs().lt(tiny), tiny.xor_sign(d), d);
         let inv = [rcp(dir.x), rcp(dir.y), rcp(dir.z)];
-        let s = Slabs8 { org: [org.x, org.y, org.z], inv, tnear };
+        let s = Slabs8 { org: (*org).into(), inv, tnear };
         let neg = inv.map(|i| i.lt(F32x8::ZERO));
         let active_bits = active.bitmask();
         let octant = neg.map(|n| {
@@ -205,7 +140,7 @@ impl Slabs8 {
     }
 }
 
-impl Boxes8 for OctantBoxes8 {
+impl BoxTest<F32x8> for OctantBoxes8 {
     #[inline(always)]
     fn enter(&self, n: &Node, tfar: F32x8) -> (M32x8, F32x8) {
         let c = n.coords();
@@ -216,7 +151,7 @@ impl Boxes8 for OctantBoxes8 {
     }
 }
 
-impl Boxes8 for MixedBoxes8 {
+impl BoxTest<F32x8> for MixedBoxes8 {
     #[inline(always)]
     fn enter(&self, n: &Node, tfar: F32x8) -> (M32x8, F32x8) {
         let lo: [F32x8; 3] = std::array::from_fn(|a| self.s.dist(n.min[a], a));
@@ -227,21 +162,21 @@ impl Boxes8 for MixedBoxes8 {
     }
 }
 
-/// What a packet walk needs from its query.
-pub(crate) trait Query8 {
+/// What a walk needs from its query, for one ray (`L = f32`) or a packet (`L = F32x8`).
+pub(crate) trait Query<L: Lanes> {
     /// True if `tfar` shrinks during the walk (closest hit), so that subtrees on the stack may
     /// become too far to visit; any-hit queries skip that bookkeeping.
     const SHRINKS: bool;
     /// Current ends of the rays' intervals.
-    fn tfar(&self) -> F32x8;
+    fn tfar(&self) -> L;
     /// Rays still looking for an answer.
-    fn active(&self) -> M32x8;
+    fn active(&self) -> L::Mask;
 }
 
-/// Walks `nodes` with eight rays, calling `leaf` for every leaf that any active ray reaches.
-/// Returns early when no ray is left active.
+/// Walks `nodes` with one ray or eight, calling `leaf` for every leaf that any active ray
+/// reaches. Returns early when no ray is left active.
 #[inline(always)]
-pub(crate) fn walk8<Q: Query8, B: Boxes8>(
+pub(crate) fn walk<L: Lanes, Q: Query<L>, B: BoxTest<L>>(
     nodes: &[Node],
     ray: &B,
     q: &mut Q,
@@ -249,7 +184,7 @@ pub(crate) fn walk8<Q: Query8, B: Boxes8>(
 ) {
     let Some(root) = nodes.first() else { return };
     let (m, _) = ray.enter(root, q.tfar());
-    if (m & q.active()).none() {
+    if !(m & q.active()).any() {
         return;
     }
     let mut stack = [(0u32, 0f32); MAX_DEPTH];
@@ -258,7 +193,7 @@ pub(crate) fn walk8<Q: Query8, B: Boxes8>(
     loop {
         if node.is_leaf() {
             leaf(q, node);
-            if q.active().none() {
+            if !q.active().any() {
                 return;
             }
         } else {
@@ -276,12 +211,11 @@ pub(crate) fn walk8<Q: Query8, B: Boxes8>(
                     // on the IGI workload the fixed order is 10-20 % faster (`igi bench rays`,
                     // Sponza and conference).
                     let both = ml & mr;
-                    let left_nearer = (tl.le(tr) & both).bitmask().count_ones();
-                    let left_first = !Q::SHRINKS || 2 * left_nearer >= both.bitmask().count_ones();
+                    let left_first = !Q::SHRINKS || 2 * (tl.le(tr) & both).count() >= both.count();
                     let (near, far, far_m, far_t) =
                         if left_first { (l, node.offset + 1, mr, tr) } else { (r, node.offset, ml, tl) };
                     let entry = if Q::SHRINKS {
-                        F32x8::select(far_m, far_t, F32x8::splat(f32::INFINITY)).reduce_min()
+                        L::select(far_m, far_t, L::splat(f32::INFINITY)).reduce_min()
                     } else {
                         f32::NEG_INFINITY
                     };
@@ -309,8 +243,7 @@ pub(crate) fn walk8<Q: Query8, B: Boxes8>(
             let (n, entry) = stack[sp];
             if !Q::SHRINKS
                 || entry
-                    <= F32x8::select(q.active(), q.tfar(), F32x8::splat(f32::NEG_INFINITY)).reduce_max()
-                        * EXIT_SCALE
+                    <= L::select(q.active(), q.tfar(), L::splat(f32::NEG_INFINITY)).reduce_max() * EXIT_SCALE
             {
                 node = &nodes[n as usize];
                 break;

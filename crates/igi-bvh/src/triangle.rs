@@ -1,5 +1,5 @@
 //! The watertight ray-triangle test of Woop, Benthin and Wald, "Watertight Ray/Triangle
-//! Intersection" (JCGT 2(1), 2013), written once for any lane type so that the single-ray
+//! Intersection" (JCGT 2(1), 2013), written once over [`Lanes`] so that the single-ray
 //! kernel (`f32`) and the 8-ray packet kernel ([`F32x8`]) perform exactly the same floating-point
 //! operations and agree bit for bit.
 //!
@@ -10,119 +10,13 @@
 //! of exactly zero are recomputed in double precision, as the paper prescribes.
 
 use glam::Vec3;
-use igi_simd::{F32x8, M32x8, Vec3x8};
-use std::ops::{Add, BitAnd, BitOr, Div, Mul, Not, Sub};
+use igi_simd::{F32x8, LaneMask, Lanes, M32x8, Vec3x8};
 
-/// A lane type the triangle test runs on: `f32` for one ray, [`F32x8`] for eight.
-pub(crate) trait Lanes:
-    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self>
-{
-    /// One flag per lane.
-    type Mask: Copy + BitAnd<Output = Self::Mask> + BitOr<Output = Self::Mask> + Not<Output = Self::Mask>;
-    fn splat(v: f32) -> Self;
-    /// `self * b + c` with one rounding (identical for `f32` and `F32x8`).
-    fn mul_add(self, b: Self, c: Self) -> Self;
-    fn lt(self, o: Self) -> Self::Mask;
-    fn gt(self, o: Self) -> Self::Mask;
-    fn le(self, o: Self) -> Self::Mask;
-    fn ge(self, o: Self) -> Self::Mask;
-    fn eq(self, o: Self) -> Self::Mask;
-    fn any(m: Self::Mask) -> bool;
-    /// Recomputes `bx * ay - by * ax` in double precision in the lanes of `m`.
-    fn edge_f64(e: Self, m: Self::Mask, ax: Self, ay: Self, bx: Self, by: Self) -> Self;
-}
-
-/// `bx * ay - by * ax` in double precision, rounded once to `f32`.
+/// `bx * ay - by * ax` in double precision, rounded once to `f32`: the edge function where its
+/// single-precision value is exactly zero (module documentation).
 #[inline]
-fn edge_f64_scalar(ax: f32, ay: f32, bx: f32, by: f32) -> f32 {
+fn edge_f64([ax, ay, bx, by]: [f32; 4]) -> f32 {
     (bx as f64 * ay as f64 - by as f64 * ax as f64) as f32
-}
-
-impl Lanes for f32 {
-    type Mask = bool;
-    #[inline(always)]
-    fn splat(v: f32) -> Self {
-        v
-    }
-    #[inline(always)]
-    fn mul_add(self, b: Self, c: Self) -> Self {
-        f32::mul_add(self, b, c)
-    }
-    #[inline(always)]
-    fn lt(self, o: Self) -> bool {
-        self < o
-    }
-    #[inline(always)]
-    fn gt(self, o: Self) -> bool {
-        self > o
-    }
-    #[inline(always)]
-    fn le(self, o: Self) -> bool {
-        self <= o
-    }
-    #[inline(always)]
-    fn ge(self, o: Self) -> bool {
-        self >= o
-    }
-    #[inline(always)]
-    fn eq(self, o: Self) -> bool {
-        self == o
-    }
-    #[inline(always)]
-    fn any(m: bool) -> bool {
-        m
-    }
-    #[inline(always)]
-    fn edge_f64(e: f32, m: bool, ax: f32, ay: f32, bx: f32, by: f32) -> f32 {
-        if m { edge_f64_scalar(ax, ay, bx, by) } else { e }
-    }
-}
-
-impl Lanes for F32x8 {
-    type Mask = M32x8;
-    #[inline(always)]
-    fn splat(v: f32) -> Self {
-        F32x8::splat(v)
-    }
-    #[inline(always)]
-    fn mul_add(self, b: Self, c: Self) -> Self {
-        F32x8::mul_add(self, b, c)
-    }
-    #[inline(always)]
-    fn lt(self, o: Self) -> M32x8 {
-        F32x8::lt(self, o)
-    }
-    #[inline(always)]
-    fn gt(self, o: Self) -> M32x8 {
-        F32x8::gt(self, o)
-    }
-    #[inline(always)]
-    fn le(self, o: Self) -> M32x8 {
-        F32x8::le(self, o)
-    }
-    #[inline(always)]
-    fn ge(self, o: Self) -> M32x8 {
-        F32x8::ge(self, o)
-    }
-    #[inline(always)]
-    fn eq(self, o: Self) -> M32x8 {
-        F32x8::eq(self, o)
-    }
-    #[inline(always)]
-    fn any(m: M32x8) -> bool {
-        m.any()
-    }
-    #[cold]
-    fn edge_f64(e: Self, m: M32x8, ax: Self, ay: Self, bx: Self, by: Self) -> Self {
-        let (mut r, ax, ay, bx, by) =
-            (e.to_array(), ax.to_array(), ay.to_array(), bx.to_array(), by.to_array());
-        for i in 0..8 {
-            if m.lane(i) {
-                r[i] = edge_f64_scalar(ax[i], ay[i], bx[i], by[i]);
-            }
-        }
-        F32x8::from_array(r)
-    }
 }
 
 /// The per-ray constants of the test: the permutation (kx, ky, kz) that makes z the dominant
@@ -137,7 +31,7 @@ pub(crate) trait Shear<L: Lanes> {
 
 /// Picks (kx, ky, kz) for one ray direction.
 #[inline]
-pub(crate) fn permutation(d: Vec3) -> [usize; 3] {
+fn permutation(d: Vec3) -> [usize; 3] {
     let a = d.abs();
     let kz = if a.x >= a.y && a.x >= a.z {
         0
@@ -156,37 +50,32 @@ fn shear_of(d: Vec3, k: [usize; 3]) -> [f32; 3] {
     [d[k[0]] / d[k[2]], d[k[1]] / d[k[2]], 1.0 / d[k[2]]]
 }
 
-/// The test constants of a single ray.
+/// Test constants of rays that all share one permutation: a single ray (`L = f32`), or a packet
+/// whose active lanes do (the common case for coherent rays, where the permutation costs
+/// nothing).
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct ShearScalar {
+pub(crate) struct ShearUniform<L> {
     k: [usize; 3],
-    s: [f32; 3],
+    s: [L; 3],
 }
 
-impl ShearScalar {
+impl ShearUniform<f32> {
+    /// The test constants of one ray along `dir`.
     pub(crate) fn new(dir: Vec3) -> Self {
         let k = permutation(dir);
         Self { k, s: shear_of(dir, k) }
     }
 }
 
-impl Shear<f32> for ShearScalar {
+impl<L: Lanes> Shear<L> for ShearUniform<L> {
     #[inline(always)]
-    fn permute(&self, v: [f32; 3]) -> [f32; 3] {
+    fn permute(&self, v: [L; 3]) -> [L; 3] {
         [v[self.k[0]], v[self.k[1]], v[self.k[2]]]
     }
     #[inline(always)]
-    fn shear(&self) -> [f32; 3] {
+    fn shear(&self) -> [L; 3] {
         self.s
     }
-}
-
-/// Test constants of a packet whose active lanes all share one permutation: the common case for
-/// coherent rays, where the permutation costs nothing.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct ShearUniform8 {
-    k: [usize; 3],
-    s: [F32x8; 3],
 }
 
 /// Test constants of a packet whose lanes differ in permutation: each permuted component is
@@ -202,7 +91,7 @@ pub(crate) struct ShearMixed8 {
 /// Packet test constants, uniform or mixed.
 #[derive(Clone, Copy, Debug)]
 pub(crate) enum Shear8 {
-    Uniform(ShearUniform8),
+    Uniform(ShearUniform<F32x8>),
     Mixed(ShearMixed8),
 }
 
@@ -231,8 +120,8 @@ impl Shear8 {
             let backwards = a != 0 && neg.bitmask() & a == a;
             let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
             let k = if backwards { [ky, kx, kz] } else { [kx, ky, kz] };
-            let s = ShearUniform8 { k, s: [F32x8::ZERO; 3] };
-            return Shear8::Uniform(ShearUniform8 { s: shear_from(s.permute(d)), ..s });
+            let s = ShearUniform { k, s: [F32x8::ZERO; 3] };
+            return Shear8::Uniform(ShearUniform { s: shear_from(s.permute(d)), ..s });
         }
         let pos = !neg;
         let mut s = ShearMixed8 {
@@ -242,17 +131,6 @@ impl Shear8 {
         };
         s.s = shear_from(s.permute(d));
         Shear8::Mixed(s)
-    }
-}
-
-impl Shear<F32x8> for ShearUniform8 {
-    #[inline(always)]
-    fn permute(&self, v: [F32x8; 3]) -> [F32x8; 3] {
-        [v[self.k[0]], v[self.k[1]], v[self.k[2]]]
-    }
-    #[inline(always)]
-    fn shear(&self) -> [F32x8; 3] {
-        self.s
     }
 }
 
@@ -308,10 +186,10 @@ pub(crate) fn intersect<L: Lanes, S: Shear<L>>(
     let mut w = bx * ay - by * ax;
     let zero = L::splat(0.0);
     let on_edge = u.eq(zero) | v.eq(zero) | w.eq(zero);
-    if L::any(on_edge) {
-        u = L::edge_f64(u, on_edge, bx, by, cx, cy);
-        v = L::edge_f64(v, on_edge, cx, cy, ax, ay);
-        w = L::edge_f64(w, on_edge, ax, ay, bx, by);
+    if on_edge.any() {
+        u = u.recompute(on_edge, [bx, by, cx, cy], edge_f64);
+        v = v.recompute(on_edge, [cx, cy, ax, ay], edge_f64);
+        w = w.recompute(on_edge, [ax, ay, bx, by], edge_f64);
     }
     let has_neg = u.lt(zero) | v.lt(zero) | w.lt(zero);
     let has_pos = u.gt(zero) | v.gt(zero) | w.gt(zero);
@@ -324,13 +202,14 @@ pub(crate) fn intersect<L: Lanes, S: Shear<L>>(
     TriangleHit { mask, t, u: v * rcp, v: w * rcp }
 }
 
-/// The watertight test for one ray and one triangle, for callers outside the BVH (brute-force
-/// references, light sampling): the hit distance in `[ray.tnear, ray.tfar]` and the barycentric
-/// weights (u, v) of the second and third vertex. Exactly the arithmetic of the BVH kernels.
+/// The watertight test for one ray and one triangle, outside any BVH: the hit distance in
+/// `[ray.tnear, ray.tfar]` and the barycentric weights (u, v) of the second and third vertex.
+/// Exactly the arithmetic of the BVH kernels, so a brute-force loop over the triangles (the
+/// traversal tests' reference) must agree with them bit for bit.
 pub fn intersect_triangle(ray: &crate::Ray, tri: [Vec3; 3]) -> Option<(f32, f32, f32)> {
     let h = intersect(
         ray.origin.to_array(),
-        &ShearScalar::new(ray.dir),
+        &ShearUniform::new(ray.dir),
         tri[0],
         tri[1],
         tri[2],

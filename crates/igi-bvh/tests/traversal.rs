@@ -3,7 +3,9 @@
 //! baked geometry, and rays cannot slip through the shared edges of a closed mesh.
 
 use glam::{Affine3A, Quat, Vec3};
-use igi_bvh::{Accel, Hit, INVALID_ID, Ray, RayPacket8, TriangleMesh, intersect_triangle, offset_ray_origin};
+use igi_bvh::{
+    Accel, Hit, HitPacket8, INVALID_ID, Ray, RayPacket8, TriangleMesh, intersect_triangle, offset_ray_origin,
+};
 use igi_simd::M32x8;
 
 /// Small deterministic generator (SplitMix64) so failures reproduce.
@@ -103,6 +105,17 @@ fn closest_and_any_hit_equal_brute_force() {
     }
 }
 
+/// Lane `i` of a packet's hits as a single hit record.
+fn lane_hit(hits: &HitPacket8, i: usize) -> Hit {
+    Hit {
+        t: hits.t.lane(i),
+        u: hits.u.lane(i),
+        v: hits.v.lane(i),
+        instance: hits.instance.lane(i) as u32,
+        prim: hits.prim.lane(i) as u32,
+    }
+}
+
 fn packet_of(rays: &[Ray; 8]) -> RayPacket8 {
     RayPacket8::from_rays(rays)
 }
@@ -113,10 +126,10 @@ fn check_packet(accel: &Accel, rays: &[Ray; 8], active: M32x8) {
     let occ = accel.occluded8(&p, active);
     for (i, ray) in rays.iter().enumerate() {
         if active.lane(i) {
-            assert_eq!(hits.hit(i), accel.intersect(ray), "lane {i} closest, ray {ray:?}");
+            assert_eq!(lane_hit(&hits, i), accel.intersect(ray), "lane {i} closest, ray {ray:?}");
             assert_eq!(occ.lane(i), accel.occluded(ray), "lane {i} any, ray {ray:?}");
         } else {
-            assert_eq!(hits.hit(i).prim, INVALID_ID, "inactive lane {i} must miss");
+            assert_eq!(lane_hit(&hits, i).prim, INVALID_ID, "inactive lane {i} must miss");
             assert!(!occ.lane(i), "inactive lane {i} must not be occluded");
         }
     }

@@ -12,6 +12,7 @@ use crate::light::Light;
 use crate::shader::ShaderDesc;
 use crate::texels::{Image, Texels};
 use glam::{Affine3A, Vec2, Vec3};
+use igi_bvh::Aabb;
 
 /// A triangle mesh in its own object space. Meshes are placed in the world by [`Instance`]s.
 #[derive(Clone, Debug, Default)]
@@ -46,8 +47,8 @@ impl Mesh {
     }
 
     /// Object-space bounds of the vertices.
-    pub fn bounds(&self) -> Bounds {
-        self.positions.iter().fold(Bounds::EMPTY, |b, &p| b.including(p))
+    pub fn bounds(&self) -> Aabb {
+        Aabb::from_points(self.positions.iter().copied())
     }
 }
 
@@ -219,40 +220,6 @@ pub struct Instance {
     pub transform: Affine3A,
 }
 
-/// An axis-aligned box. [`Bounds::EMPTY`] (min = +∞, max = −∞) is the box of nothing.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Bounds {
-    /// Smallest corner.
-    pub min: Vec3,
-    /// Largest corner.
-    pub max: Vec3,
-}
-
-impl Bounds {
-    /// The empty box, neutral for [`Bounds::including`] and [`Bounds::union`].
-    pub const EMPTY: Self = Self { min: Vec3::INFINITY, max: Vec3::NEG_INFINITY };
-
-    /// True if the box contains no point.
-    pub fn is_empty(&self) -> bool {
-        self.min.cmpgt(self.max).any()
-    }
-
-    /// The smallest box containing this one and `p`.
-    pub fn including(self, p: Vec3) -> Self {
-        Self { min: self.min.min(p), max: self.max.max(p) }
-    }
-
-    /// The smallest box containing both boxes.
-    pub fn union(self, other: Self) -> Self {
-        Self { min: self.min.min(other.min), max: self.max.max(other.max) }
-    }
-
-    /// Extent along each axis (negative for the empty box).
-    pub fn size(&self) -> Vec3 {
-        self.max - self.min
-    }
-}
-
 /// Everything a renderer needs besides its own settings.
 #[derive(Clone, Debug, Default)]
 pub struct Scene {
@@ -287,15 +254,13 @@ impl Scene {
     }
 
     /// World-space bounds of every instance, exact (each vertex is transformed, so rotated
-    /// instances do not inflate it). [`Bounds::EMPTY`] for a scene without geometry.
-    pub fn bounds(&self) -> Bounds {
+    /// instances do not inflate it). [`Aabb::EMPTY`] for a scene without geometry.
+    pub fn bounds(&self) -> Aabb {
         self.instances
             .iter()
             .filter_map(|instance| Some((instance, self.meshes.get(instance.mesh as usize)?)))
-            .fold(Bounds::EMPTY, |bounds, (instance, mesh)| {
-                mesh.positions
-                    .iter()
-                    .fold(bounds, |b, &p| b.including(instance.transform.transform_point3(p)))
+            .fold(Aabb::EMPTY, |bounds, (instance, mesh)| {
+                mesh.positions.iter().fold(bounds, |b, &p| b.grow(instance.transform.transform_point3(p)))
             })
     }
 

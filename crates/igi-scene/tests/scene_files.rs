@@ -39,9 +39,9 @@ instances = [ { }, { translate = [0, 5, 0] }, { rotate = [90, 0, 0], scale = 3 }
         let mesh = &scene.meshes[instance.mesh as usize];
         mesh.positions
             .iter()
-            .fold(igi_scene::Bounds::EMPTY, |b, &p| b.including(instance.transform.transform_point3(p)))
+            .fold(igi_bvh::Aabb::EMPTY, |b, &p| b.grow(instance.transform.transform_point3(p)))
     };
-    assert_eq!(first.size(), Vec3::ONE);
+    assert_eq!(first.extent(), Vec3::ONE);
     assert_bounds(placed(0), [9.0, 0.0, 0.0], [10.0, 2.0, 1.0], 1e-5);
     // Instances apply after the mesh's own transform: `instance · mesh`.
     assert_bounds(placed(1), [0.0, 0.0, -1.0], [1.0, 1.0, 0.0], 1e-5);
@@ -224,7 +224,7 @@ material = {{ diffuse = [0.7, 0.7, 0.7] }}
     let bunny_bounds = scene.meshes[bunny.mesh as usize]
         .positions
         .iter()
-        .fold(igi_scene::Bounds::EMPTY, |b, &p| b.including(bunny.transform.transform_point3(p)));
+        .fold(igi_bvh::Aabb::EMPTY, |b, &p| b.grow(bunny.transform.transform_point3(p)));
     assert_bounds(bunny_bounds, [-0.3724, 0.0044, -0.2264], [0.2328, 0.5976, 0.2312], 1e-3);
 }
 

@@ -131,35 +131,27 @@ impl SurfaceShader for MaterialShader {
             out.diffuse = Vec3x8::from_lanes(rgb);
         }
         if let Some(map) = &self.bump_texture {
-            let shading_normals = hits.shading_normal.to_lanes();
-            let mut normals = [[0.0f32; 3]; 8];
-            for (i, n) in normals.iter_mut().enumerate() {
-                let ns = Vec3::from(shading_normals[i]);
-                *n = if active & (1 << i) != 0 {
-                    let (dpdu, dpdv) = (Vec3::from(dpdu[i]), Vec3::from(dpdv[i]));
-                    let lod = lod(map, footprint[i], tile_area[i]);
-                    bump_normal(map, Vec2::new(u[i], v[i]), lod, ns, dpdu, dpdv).to_array()
-                } else {
-                    ns.to_array()
-                };
-            }
-            out.shading_normal = Vec3x8::from_lanes(normals);
+            out.shading_normal = map_active_lanes(hits.shading_normal, active, |i, ns| {
+                let (dpdu, dpdv) = (Vec3::from(dpdu[i]), Vec3::from(dpdv[i]));
+                bump_normal(map, Vec2::new(u[i], v[i]), lod(map, footprint[i], tile_area[i]), ns, dpdu, dpdv)
+            });
         }
         if let Some(map) = &self.normal_texture {
-            let shading_normals = out.shading_normal.to_lanes();
-            let mut normals = [[0.0f32; 3]; 8];
-            for (i, n) in normals.iter_mut().enumerate() {
-                let ns = Vec3::from(shading_normals[i]);
-                *n = if active & (1 << i) != 0 {
-                    let texel = map.trilinear(Vec2::new(u[i], v[i]), lod(map, footprint[i], tile_area[i]));
-                    normal_mapped(texel.truncate(), self.normal_scale, ns, Vec3::from(dpdu[i])).to_array()
-                } else {
-                    ns.to_array()
-                };
-            }
-            out.shading_normal = Vec3x8::from_lanes(normals);
+            out.shading_normal = map_active_lanes(out.shading_normal, active, |i, ns| {
+                let texel = map.trilinear(Vec2::new(u[i], v[i]), lod(map, footprint[i], tile_area[i]));
+                normal_mapped(texel.truncate(), self.normal_scale, ns, Vec3::from(dpdu[i]))
+            });
         }
     }
+}
+
+/// `v` with lane `i` replaced by `f(i, lane i)` where bit `i` of `active` is set.
+fn map_active_lanes(v: Vec3x8, active: u32, mut f: impl FnMut(usize, Vec3) -> Vec3) -> Vec3x8 {
+    let mut lanes = v.to_lanes();
+    for (i, lane) in lanes.iter_mut().enumerate().filter(|(i, _)| active & (1 << i) != 0) {
+        *lane = f(i, Vec3::from(*lane)).to_array();
+    }
+    Vec3x8::from_lanes(lanes)
 }
 
 #[cfg(test)]

@@ -38,14 +38,14 @@
 //! |∇n| ≤ 8.5 √3 < 14.73, and |n(p) − n(q)| ≤ 14.73 |p − q| (the gradient is continuous across
 //! cells, so the bound holds globally).
 //!
-//! **Lanes.** The scalar and eight-lane versions are one generic implementation over the
-//! `Lanes` operations (the same adds, multiplies and fused multiply-adds in the same order,
-//! and the same table lookups), so they are bit-identical, lane for lane.
+//! **Lanes.** Every function is generic over [`Lanes`]: a point is `[f32; 3]` or, for eight
+//! points, `[F32x8; 3]` (`Vec3x8::into`). Both run the same adds, multiplies and fused
+//! multiply-adds in the same order, and the same table lookups, so they are bit-identical, lane
+//! for lane.
+//!
+//! [`F32x8`]: igi_simd::F32x8
 
-use std::ops::{Add, Mul, Sub};
-
-use glam::Vec3;
-use igi_simd::{F32x8, I32x8, Vec3x8};
+use igi_simd::Lanes;
 
 /// Perlin's reference permutation of 0..256 (Perlin 2002). The reference code doubles it to
 /// 512 entries so that `p[p[x] + y]` never leaves the table; masking every index with 255 is
@@ -72,102 +72,6 @@ const PERM: [i32; 256] = [
 const GRAD_X: [f32; 16] = [1., -1., 1., -1., 1., -1., 1., -1., 0., 0., 0., 0., 1., 0., -1., 0.];
 const GRAD_Y: [f32; 16] = [1., 1., -1., -1., 0., 0., 0., 0., 1., -1., 1., -1., 1., -1., 1., -1.];
 const GRAD_Z: [f32; 16] = [0., 0., 0., 0., 1., 1., -1., -1., 1., 1., -1., -1., 0., 1., 0., -1.];
-
-/// The arithmetic noise needs, for one `f32` or eight: the single implementation below is
-/// generic over it so that scalar and SIMD results are the same bits.
-trait Lanes: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> {
-    /// Integer lanes (lattice coordinates and hashes).
-    type Int: Copy + Add<Output = Self::Int>;
-    /// All lanes `v`.
-    fn splat(v: f32) -> Self;
-    /// `self * b + c` with one rounding.
-    fn mul_add(self, b: Self, c: Self) -> Self;
-    /// Largest integer ≤ self.
-    fn floor(self) -> Self;
-    /// `self` with its sign flipped where `sign` is negative.
-    fn xor_sign(self, sign: Self) -> Self;
-    /// An integer-valued float converted to an integer (out of range: `i32::MIN`, as AVX2).
-    fn to_int(self) -> Self::Int;
-    /// All integer lanes `v`.
-    fn int(v: i32) -> Self::Int;
-    /// `PERM[i & 255]`.
-    fn perm(i: Self::Int) -> Self::Int;
-    /// The gradient vector of hash `h`.
-    fn grad(h: Self::Int) -> [Self; 3];
-}
-
-impl Lanes for f32 {
-    type Int = i32;
-    #[inline(always)]
-    fn splat(v: f32) -> Self {
-        v
-    }
-    #[inline(always)]
-    fn mul_add(self, b: Self, c: Self) -> Self {
-        f32::mul_add(self, b, c)
-    }
-    #[inline(always)]
-    fn floor(self) -> Self {
-        f32::floor(self)
-    }
-    #[inline(always)]
-    fn xor_sign(self, sign: Self) -> Self {
-        f32::from_bits(self.to_bits() ^ (sign.to_bits() & 0x8000_0000))
-    }
-    #[inline(always)]
-    fn to_int(self) -> i32 {
-        if (-2_147_483_648.0..2_147_483_648.0).contains(&self) { self as i32 } else { i32::MIN }
-    }
-    #[inline(always)]
-    fn int(v: i32) -> i32 {
-        v
-    }
-    #[inline(always)]
-    fn perm(i: i32) -> i32 {
-        PERM[(i & 255) as usize]
-    }
-    #[inline(always)]
-    fn grad(h: i32) -> [Self; 3] {
-        let h = (h & 15) as usize;
-        [GRAD_X[h], GRAD_Y[h], GRAD_Z[h]]
-    }
-}
-
-impl Lanes for F32x8 {
-    type Int = I32x8;
-    #[inline(always)]
-    fn splat(v: f32) -> Self {
-        F32x8::splat(v)
-    }
-    #[inline(always)]
-    fn mul_add(self, b: Self, c: Self) -> Self {
-        F32x8::mul_add(self, b, c)
-    }
-    #[inline(always)]
-    fn floor(self) -> Self {
-        F32x8::floor(self)
-    }
-    #[inline(always)]
-    fn xor_sign(self, sign: Self) -> Self {
-        F32x8::xor_sign(self, sign)
-    }
-    #[inline(always)]
-    fn to_int(self) -> I32x8 {
-        self.to_i32()
-    }
-    #[inline(always)]
-    fn int(v: i32) -> I32x8 {
-        I32x8::splat(v)
-    }
-    #[inline(always)]
-    fn perm(i: I32x8) -> I32x8 {
-        I32x8::gather(&PERM, i)
-    }
-    #[inline(always)]
-    fn grad(h: I32x8) -> [Self; 3] {
-        [F32x8::lookup16(&GRAD_X, h), F32x8::lookup16(&GRAD_Y, h), F32x8::lookup16(&GRAD_Z, h)]
-    }
-}
 
 /// `a + t (b − a)`.
 #[inline(always)]
@@ -200,24 +104,26 @@ fn noise_core<T: Lanes, const GRAD: bool>(p: [T; 3]) -> (T, [T; 3]) {
     let [x0, y0, z0] = [p[0] - cell[0], p[1] - cell[1], p[2] - cell[2]];
     let one = T::splat(1.0);
     let [x1, y1, z1] = [x0 - one, y0 - one, z0 - one];
-    let [i, j, k] = cell.map(T::to_int);
+    let [i, j, k] = cell.map(T::to_i32);
     // Perlin's hash chain: A = p[X] + Y, AA = p[A] + Z, ... (each lookup wraps at 256).
-    let a = T::perm(i) + j;
-    let b = T::perm(i + T::int(1)) + j;
-    let one_i = T::int(1);
-    let rows = [T::perm(a) + k, T::perm(b) + k, T::perm(a + one_i) + k, T::perm(b + one_i) + k];
+    let perm = |i: T::Int| T::gather(&PERM, i);
+    let one_i = T::splat_i32(1);
+    let a = perm(i) + j;
+    let b = perm(i + one_i) + j;
+    let rows = [perm(a) + k, perm(b) + k, perm(a + one_i) + k, perm(b + one_i) + k];
     // Corner c = x + 2y + 4z: rows are (y, x) pairs at z = 0; +1 on the row hash steps to z = 1.
     let hashes = [
-        T::perm(rows[0]),
-        T::perm(rows[1]),
-        T::perm(rows[2]),
-        T::perm(rows[3]),
-        T::perm(rows[0] + one_i),
-        T::perm(rows[1] + one_i),
-        T::perm(rows[2] + one_i),
-        T::perm(rows[3] + one_i),
+        perm(rows[0]),
+        perm(rows[1]),
+        perm(rows[2]),
+        perm(rows[3]),
+        perm(rows[0] + one_i),
+        perm(rows[1] + one_i),
+        perm(rows[2] + one_i),
+        perm(rows[3] + one_i),
     ];
-    let grads = hashes.map(T::grad);
+    // The gradient of each corner's hash.
+    let grads = hashes.map(|h| [T::lookup16(&GRAD_X, h), T::lookup16(&GRAD_Y, h), T::lookup16(&GRAD_Z, h)]);
     let offsets = |c: usize| {
         [if c & 1 == 0 { x0 } else { x1 }, if c & 2 == 0 { y0 } else { y1 }, if c & 4 == 0 { z0 } else { z1 }]
     };
@@ -264,83 +170,35 @@ fn fractal<T: Lanes, const GRAD: bool, const TURB: bool>(p: [T; 3], octaves: u32
     (sum, grad)
 }
 
-fn arr(p: Vec3) -> [f32; 3] {
-    p.to_array()
-}
-
-fn arr8(p: Vec3x8) -> [F32x8; 3] {
-    [p.x, p.y, p.z]
-}
-
-fn vec8(g: [F32x8; 3]) -> Vec3x8 {
-    Vec3x8::new(g[0], g[1], g[2])
-}
-
-/// Improved noise at `p` (Perlin 2002): 0 at integer points, in [−1, 1] in practice (module
-/// documentation).
-pub fn noise3(p: Vec3) -> f32 {
-    noise_core::<f32, false>(arr(p)).0
+/// Improved noise at `p` (Perlin 2002), for one point (`f32`) or eight (`F32x8`): 0 at integer
+/// points, in [−1, 1] in practice (module documentation).
+pub fn noise3<L: Lanes>(p: [L; 3]) -> L {
+    noise_core::<L, false>(p).0
 }
 
 /// Improved noise at `p` and its analytic gradient; the value equals [`noise3`]'s.
-pub fn noise3_grad(p: Vec3) -> (f32, Vec3) {
-    let (n, g) = noise_core::<f32, true>(arr(p));
-    (n, Vec3::from(g))
-}
-
-/// [`noise3`] at eight points; lane i equals `noise3` of lane i bit for bit.
-pub fn noise3x8(p: Vec3x8) -> F32x8 {
-    noise_core::<F32x8, false>(arr8(p)).0
-}
-
-/// [`noise3_grad`] at eight points, bit-identical to it lane by lane.
-pub fn noise3x8_grad(p: Vec3x8) -> (F32x8, Vec3x8) {
-    let (n, g) = noise_core::<F32x8, true>(arr8(p));
-    (n, vec8(g))
+pub fn noise3_grad<L: Lanes>(p: [L; 3]) -> (L, [L; 3]) {
+    noise_core::<L, true>(p)
 }
 
 /// Fractional Brownian motion: Σ_{i < octaves} ½^i · noise(2^i p), in ±1.0364 · (2 − 2^(1−octaves)).
-pub fn fbm3(p: Vec3, octaves: u32) -> f32 {
-    fractal::<f32, false, false>(arr(p), octaves).0
+pub fn fbm3<L: Lanes>(p: [L; 3], octaves: u32) -> L {
+    fractal::<L, false, false>(p, octaves).0
 }
 
 /// [`fbm3`] and its gradient.
-pub fn fbm3_grad(p: Vec3, octaves: u32) -> (f32, Vec3) {
-    let (n, g) = fractal::<f32, true, false>(arr(p), octaves);
-    (n, Vec3::from(g))
-}
-
-/// [`fbm3`] at eight points (bit-identical per lane).
-pub fn fbm3x8(p: Vec3x8, octaves: u32) -> F32x8 {
-    fractal::<F32x8, false, false>(arr8(p), octaves).0
-}
-
-/// [`fbm3_grad`] at eight points (bit-identical per lane).
-pub fn fbm3x8_grad(p: Vec3x8, octaves: u32) -> (F32x8, Vec3x8) {
-    let (n, g) = fractal::<F32x8, true, false>(arr8(p), octaves);
-    (n, vec8(g))
+pub fn fbm3_grad<L: Lanes>(p: [L; 3], octaves: u32) -> (L, [L; 3]) {
+    fractal::<L, true, false>(p, octaves)
 }
 
 /// Perlin's turbulence: Σ_{i < octaves} ½^i · |noise(2^i p)|, in [0, 1.0364 · (2 − 2^(1−octaves))].
 /// Continuous, with creases where an octave crosses zero (that is the look).
-pub fn turbulence3(p: Vec3, octaves: u32) -> f32 {
-    fractal::<f32, false, true>(arr(p), octaves).0
+pub fn turbulence3<L: Lanes>(p: [L; 3], octaves: u32) -> L {
+    fractal::<L, false, true>(p, octaves).0
 }
 
 /// [`turbulence3`] and its gradient (one-sided at the creases: the sign of the octave's noise,
 /// +0 counting as positive).
-pub fn turbulence3_grad(p: Vec3, octaves: u32) -> (f32, Vec3) {
-    let (n, g) = fractal::<f32, true, true>(arr(p), octaves);
-    (n, Vec3::from(g))
-}
-
-/// [`turbulence3`] at eight points (bit-identical per lane).
-pub fn turbulence3x8(p: Vec3x8, octaves: u32) -> F32x8 {
-    fractal::<F32x8, false, true>(arr8(p), octaves).0
-}
-
-/// [`turbulence3_grad`] at eight points (bit-identical per lane).
-pub fn turbulence3x8_grad(p: Vec3x8, octaves: u32) -> (F32x8, Vec3x8) {
-    let (n, g) = fractal::<F32x8, true, true>(arr8(p), octaves);
-    (n, vec8(g))
+pub fn turbulence3_grad<L: Lanes>(p: [L; 3], octaves: u32) -> (L, [L; 3]) {
+    fractal::<L, true, true>(p, octaves)
 }

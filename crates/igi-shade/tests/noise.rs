@@ -26,8 +26,8 @@ fn zero_at_lattice_points() {
         for y in -5..5 {
             for z in -5..5 {
                 let p = Vec3::new(x as f32, y as f32, z as f32) * 7.0;
-                assert_eq!(noise3(p), 0.0, "{p}");
-                assert_eq!(fbm3(p, 5), 0.0, "{p}");
+                assert_eq!(noise3(p.to_array()), 0.0, "{p}");
+                assert_eq!(fbm3(p.to_array(), 5), 0.0, "{p}");
             }
         }
     }
@@ -39,7 +39,7 @@ fn range_within_unit_interval() {
     let (mut lo, mut hi, mut best) = (0.0f32, 0.0f32, Vec3::ZERO);
     for _ in 0..1_000_000 {
         let p = rng.point(300.0);
-        let n = noise3(p);
+        let n = noise3(p.to_array());
         if n.abs() > hi.max(-lo) {
             best = p;
         }
@@ -48,20 +48,20 @@ fn range_within_unit_interval() {
     }
     assert!(hi > 0.85 && lo < -0.85, "noise should use most of its range: {lo} {hi}");
     // Climb from the most extreme sample along the analytic gradient.
-    let sign = noise3(best).signum();
+    let sign = noise3(best.to_array()).signum();
     let mut p = best;
     for _ in 0..2000 {
-        let (_, g) = noise3_grad(p);
-        p += g * (sign * 1e-3);
+        let (_, g) = noise3_grad(p.to_array());
+        p += Vec3::from(g) * (sign * 1e-3);
     }
-    let peak = noise3(p).abs();
+    let peak = noise3(p.to_array()).abs();
     assert!(peak <= 1.0, "local extreme {peak} at {p}");
     assert!(hi.max(-lo) <= 1.0);
     // The fractal sums stay inside their documented bounds.
     for _ in 0..100_000 {
         let p = rng.point(50.0);
-        assert!(fbm3(p, 6).abs() <= 1.0364 * (2.0 - 2f32.powi(-5)));
-        let t = turbulence3(p, 6);
+        assert!(fbm3(p.to_array(), 6).abs() <= 1.0364 * (2.0 - 2f32.powi(-5)));
+        let t = turbulence3(p.to_array(), 6);
         assert!((0.0..=1.0364 * (2.0 - 2f32.powi(-5))).contains(&t));
     }
 }
@@ -76,7 +76,7 @@ fn lipschitz_continuous() {
         let p = rng.point(20.0);
         let eps = 1e-3 * (1.0 + rng.next_f32());
         let d = rng.point(1.0).normalize_or(Vec3::X) * eps;
-        let slope = (noise3(p + d) - noise3(p)).abs() / d.length();
+        let slope = (noise3((p + d).to_array()) - noise3(p.to_array())).abs() / d.length();
         worst = worst.max(slope);
         // Allow for the f32 rounding of the two values.
         assert!(slope <= lipschitz + 2e-6 / eps, "slope {slope} at {p}");
@@ -87,12 +87,12 @@ fn lipschitz_continuous() {
 #[test]
 fn deterministic_and_not_trivial() {
     let p = Vec3::new(3.75, -1.25, 0.375);
-    assert_eq!(noise3(p).to_bits(), noise3(p).to_bits());
-    let t = std::thread::spawn(move || noise3(p)).join().unwrap();
-    assert_eq!(noise3(p).to_bits(), t.to_bits());
-    assert_ne!(noise3(p), noise3(p + Vec3::new(0.31, 0.0, 0.0)));
+    assert_eq!(noise3(p.to_array()).to_bits(), noise3(p.to_array()).to_bits());
+    let t = std::thread::spawn(move || noise3(p.to_array())).join().unwrap();
+    assert_eq!(noise3(p.to_array()).to_bits(), t.to_bits());
+    assert_ne!(noise3(p.to_array()), noise3((p + Vec3::new(0.31, 0.0, 0.0)).to_array()));
     // Period 256 along each axis: the hash wraps.
-    assert_eq!(noise3(p), noise3(p + Vec3::new(256.0, 0.0, -256.0)));
+    assert_eq!(noise3(p.to_array()), noise3((p + Vec3::new(256.0, 0.0, -256.0)).to_array()));
 }
 
 #[test]
@@ -103,27 +103,28 @@ fn simd_equals_scalar_bit_for_bit() {
         let pts: [Vec3; 8] = std::array::from_fn(|_| rng.point(extent));
         let p8 = Vec3x8::from_lanes(pts.map(|p| p.to_array()));
         let octaves = round % 7;
-        let n8 = noise3x8(p8);
-        let (ng8, g8) = noise3x8_grad(p8);
-        let f8 = fbm3x8(p8, octaves);
-        let (fg8, fgrad8) = fbm3x8_grad(p8, octaves);
-        let t8 = turbulence3x8(p8, octaves);
-        let (tg8, tgrad8) = turbulence3x8_grad(p8, octaves);
+        let n8 = noise3(p8.into());
+        let (ng8, g8) = noise3_grad(p8.into());
+        let f8 = fbm3(p8.into(), octaves);
+        let (fg8, fgrad8) = fbm3_grad(p8.into(), octaves);
+        let t8 = turbulence3(p8.into(), octaves);
+        let (tg8, tgrad8) = turbulence3_grad(p8.into(), octaves);
+        let (g8, fgrad8, tgrad8) = (Vec3x8::from(g8), Vec3x8::from(fgrad8), Vec3x8::from(tgrad8));
         for (i, &p) in pts.iter().enumerate() {
-            let bits = |v: Vec3| v.to_array().map(f32::to_bits);
-            let (n, g) = noise3_grad(p);
-            assert_eq!(n8.lane(i).to_bits(), noise3(p).to_bits());
-            assert_eq!(n.to_bits(), noise3(p).to_bits(), "value with and without gradient");
+            let bits = |v: [f32; 3]| v.map(f32::to_bits);
+            let (n, g) = noise3_grad(p.to_array());
+            assert_eq!(n8.lane(i).to_bits(), noise3(p.to_array()).to_bits());
+            assert_eq!(n.to_bits(), noise3(p.to_array()).to_bits(), "value with and without gradient");
             assert_eq!(ng8.lane(i).to_bits(), n.to_bits());
-            assert_eq!(bits(Vec3::from(g8.lane(i))), bits(g));
-            let (f, fg) = fbm3_grad(p, octaves);
-            assert_eq!(f8.lane(i).to_bits(), fbm3(p, octaves).to_bits());
+            assert_eq!(bits(g8.lane(i)), bits(g));
+            let (f, fg) = fbm3_grad(p.to_array(), octaves);
+            assert_eq!(f8.lane(i).to_bits(), fbm3(p.to_array(), octaves).to_bits());
             assert_eq!(fg8.lane(i).to_bits(), f.to_bits());
-            assert_eq!(bits(Vec3::from(fgrad8.lane(i))), bits(fg));
-            let (t, tg) = turbulence3_grad(p, octaves);
-            assert_eq!(t8.lane(i).to_bits(), turbulence3(p, octaves).to_bits());
+            assert_eq!(bits(fgrad8.lane(i)), bits(fg));
+            let (t, tg) = turbulence3_grad(p.to_array(), octaves);
+            assert_eq!(t8.lane(i).to_bits(), turbulence3(p.to_array(), octaves).to_bits());
             assert_eq!(tg8.lane(i).to_bits(), t.to_bits());
-            assert_eq!(bits(Vec3::from(tgrad8.lane(i))), bits(tg));
+            assert_eq!(bits(tgrad8.lane(i)), bits(tg));
         }
     }
 }
@@ -140,21 +141,21 @@ fn analytic_gradient_equals_central_differences() {
     let h = 1e-3;
     for _ in 0..20_000 {
         let p = rng.point(50.0) + Vec3::splat(0.5);
-        let (_, g) = noise3_grad(p);
-        let fd = central(noise3, p, h);
+        let g = Vec3::from(noise3_grad(p.to_array()).1);
+        let fd = central(|q| noise3(q.to_array()), p, h);
         // Truncation error h²/6 · |n‴| (n‴ is bounded by a few hundred) plus rounding.
         assert!((g - fd).abs().max_element() < 2e-3, "{p}: {g} vs {fd}");
     }
     for _ in 0..2000 {
         let p = rng.point(5.0);
-        let (_, g) = fbm3_grad(p, 4);
-        let fd = central(|q| fbm3(q, 4), p, 1e-4);
+        let g = Vec3::from(fbm3_grad(p.to_array(), 4).1);
+        let fd = central(|q| fbm3(q.to_array(), 4), p, 1e-4);
         assert!((g - fd).abs().max_element() < 2e-2, "fbm {p}: {g} vs {fd}");
         // Away from the creases turbulence is smooth too.
-        let creased = (0..4).any(|o| noise3(p * 2f32.powi(o)).abs() < 1e-2);
+        let creased = (0..4).any(|o| noise3((p * 2f32.powi(o)).to_array()).abs() < 1e-2);
         if !creased {
-            let (_, g) = turbulence3_grad(p, 4);
-            let fd = central(|q| turbulence3(q, 4), p, 1e-4);
+            let g = Vec3::from(turbulence3_grad(p.to_array(), 4).1);
+            let fd = central(|q| turbulence3(q.to_array(), 4), p, 1e-4);
             assert!((g - fd).abs().max_element() < 2e-2, "turbulence {p}: {g} vs {fd}");
         }
     }

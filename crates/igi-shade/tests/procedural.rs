@@ -125,17 +125,17 @@ fn bumped(n: Vec3, g: Vec3) -> Vec3 {
 fn scalar(pattern: Pattern, q: Vec3) -> (f32, Vec3) {
     match pattern {
         Pattern::Marble { octaves, turbulence } => {
-            let (t, g) = turbulence3_grad(q, octaves);
-            (band(t.mul_add(turbulence, q.x)), g)
+            let (t, g) = turbulence3_grad(q.to_array(), octaves);
+            (band(t.mul_add(turbulence, q.x)), Vec3::from(g))
         }
         Pattern::Wood { rings, turbulence } => {
-            let (n, g) = noise3_grad(q);
+            let (n, g) = noise3_grad(q.to_array());
             let r = q.x.mul_add(q.x, q.z * q.z).sqrt();
-            (band(n.mul_add(turbulence, r * rings)), g)
+            (band(n.mul_add(turbulence, r * rings)), Vec3::from(g))
         }
         Pattern::Turbulence { octaves } => {
-            let (t, g) = turbulence3_grad(q, octaves);
-            (t.clamp(0.0, 1.0), g)
+            let (t, g) = turbulence3_grad(q.to_array(), octaves);
+            (t.clamp(0.0, 1.0), Vec3::from(g))
         }
         _ => unreachable!("only the noise patterns"),
     }

@@ -21,35 +21,72 @@ pub struct I32x8(__m256i);
 #[repr(transparent)]
 pub struct M32x8(__m256);
 
+/// The constructors and accessors of `$t`, which wraps one register of eight `$e`.
+macro_rules! lanes_of {
+    ($t:ident, $e:ty, $set1:ident) => {
+        impl $t {
+            /// All lanes `v`.
+            #[inline(always)]
+            pub fn splat(v: $e) -> Self {
+                unsafe { Self($set1(v)) }
+            }
+
+            /// Lanes from an array, lane 0 first.
+            #[inline(always)]
+            pub const fn from_array(a: [$e; 8]) -> Self {
+                // SAFETY: the register and the array have the same size and every bit pattern
+                // is valid.
+                unsafe { std::mem::transmute::<[$e; 8], Self>(a) }
+            }
+
+            /// The lanes as an array, lane 0 first.
+            #[inline(always)]
+            pub fn to_array(self) -> [$e; 8] {
+                // SAFETY: as in `from_array`.
+                unsafe { std::mem::transmute::<Self, [$e; 8]>(self) }
+            }
+
+            /// Lane `i` (panics if `i >= 8`).
+            #[inline(always)]
+            pub fn lane(self, i: usize) -> $e {
+                self.to_array()[i]
+            }
+        }
+    };
+}
+lanes_of!(F32x8, f32, _mm256_set1_ps);
+lanes_of!(I32x8, i32, _mm256_set1_epi32);
+
+/// `F32x8` comparisons, each one `vcmpps` with the predicate given.
+macro_rules! f32_compare {
+    ($($(#[$doc:meta])* $f:ident = $pred:ident;)*) => {
+        impl F32x8 {
+            $(
+                $(#[$doc])*
+                #[inline(always)]
+                pub fn $f(self, o: Self) -> M32x8 {
+                    unsafe { M32x8(_mm256_cmp_ps::<$pred>(self.0, o.0)) }
+                }
+            )*
+        }
+    };
+}
+f32_compare! {
+    /// `self < o` per lane (false for NaN).
+    lt = _CMP_LT_OQ;
+    /// `self <= o` per lane (false for NaN).
+    le = _CMP_LE_OQ;
+    /// `self > o` per lane (false for NaN).
+    gt = _CMP_GT_OQ;
+    /// `self >= o` per lane (false for NaN).
+    ge = _CMP_GE_OQ;
+    /// `self == o` per lane (false for NaN).
+    eq = _CMP_EQ_OQ;
+}
+
 impl F32x8 {
     /// All lanes zero.
     pub const ZERO: Self = Self::from_array([0.0; 8]);
-
-    /// All lanes `v`.
-    #[inline(always)]
-    pub fn splat(v: f32) -> Self {
-        unsafe { Self(_mm256_set1_ps(v)) }
-    }
-
-    /// Lanes from an array, lane 0 first.
-    #[inline(always)]
-    pub const fn from_array(a: [f32; 8]) -> Self {
-        // SAFETY: __m256 and [f32; 8] have the same size and every bit pattern is valid.
-        unsafe { std::mem::transmute::<[f32; 8], Self>(a) }
-    }
-
-    /// The lanes as an array, lane 0 first.
-    #[inline(always)]
-    pub fn to_array(self) -> [f32; 8] {
-        // SAFETY: as in `from_array`.
-        unsafe { std::mem::transmute::<Self, [f32; 8]>(self) }
-    }
-
-    /// Lane `i` (panics if `i >= 8`).
-    #[inline(always)]
-    pub fn lane(self, i: usize) -> f32 {
-        self.to_array()[i]
-    }
 
     /// `self * b + c`, fused (one rounding).
     #[inline(always)]
@@ -96,42 +133,6 @@ impl F32x8 {
         }
     }
 
-    /// `self < o` per lane (false for NaN).
-    #[inline(always)]
-    pub fn lt(self, o: Self) -> M32x8 {
-        unsafe { M32x8(_mm256_cmp_ps::<_CMP_LT_OQ>(self.0, o.0)) }
-    }
-
-    /// `self <= o` per lane (false for NaN).
-    #[inline(always)]
-    pub fn le(self, o: Self) -> M32x8 {
-        unsafe { M32x8(_mm256_cmp_ps::<_CMP_LE_OQ>(self.0, o.0)) }
-    }
-
-    /// `self > o` per lane (false for NaN).
-    #[inline(always)]
-    pub fn gt(self, o: Self) -> M32x8 {
-        unsafe { M32x8(_mm256_cmp_ps::<_CMP_GT_OQ>(self.0, o.0)) }
-    }
-
-    /// `self >= o` per lane (false for NaN).
-    #[inline(always)]
-    pub fn ge(self, o: Self) -> M32x8 {
-        unsafe { M32x8(_mm256_cmp_ps::<_CMP_GE_OQ>(self.0, o.0)) }
-    }
-
-    /// `self == o` per lane (false for NaN).
-    #[inline(always)]
-    pub fn eq(self, o: Self) -> M32x8 {
-        unsafe { M32x8(_mm256_cmp_ps::<_CMP_EQ_OQ>(self.0, o.0)) }
-    }
-
-    /// `self != o` per lane (true for NaN).
-    #[inline(always)]
-    pub fn ne(self, o: Self) -> M32x8 {
-        unsafe { M32x8(_mm256_cmp_ps::<_CMP_NEQ_UQ>(self.0, o.0)) }
-    }
-
     /// Per lane: `a` where `m` is set, else `b`.
     #[inline(always)]
     pub fn select(m: M32x8, a: Self, b: Self) -> Self {
@@ -141,30 +142,13 @@ impl F32x8 {
     /// Smallest lane (NaN lanes are ignored unless all are NaN).
     #[inline(always)]
     pub fn reduce_min(self) -> f32 {
-        unsafe {
-            let m = _mm256_min_ps(self.0, _mm256_permute2f128_ps::<1>(self.0, self.0));
-            let m = _mm256_min_ps(m, _mm256_shuffle_ps::<0b01_00_11_10>(m, m));
-            let m = _mm256_min_ps(m, _mm256_shuffle_ps::<0b10_11_00_01>(m, m));
-            _mm256_cvtss_f32(m)
-        }
+        reduce(self.0, |a, b| unsafe { _mm256_min_ps(a, b) })
     }
 
     /// Largest lane (NaN lanes are ignored unless all are NaN).
     #[inline(always)]
     pub fn reduce_max(self) -> f32 {
-        unsafe {
-            let m = _mm256_max_ps(self.0, _mm256_permute2f128_ps::<1>(self.0, self.0));
-            let m = _mm256_max_ps(m, _mm256_shuffle_ps::<0b01_00_11_10>(m, m));
-            let m = _mm256_max_ps(m, _mm256_shuffle_ps::<0b10_11_00_01>(m, m));
-            _mm256_cvtss_f32(m)
-        }
-    }
-
-    /// Sum of the lanes (pairwise, in a fixed order).
-    #[inline(always)]
-    pub fn reduce_add(self) -> f32 {
-        let a = self.to_array();
-        ((a[0] + a[4]) + (a[2] + a[6])) + ((a[1] + a[5]) + (a[3] + a[7]))
+        reduce(self.0, |a, b| unsafe { _mm256_max_ps(a, b) })
     }
 
     /// Lanes converted to `i32`, truncating toward zero.
@@ -192,21 +176,37 @@ impl F32x8 {
     }
 }
 
-macro_rules! f32_binop {
-    ($tr:ident, $f:ident, $intr:ident) => {
-        impl $tr for F32x8 {
-            type Output = Self;
-            #[inline(always)]
-            fn $f(self, o: Self) -> Self {
-                unsafe { Self($intr(self.0, o.0)) }
+/// The eight lanes of `v` folded with `op` as a tree: the two halves, then pairs, then
+/// neighbours.
+#[inline(always)]
+fn reduce(v: __m256, op: impl Fn(__m256, __m256) -> __m256) -> f32 {
+    unsafe {
+        let m = op(v, _mm256_permute2f128_ps::<1>(v, v));
+        let m = op(m, _mm256_shuffle_ps::<0b01_00_11_10>(m, m));
+        let m = op(m, _mm256_shuffle_ps::<0b10_11_00_01>(m, m));
+        _mm256_cvtss_f32(m)
+    }
+}
+
+/// The binary operators of `$t`: `impl $tr for $t` (method `$f`) as the intrinsic `$intr` on the
+/// wrapped registers, for each operator listed.
+macro_rules! ops {
+    ($t:ident, $($tr:ident $f:ident $intr:ident),*) => {
+        $(
+            impl $tr for $t {
+                type Output = Self;
+                #[inline(always)]
+                fn $f(self, o: Self) -> Self {
+                    unsafe { Self($intr(self.0, o.0)) }
+                }
             }
-        }
+        )*
     };
 }
-f32_binop!(Add, add, _mm256_add_ps);
-f32_binop!(Sub, sub, _mm256_sub_ps);
-f32_binop!(Mul, mul, _mm256_mul_ps);
-f32_binop!(Div, div, _mm256_div_ps);
+ops!(F32x8, Add add _mm256_add_ps, Sub sub _mm256_sub_ps, Mul mul _mm256_mul_ps, Div div _mm256_div_ps);
+ops!(I32x8, Add add _mm256_add_epi32, Sub sub _mm256_sub_epi32, Mul mul _mm256_mullo_epi32);
+ops!(I32x8, BitAnd bitand _mm256_and_si256, BitOr bitor _mm256_or_si256, BitXor bitxor _mm256_xor_si256);
+ops!(M32x8, BitAnd bitand _mm256_and_ps, BitOr bitor _mm256_or_ps, BitXor bitxor _mm256_xor_ps);
 
 impl Neg for F32x8 {
     type Output = Self;
@@ -217,32 +217,6 @@ impl Neg for F32x8 {
 }
 
 impl I32x8 {
-    /// All lanes `v`.
-    #[inline(always)]
-    pub fn splat(v: i32) -> Self {
-        unsafe { Self(_mm256_set1_epi32(v)) }
-    }
-
-    /// Lanes from an array, lane 0 first.
-    #[inline(always)]
-    pub const fn from_array(a: [i32; 8]) -> Self {
-        // SAFETY: same size, every bit pattern valid.
-        unsafe { std::mem::transmute::<[i32; 8], Self>(a) }
-    }
-
-    /// The lanes as an array, lane 0 first.
-    #[inline(always)]
-    pub fn to_array(self) -> [i32; 8] {
-        // SAFETY: as in `from_array`.
-        unsafe { std::mem::transmute::<Self, [i32; 8]>(self) }
-    }
-
-    /// Lane `i` (panics if `i >= 8`).
-    #[inline(always)]
-    pub fn lane(self, i: usize) -> i32 {
-        self.to_array()[i]
-    }
-
     /// `self == o` per lane.
     #[inline(always)]
     pub fn eq(self, o: Self) -> M32x8 {
@@ -311,54 +285,6 @@ impl I32x8 {
     }
 }
 
-impl Add for I32x8 {
-    type Output = Self;
-    #[inline(always)]
-    fn add(self, o: Self) -> Self {
-        unsafe { Self(_mm256_add_epi32(self.0, o.0)) }
-    }
-}
-
-impl Sub for I32x8 {
-    type Output = Self;
-    #[inline(always)]
-    fn sub(self, o: Self) -> Self {
-        unsafe { Self(_mm256_sub_epi32(self.0, o.0)) }
-    }
-}
-
-impl Mul for I32x8 {
-    type Output = Self;
-    #[inline(always)]
-    fn mul(self, o: Self) -> Self {
-        unsafe { Self(_mm256_mullo_epi32(self.0, o.0)) }
-    }
-}
-
-impl BitAnd for I32x8 {
-    type Output = Self;
-    #[inline(always)]
-    fn bitand(self, o: Self) -> Self {
-        unsafe { Self(_mm256_and_si256(self.0, o.0)) }
-    }
-}
-
-impl BitOr for I32x8 {
-    type Output = Self;
-    #[inline(always)]
-    fn bitor(self, o: Self) -> Self {
-        unsafe { Self(_mm256_or_si256(self.0, o.0)) }
-    }
-}
-
-impl BitXor for I32x8 {
-    type Output = Self;
-    #[inline(always)]
-    fn bitxor(self, o: Self) -> Self {
-        unsafe { Self(_mm256_xor_si256(self.0, o.0)) }
-    }
-}
-
 impl M32x8 {
     /// Every lane set.
     pub const ALL: Self = Self::from_bools([true; 8]);
@@ -400,12 +326,6 @@ impl M32x8 {
         unsafe { _mm256_testz_ps(self.0, self.0) == 0 }
     }
 
-    /// True if every lane is set.
-    #[inline(always)]
-    pub fn all(self) -> bool {
-        self.bitmask() == 0xff
-    }
-
     /// True if no lane is set.
     #[inline(always)]
     pub fn none(self) -> bool {
@@ -423,30 +343,6 @@ impl M32x8 {
     #[inline(always)]
     pub fn and_not(self, o: Self) -> Self {
         unsafe { Self(_mm256_andnot_ps(o.0, self.0)) }
-    }
-}
-
-impl BitAnd for M32x8 {
-    type Output = Self;
-    #[inline(always)]
-    fn bitand(self, o: Self) -> Self {
-        unsafe { Self(_mm256_and_ps(self.0, o.0)) }
-    }
-}
-
-impl BitOr for M32x8 {
-    type Output = Self;
-    #[inline(always)]
-    fn bitor(self, o: Self) -> Self {
-        unsafe { Self(_mm256_or_ps(self.0, o.0)) }
-    }
-}
-
-impl BitXor for M32x8 {
-    type Output = Self;
-    #[inline(always)]
-    fn bitxor(self, o: Self) -> Self {
-        unsafe { Self(_mm256_xor_ps(self.0, o.0)) }
     }
 }
 

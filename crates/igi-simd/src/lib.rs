@@ -6,7 +6,7 @@
 //! instructions. Everywhere else, or with the `portable` feature, they are plain arrays and the
 //! compiler vectorises what it can. Both backends give bit-identical results for every
 //! operation, and each lane equals the scalar `f32` operation (`F32x8::mul_add` equals
-//! `f32::mul_add`: one rounding).
+//! `f32::mul_add`: one rounding). [`Lanes`] writes a kernel once for `f32` and for [`F32x8`].
 
 #[cfg(all(
     target_arch = "x86_64",
@@ -38,12 +38,11 @@ mod portable;
 )))]
 pub use portable::{F32x8, I32x8, M32x8};
 
+mod lanes;
 mod math;
 mod vec3x8;
+pub use lanes::{LaneMask, Lanes};
 pub use vec3x8::Vec3x8;
-
-/// Number of lanes of every type in this crate.
-pub const LANES: usize = 8;
 
 /// Name of the backend compiled in: `"avx2"` or `"portable"`.
 pub const BACKEND: &str = if cfg!(all(

@@ -2,6 +2,7 @@
 //! which the compiler vectorises where the target allows. Results equal the AVX2 backend's
 //! bit for bit (including the NaN rules of `min`/`max` and the single rounding of `mul_add`).
 
+use crate::Lanes;
 use std::array::from_fn;
 use std::ops::{Add, BitAnd, BitOr, BitXor, Div, Mul, Neg, Not, Sub};
 
@@ -87,7 +88,7 @@ impl F32x8 {
     /// `self` with the sign bit of each lane flipped where `sign`'s lane is negative.
     #[inline(always)]
     pub fn xor_sign(self, sign: Self) -> Self {
-        Self(from_fn(|i| f32::from_bits(self.0[i].to_bits() ^ (sign.0[i].to_bits() & 0x8000_0000))))
+        Self(from_fn(|i| Lanes::xor_sign(self.0[i], sign.0[i])))
     }
 
     /// `self < o` per lane (false for NaN).
@@ -120,12 +121,6 @@ impl F32x8 {
         M32x8(from_fn(|i| self.0[i] == o.0[i]))
     }
 
-    /// `self != o` per lane (true for NaN).
-    #[inline(always)]
-    pub fn ne(self, o: Self) -> M32x8 {
-        M32x8(from_fn(|i| self.0[i] != o.0[i]))
-    }
-
     /// Per lane: `a` where `m` is set, else `b`.
     #[inline(always)]
     pub fn select(m: M32x8, a: Self, b: Self) -> Self {
@@ -150,22 +145,11 @@ impl F32x8 {
         if m2[0] > m2[1] { m2[0] } else { m2[1] }
     }
 
-    /// Sum of the lanes (pairwise, in a fixed order).
-    #[inline(always)]
-    pub fn reduce_add(self) -> f32 {
-        let a = self.0;
-        ((a[0] + a[4]) + (a[2] + a[6])) + ((a[1] + a[5]) + (a[3] + a[7]))
-    }
-
     /// Lanes converted to `i32`, truncating toward zero (out of range: `i32::MIN`, as
     /// `cvttps2dq`).
     #[inline(always)]
     pub fn to_i32(self) -> I32x8 {
-        I32x8(self.0.map(
-            |v| {
-                if !(-2_147_483_648.0..2_147_483_648.0).contains(&v) { i32::MIN } else { v as i32 }
-            },
-        ))
+        I32x8(self.0.map(<f32 as Lanes>::to_i32))
     }
 
     /// The bits of each lane reinterpreted as `i32`.
@@ -177,7 +161,7 @@ impl F32x8 {
     /// Per lane `table[idx & 15]`.
     #[inline(always)]
     pub fn lookup16(table: &[f32; 16], idx: I32x8) -> Self {
-        Self(idx.0.map(|i| table[(i & 15) as usize]))
+        Self(idx.0.map(|i| <f32 as Lanes>::lookup16(table, i)))
     }
 }
 
@@ -288,8 +272,7 @@ impl I32x8 {
     /// Per lane `table[idx & (N - 1)]` (`N` a power of two).
     #[inline(always)]
     pub fn gather<const N: usize>(table: &[i32; N], idx: Self) -> Self {
-        const { assert!(N.is_power_of_two() && N <= 1 << 30) };
-        Self(idx.0.map(|i| table[(i & (N - 1) as i32) as usize]))
+        Self(idx.0.map(|i| <f32 as Lanes>::gather(table, i)))
     }
 
     /// The bits of each lane reinterpreted as `f32`.
@@ -327,12 +310,6 @@ impl M32x8 {
     #[inline(always)]
     pub fn any(self) -> bool {
         self.0.iter().any(|&b| b)
-    }
-
-    /// True if every lane is set.
-    #[inline(always)]
-    pub fn all(self) -> bool {
-        self.0.iter().all(|&b| b)
     }
 
     /// True if no lane is set.

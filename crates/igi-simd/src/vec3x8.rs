@@ -51,16 +51,6 @@ impl Vec3x8 {
         std::array::from_fn(|i| [x[i], y[i], z[i]])
     }
 
-    /// Component `axis` (0 = x, 1 = y, 2 = z).
-    #[inline(always)]
-    pub fn axis(&self, axis: usize) -> F32x8 {
-        match axis {
-            0 => self.x,
-            1 => self.y,
-            _ => self.z,
-        }
-    }
-
     /// Dot products per lane.
     #[inline(always)]
     pub fn dot(self, o: Self) -> F32x8 {
@@ -121,5 +111,21 @@ impl Neg for Vec3x8 {
     #[inline(always)]
     fn neg(self) -> Self {
         Self::new(-self.x, -self.y, -self.z)
+    }
+}
+
+impl From<[F32x8; 3]> for Vec3x8 {
+    /// The vector with components `[x, y, z]`.
+    #[inline(always)]
+    fn from([x, y, z]: [F32x8; 3]) -> Self {
+        Self::new(x, y, z)
+    }
+}
+
+impl From<Vec3x8> for [F32x8; 3] {
+    /// The components `[x, y, z]`.
+    #[inline(always)]
+    fn from(v: Vec3x8) -> Self {
+        [v.x, v.y, v.z]
     }
 }

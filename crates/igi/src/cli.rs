@@ -5,7 +5,6 @@ use crate::{bench, cmd_info, cmd_render, cmd_serve, cmd_view, cmd_worker};
 use anyhow::Result;
 use clap::{Parser, Subcommand};
 use glam::Vec3;
-use igi_bvh::Aabb;
 use igi_render::default_camera;
 use igi_scene::{Camera, Scene};
 
@@ -87,12 +86,6 @@ fn vec3_text(v: Vec3) -> String {
     format!("{},{},{}", v.x, v.y, v.z)
 }
 
-/// World bounds of the scene as the BVH crate's box type.
-pub fn scene_bounds(scene: &Scene) -> Aabb {
-    let b = scene.bounds();
-    if b.is_empty() { Aabb::EMPTY } else { Aabb { min: b.min, max: b.max } }
-}
-
 /// The camera options shared by `render` and `bench`: each replaces one field of the scene's
 /// camera (or of a default camera framing the scene).
 #[derive(Debug, Default, clap::Args)]
@@ -116,7 +109,7 @@ impl CameraArgs {
     /// replaced; an error naming the flag for a camera that frames no image
     /// ([`Camera::check`], the scene files' check).
     pub fn resolve(&self, scene: &Scene) -> Result<Camera> {
-        let mut camera = scene.camera.unwrap_or_else(|| default_camera(&scene_bounds(scene)));
+        let mut camera = scene.camera.unwrap_or_else(|| default_camera(&scene.bounds()));
         camera.position = self.camera_position.unwrap_or(camera.position);
         camera.target = self.camera_target.unwrap_or(camera.target);
         camera.up = self.camera_up.unwrap_or(camera.up);

@@ -54,7 +54,7 @@ pub fn run(args: &InfoArgs) -> Result<()> {
     }
     let (emissive_tris, emissive_area) = emissive(&scene);
     let textured = scene.materials.iter().filter(|m| m.diffuse_texture.is_some()).count();
-    let bounds = crate::cli::scene_bounds(&scene);
+    let bounds = scene.bounds();
 
     outln!("scene        {}", args.scene);
     outln!("triangles    {instanced} ({stored} stored in meshes)");

@@ -112,8 +112,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         // the larger default clamp keeps the VPLs' near-field noise low.
         frame.settings.compensate_clamp = true;
         if args.frame.clamp.is_none() {
-            frame.settings.clamp =
-                IgiSettings::compensated_clamp_for(crate::cli::scene_bounds(&scene).diagonal());
+            frame.settings.clamp = IgiSettings::compensated_clamp_for(scene.bounds().diagonal());
         }
     }
 

@@ -95,7 +95,7 @@ impl FrameArgs {
             anyhow::bail!("--time: {} is not a finite number of seconds ≥ 0", self.time);
         }
         let camera = self.camera.resolve(scene)?;
-        let diagonal = crate::cli::scene_bounds(scene).diagonal();
+        let diagonal = scene.bounds().diagonal();
         let settings = IgiSettings {
             width: self.width,
             height: self.height,

@@ -15,7 +15,7 @@ use super::box3a::Box3A;
 use super::partition::{partition_at_median, partition_at_plane};
 use super::prim_box::PrimBox;
 use super::small_subtree::{SMALL_NODE_MAX, build_small_subtree};
-use super::{BuildParams, levels_to_split};
+use super::{BuildParams, levels_to_split, prim_count};
 use crate::aabb::Aabb;
 use crate::bvh::Bvh;
 use crate::node::Node;
@@ -38,12 +38,7 @@ const PARALLEL_SUBTREE_MIN: usize = 1 << 12;
 /// # Panics
 /// If `params` is out of range (see [`BuildParams`]) or there are 2³¹ primitives or more.
 pub fn build_binned_sah(prim_bounds: &[Aabb], params: &BuildParams) -> Bvh {
-    params.assert_valid();
-    let n = prim_bounds.len();
-    if n == 0 {
-        return Bvh::default();
-    }
-    assert!(n < 1 << 31, "a BVH holds fewer than 2^31 primitives, got {n}");
+    let Some(n) = prim_count(prim_bounds, params) else { return Bvh::default() };
 
     let mut boxes = Vec::with_capacity(n);
     boxes.par_extend(prim_bounds.par_iter().map(PrimBox::from));

@@ -14,6 +14,8 @@
 //! Both bound the tree's depth by the traversal stacks' [`MAX_DEPTH`](crate::traverse::MAX_DEPTH),
 //! whatever the input: where a split could lead deeper, they split at the median instead.
 
+use crate::aabb::Aabb;
+
 mod binned_sah;
 mod bins;
 mod box3a;
@@ -81,6 +83,15 @@ impl BuildParams {
         let split = self.traversal_cost * area + self.intersection_cost * area_count_sum;
         leaf <= split
     }
+}
+
+/// The checks both builders start with (their `# Panics`): the number of primitives, or `None`
+/// for an empty input, whose BVH is empty.
+fn prim_count(prim_bounds: &[Aabb], params: &BuildParams) -> Option<usize> {
+    params.assert_valid();
+    let n = prim_bounds.len();
+    assert!(n < 1 << 31, "a BVH holds fewer than 2^31 primitives, got {n}");
+    (n > 0).then_some(n)
 }
 
 /// The number of tree levels below a node of `n` primitives if it is halved until every part

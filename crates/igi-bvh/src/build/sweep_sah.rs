@@ -7,7 +7,7 @@
 use glam::Vec3A;
 
 use super::box3a::Box3A;
-use super::{BuildParams, levels_to_split};
+use super::{BuildParams, levels_to_split, prim_count};
 use crate::aabb::Aabb;
 use crate::bvh::Bvh;
 use crate::node::Node;
@@ -21,12 +21,7 @@ use crate::traverse::MAX_DEPTH;
 /// # Panics
 /// If `params` is out of range (see [`BuildParams`]) or there are 2³¹ primitives or more.
 pub fn build_sweep_sah(prim_bounds: &[Aabb], params: &BuildParams) -> Bvh {
-    params.assert_valid();
-    let n = prim_bounds.len();
-    if n == 0 {
-        return Bvh::default();
-    }
-    assert!(n < 1 << 31, "a BVH holds fewer than 2^31 primitives, got {n}");
+    let Some(n) = prim_count(prim_bounds, params) else { return Bvh::default() };
 
     let boxes: Vec<Box3A> = prim_bounds.iter().map(Box3A::from).collect();
     let centroids: Vec<Vec3A> = boxes.iter().map(Box3A::centroid).collect();

@@ -7,7 +7,7 @@ use std::fs;
 use std::path::PathBuf;
 
 use glam::Vec3;
-use igi_scene::Bounds;
+use igi_bvh::Aabb;
 
 /// `shared/scenes` beside the repository, or `None` (with a message saying the test is
 /// skipped) when this checkout has no shared scenes.
@@ -34,7 +34,7 @@ pub fn directory(test: &str, files: &[(&str, &str)]) -> PathBuf {
 
 /// Asserts that `bounds` equals `min`..`max` to within `tolerance` per coordinate.
 #[track_caller]
-pub fn assert_bounds(bounds: Bounds, min: [f32; 3], max: [f32; 3], tolerance: f32) {
+pub fn assert_bounds(bounds: Aabb, min: [f32; 3], max: [f32; 3], tolerance: f32) {
     let close = |a: Vec3, b: [f32; 3]| (a - Vec3::from(b)).abs().max_element() <= tolerance;
     assert!(
         close(bounds.min, min) && close(bounds.max, max),

@@ -16,7 +16,7 @@
 //! and one `powf` per lane is the cheapest lobe with a closed-form sampling routine.
 
 use glam::{Vec2, Vec3};
-use igi_simd::{F32x8, Vec3x8};
+use igi_simd::F32x8;
 use std::f32::consts::{FRAC_1_PI, PI};
 
 /// The normalised lobe (n + 2)/(2π) · max(0, cos α)ⁿ at `cos_alpha` = r · ω_i: the glossy
@@ -42,12 +42,6 @@ pub fn phong_lobe8(exponent: F32x8, cos_alpha: F32x8) -> F32x8 {
 #[inline]
 pub fn mirror_direction(w: Vec3, n: Vec3) -> Vec3 {
     2.0 * n.dot(w) * n - w
-}
-
-/// [`mirror_direction`] of eight lanes.
-#[inline(always)]
-pub fn mirror_direction8(w: Vec3x8, n: Vec3x8) -> Vec3x8 {
-    n * (F32x8::splat(2.0) * n.dot(w)) - w
 }
 
 /// A unit direction around the unit axis `r` with density (n + 1)/(2π) · cosⁿα (α the angle

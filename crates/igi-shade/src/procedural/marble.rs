@@ -6,15 +6,15 @@
 use igi_simd::Vec3x8;
 
 use super::{Sample, band};
-use crate::noise::{turbulence3x8, turbulence3x8_grad};
+use crate::noise::{turbulence3, turbulence3_grad};
 
 /// Veins of marble; `k` is the turbulence strength.
 pub(super) fn sample(q: Vec3x8, octaves: u32, k: f32, bump: bool) -> Sample {
     let (turb, height_gradient) = if bump {
-        let (t, g) = turbulence3x8_grad(q, octaves);
-        (t, Some(g))
+        let (t, g) = turbulence3_grad(q.into(), octaves);
+        (t, Some(g.into()))
     } else {
-        (turbulence3x8(q, octaves), None)
+        (turbulence3(q.into(), octaves), None)
     };
     Sample { t: band(turb.mul_add(igi_simd::F32x8::splat(k), q.x)), height_gradient }
 }

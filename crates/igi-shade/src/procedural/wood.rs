@@ -5,15 +5,15 @@
 use igi_simd::{F32x8, Vec3x8};
 
 use super::{Sample, band};
-use crate::noise::{noise3x8, noise3x8_grad};
+use crate::noise::{noise3, noise3_grad};
 
 /// Rings of wood: `rings` per unit radius, bent by noise of strength `k`.
 pub(super) fn sample(q: Vec3x8, rings: f32, k: f32, bump: bool) -> Sample {
     let (n, height_gradient) = if bump {
-        let (n, g) = noise3x8_grad(q);
-        (n, Some(g))
+        let (n, g) = noise3_grad(q.into());
+        (n, Some(g.into()))
     } else {
-        (noise3x8(q), None)
+        (noise3(q.into()), None)
     };
     let r = q.x.mul_add(q.x, q.z * q.z).sqrt();
     Sample { t: band(n.mul_add(F32x8::splat(k), r * F32x8::splat(rings))), height_gradient }

@@ -21,11 +21,6 @@ impl Level {
         self.0.height
     }
 
-    /// The linear RGBA value of texel (`x`, `y`).
-    pub fn texel(&self, x: u32, y: u32) -> Vec4 {
-        Vec4::from_array(self.0.texels.linear((y * self.0.width + x) as usize))
-    }
-
     /// The four texels around texture coordinates `uv` (top left, top right, bottom left,
     /// bottom right) and the position of `uv` between their centres.
     #[inline]
@@ -163,6 +158,11 @@ mod tests {
         Texture::from_linear("t", width, height, texels)
     }
 
+    /// The linear RGBA value of texel (`x`, `y`) of `level`.
+    fn texel(level: &Level, x: u32, y: u32) -> Vec4 {
+        Vec4::from_array(level.0.texels.linear((y * level.0.width + x) as usize))
+    }
+
     /// 2 × 2: top row red, green; bottom row blue, white.
     fn four() -> MipMap {
         MipMap::new(&texture(
@@ -219,9 +219,9 @@ mod tests {
         assert_eq!(sizes, [(5, 3), (3, 2), (2, 1), (1, 1)]);
         let l1 = &m.levels()[1];
         // (0, 0) covers texels 0, 1, 5, 6; (2, 0) the odd column 4, 9; (2, 1) the corner 14.
-        assert_eq!(l1.texel(0, 0).x, (0.0 + 1.0 + 5.0 + 6.0) / 4.0);
-        assert_eq!(l1.texel(2, 0).x, (4.0 + 9.0) / 2.0);
-        assert_eq!(l1.texel(2, 1).x, 14.0);
+        assert_eq!(texel(l1, 0, 0).x, (0.0 + 1.0 + 5.0 + 6.0) / 4.0);
+        assert_eq!(texel(l1, 2, 0).x, (4.0 + 9.0) / 2.0);
+        assert_eq!(texel(l1, 2, 1).x, 14.0);
     }
 
     #[test]
