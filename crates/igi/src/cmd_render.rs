@@ -335,12 +335,17 @@ mod tests {
     use super::*;
     use clap::Parser;
 
+    /// `igi render`'s arguments alone.
+    #[derive(Debug, Parser)]
+    struct Line {
+        #[command(flatten)]
+        args: RenderArgs,
+    }
+
+    /// The arguments of a whole command line: `igi`, `render`, then the arguments.
     fn args(line: &[&str]) -> RenderArgs {
-        let cli = crate::cli::Cli::try_parse_from(line).expect("valid command line");
-        match cli.command {
-            crate::cli::Command::Render(a) => a,
-            other => panic!("not a render command: {other:?}"),
-        }
+        let line = std::iter::once(line[0]).chain(line[2..].iter().copied());
+        Line::try_parse_from(line).expect("valid command line").args
     }
 
     #[test]

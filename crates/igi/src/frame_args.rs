@@ -73,7 +73,7 @@ pub struct FrameArgs {
     pub time: f32,
     /// Camera overrides.
     #[command(flatten)]
-    pub camera: crate::cli::CameraArgs,
+    pub camera: crate::camera_args::CameraArgs,
 }
 
 /// Parses `NxM` into `[N, M]`.

@@ -7,11 +7,12 @@
 /// `igi info scene.obj | head`, instead of panicking.
 macro_rules! outln {
     ($($arg:tt)*) => {
-        $crate::cli::write_stdout_line(format_args!($($arg)*))
+        $crate::stdout::write_stdout_line(format_args!($($arg)*))
     };
 }
 
 mod bench;
+mod camera_args;
 mod cli;
 mod cluster;
 mod cmd_info;
@@ -21,6 +22,7 @@ mod cmd_view;
 mod cmd_worker;
 mod cpu_check;
 mod frame_args;
+mod stdout;
 mod viewer_args;
 
 use std::process::ExitCode;

@@ -24,7 +24,7 @@ pub struct RaysArgs {
     pub scene: String,
     /// Camera overrides.
     #[command(flatten)]
-    pub camera: crate::cli::CameraArgs,
+    pub camera: crate::camera_args::CameraArgs,
     /// Resolutions, comma separated.
     #[arg(long, default_value = "640x480,1024x1024", value_delimiter = ',', value_parser = parse_res)]
     pub res: Vec<(u32, u32)>,
@@ -51,7 +51,7 @@ pub struct RaysArgs {
     #[arg(long)]
     pub vpl_file: Option<PathBuf>,
     /// Point light that starts the VPL walks (default: the scene's emissive triangles).
-    #[arg(long, value_parser = crate::cli::parse_vec3, allow_hyphen_values = true)]
+    #[arg(long, value_parser = crate::camera_args::parse_vec3, allow_hyphen_values = true)]
     pub light: Option<Vec3>,
     /// Write all results as JSON.
     #[arg(long)]
@@ -499,12 +499,17 @@ mod tests {
     use super::*;
     use clap::Parser;
 
+    /// `igi bench rays`' arguments alone.
+    #[derive(Debug, Parser)]
+    struct Line {
+        #[command(flatten)]
+        args: RaysArgs,
+    }
+
+    /// The arguments of a whole command line: `igi`, `bench`, `rays`, then the arguments.
     fn args(line: &[&str]) -> RaysArgs {
-        let cli = crate::cli::Cli::try_parse_from(line).expect("valid command line");
-        match cli.command {
-            crate::cli::Command::Bench(crate::bench::BenchCommand::Rays(a)) => a,
-            other => panic!("not a bench rays command: {other:?}"),
-        }
+        let line = std::iter::once(line[0]).chain(line[3..].iter().copied());
+        Line::try_parse_from(line).expect("valid command line").args
     }
 
     fn error_of(line: &[&str]) -> String {
