@@ -29,7 +29,7 @@ pub struct IgiSettings {
     pub aa: u32,
     /// The discontinuity filter (paper 2.1), `None` to show the raw interleaved image.
     pub filter: Option<FilterSettings>,
-    /// d_min of the VPL contribution `… / max(d², d_min²)` (DESIGN.md section 1); 0 turns
+    /// d_min of the VPL contribution `… / max(d², d_min²)` (ARCHITECTURE.md, "Default clamp"); 0 turns
     /// clamping off (unbiased, noisier).
     pub clamp: f32,
     /// Recover the light the clamp removes with short path-traced rays (bias compensation,

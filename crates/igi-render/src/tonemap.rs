@@ -11,7 +11,7 @@
 //!   images across frames and scenes.
 //!
 //! Image statistics are gathered in [`LuminanceStats`], which merge: a tile can report its own
-//! and the compositor combines them in tile order (DESIGN.md section 1, paper 3.4).
+//! and the compositor combines them in tile order (paper 3.4).
 
 use crate::film::Film;
 use crate::lights::luminance;
