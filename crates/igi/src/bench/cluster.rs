@@ -97,7 +97,7 @@ pub fn run(args: &ClusterBenchArgs) -> Result<()> {
         Rank::NodeDone => return Ok(()),
     };
     // Only rank 0 writes the report.
-    super::check_json(args.json.as_deref())?;
+    super::json_report::check_json(args.json.as_deref())?;
     let mut state = args.frame.frame_state(&root.scene)?;
     let Some(mut master) = root.master else {
         bail!(
@@ -176,7 +176,7 @@ pub fn run(args: &ClusterBenchArgs) -> Result<()> {
     };
     print_report(&report);
     if let Some(path) = &args.json {
-        super::write_json(path, &report)?;
+        super::json_report::write_json(path, &report)?;
     }
     Ok(())
 }

@@ -86,7 +86,7 @@ pub fn run(args: &FrameBenchArgs) -> Result<()> {
     if !(1..=100_000).contains(&args.frames) {
         bail!("--frames must be between 1 and 100000");
     }
-    super::check_json(args.json.as_deref())?;
+    super::json_report::check_json(args.json.as_deref())?;
     let scene = igi_scene::load_named(&args.scene).context("cannot load scene")?;
     let mut frame = args.frame.frame_state(&scene)?;
     frame.settings.reseed_per_frame = args.reseed;
@@ -175,7 +175,7 @@ pub fn run(args: &FrameBenchArgs) -> Result<()> {
     };
     print_report(&report);
     if let Some(path) = &args.json {
-        super::write_json(path, &report)?;
+        super::json_report::write_json(path, &report)?;
     }
     Ok(())
 }

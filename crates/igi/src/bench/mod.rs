@@ -6,15 +6,11 @@
 
 pub mod cluster;
 pub mod frame;
+mod json_report;
 pub mod rays;
 mod workload;
 
-use anyhow::{Context, Result};
 use clap::Subcommand;
-use igi_render::output::{check_writable, write_atomically};
-use serde::Serialize;
-use std::io::Write;
-use std::path::Path;
 
 /// The benchmarks.
 #[derive(Debug, Subcommand)]
@@ -34,17 +30,4 @@ pub fn run(cmd: BenchCommand) -> anyhow::Result<()> {
         BenchCommand::Rays(args) => rays::run(&args),
         BenchCommand::Cluster(args) => cluster::run(&args),
     }
-}
-
-/// Checks, before a benchmark starts, that its `--json` report can be written.
-fn check_json(json: Option<&Path>) -> Result<()> {
-    json.map(check_writable).transpose().context("--json")?;
-    Ok(())
-}
-
-/// Writes a benchmark's report as pretty JSON; `path` is replaced at once.
-fn write_json(path: &Path, report: &impl Serialize) -> Result<()> {
-    let json = serde_json::to_string_pretty(report)?;
-    write_atomically(path, |out| out.write_all(json.as_bytes()))
-        .with_context(|| format!("cannot write {}", path.display()))
 }

@@ -184,7 +184,7 @@ pub fn run(args: &RaysArgs) -> Result<()> {
     if !(1..=MAX_REPS).contains(&args.reps) {
         bail!("--reps: {} is not between 1 and {MAX_REPS}", args.reps);
     }
-    super::check_json(args.json.as_deref())?;
+    super::json_report::check_json(args.json.as_deref())?;
     let file_vpls = args
         .vpl_file
         .as_deref()
@@ -344,7 +344,7 @@ pub fn run(args: &RaysArgs) -> Result<()> {
             },
             results,
         };
-        super::write_json(path, &report)?;
+        super::json_report::write_json(path, &report)?;
     }
     Ok(())
 }
