@@ -54,18 +54,20 @@ impl Packet8 {
         self.bits.count_ones()
     }
 
-    /// The closest hits of the rays (all misses for an empty packet). Unoccupied lanes repeat
-    /// the first ray, so that every lane of the packet holds a valid ray: the packet kernel
-    /// decides the traversal order from all lanes' signs.
+    /// The closest hits of the rays (all misses for an empty packet). Unoccupied lanes (a full
+    /// packet, the common case, has none) repeat the first ray, so that every lane of the packet
+    /// holds a valid ray: the packet kernel decides the traversal order from all lanes' signs.
     #[inline]
     pub fn intersect(&mut self, accel: &Accel) -> PacketHits {
         if self.bits == 0 {
             return PacketHits { hits: [Hit::miss(f32::INFINITY); 8], bits: 0 };
         }
-        let first = self.rays[self.bits.trailing_zeros() as usize];
-        for lane in 0..8 {
-            if self.bits & (1 << lane) == 0 {
-                self.rays[lane] = first;
+        if self.bits != 0xff {
+            let first = self.rays[self.bits.trailing_zeros() as usize];
+            for lane in 0..8 {
+                if self.bits & (1 << lane) == 0 {
+                    self.rays[lane] = first;
+                }
             }
         }
         let hits = accel.intersect8(&RayPacket8::from_rays(&self.rays), M32x8::from_bitmask(self.bits));
