@@ -12,12 +12,12 @@ use std::ops::{Add, BitAnd, BitOr, Div, Mul, Not, Sub};
 
 /// One flag per lane: `bool` for one lane, [`M32x8`] for eight.
 pub trait LaneMask: Copy + BitAnd<Output = Self> + BitOr<Output = Self> + Not<Output = Self> {
+    /// Every lane set.
+    const ALL: Self;
     /// True if any lane is set.
     fn any(self) -> bool;
     /// Number of lanes set.
     fn count(self) -> u32;
-    /// `self & !o`.
-    fn and_not(self, o: Self) -> Self;
 }
 
 /// The operations of one `f32` or of eight lanes ([`F32x8`]), with equal results lane for lane.
@@ -69,6 +69,7 @@ pub trait Lanes:
 }
 
 impl LaneMask for bool {
+    const ALL: Self = true;
     #[inline(always)]
     fn any(self) -> bool {
         self
@@ -77,13 +78,10 @@ impl LaneMask for bool {
     fn count(self) -> u32 {
         self as u32
     }
-    #[inline(always)]
-    fn and_not(self, o: Self) -> Self {
-        self & !o
-    }
 }
 
 impl LaneMask for M32x8 {
+    const ALL: Self = M32x8::ALL;
     #[inline(always)]
     fn any(self) -> bool {
         M32x8::any(self)
@@ -91,10 +89,6 @@ impl LaneMask for M32x8 {
     #[inline(always)]
     fn count(self) -> u32 {
         self.bitmask().count_ones()
-    }
-    #[inline(always)]
-    fn and_not(self, o: Self) -> Self {
-        M32x8::and_not(self, o)
     }
 }
 
