@@ -150,7 +150,7 @@ fn shifts_gather_and_lookup() {
 
 /// Every lane-wise [`Lanes`] operation, written once over the trait: float results and integer
 /// results.
-fn lanes_kernel<L: Lanes>(a: L, b: L, idx: L::Int) -> ([L; 8], [L::Int; 2]) {
+fn lanes_kernel<L: Lanes>(a: L, b: L, idx: L::Int) -> ([L; 9], [L::Int; 2]) {
     let perm: [i32; 256] = std::array::from_fn(|k| (k * 97 % 256) as i32);
     let grad: [f32; 16] = std::array::from_fn(|k| k as f32 * 1.5 - 4.0);
     let floats = [
@@ -160,7 +160,8 @@ fn lanes_kernel<L: Lanes>(a: L, b: L, idx: L::Int) -> ([L; 8], [L::Int; 2]) {
         L::select(a.lt(b) | a.eq(b), a, b),
         L::select(a.gt(b) & !a.ge(b), a, L::splat(2.0)),
         L::select(a.le(b), b, L::splat(-0.0)),
-        a.recompute(a.lt(b), [a, b], |[x, y]| x * 4.0 - y),
+        L::recompute(a.lt(b), [a], [a, b], |[x, y]| [x * 4.0 - y])[0],
+        L::recompute(a.gt(b), [a, b], [b, a], |[x, y]| [x - y, x * y])[1],
         L::lookup16(&grad, idx),
     ];
     (floats, [a.to_i32(), L::gather(&perm, idx + L::splat_i32(3))])
