@@ -197,9 +197,9 @@ impl Accel {
     /// The closest hit of `ray` within `[tnear, tfar]` (ties in distance go to the lowest
     /// instance, then triangle, index, so the answer does not depend on traversal order).
     pub fn intersect(&self, ray: &Ray) -> Hit {
-        let mut q = Closest1 { hit: Hit::miss(ray.tfar) };
-        self.trace1(ray, &mut q);
-        q.hit
+        let mut hit = Hit::miss(ray.tfar);
+        self.trace1(ray, &mut hit);
+        hit
     }
 
     /// True if anything lies on `ray` within `[tnear, tfar]` (shadow rays).
@@ -401,38 +401,43 @@ impl<L: Lanes> Query<L> for Any<L> {
     }
 }
 
-impl<L: Lanes> TriangleQuery<L> for Any<L> {
+// The two widths take hits differently: one ray is answered by its first hit, so it branches on
+// it; whether any lane of a packet hits a triangle is hard to predict, and that branch cost about
+// 7 % of the shadow-packet throughput on the Cornell box, so a packet clears its hit lanes
+// without one.
+
+impl TriangleQuery<f32> for Any<f32> {
     #[inline(always)]
-    fn take(&mut self, h: TriangleHit<L>, _inst: u32, _prim: u32) -> bool {
-        // No branch on the hit mask: whether a packet hits a triangle is hard to predict, and
-        // the branch cost 7 % of the shadow-packet throughput on the Cornell box.
+    fn take(&mut self, h: TriangleHit<f32>, _inst: u32, _prim: u32) -> bool {
+        if h.mask {
+            self.active = false;
+        }
+        self.active
+    }
+}
+
+impl TriangleQuery<F32x8> for Any<F32x8> {
+    #[inline(always)]
+    fn take(&mut self, h: TriangleHit<F32x8>, _inst: u32, _prim: u32) -> bool {
         self.active = self.active.and_not(h.mask);
         self.active.any()
     }
 }
 
-/// The closest-hit query of one ray.
-struct Closest1 {
-    hit: Hit,
-}
-
-impl Query<f32> for Closest1 {
+/// The closest-hit query of one ray is its best hit so far.
+impl Query<f32> for Hit {
     const SHRINKS: bool = true;
     #[inline(always)]
     fn tfar(&self) -> f32 {
-        self.hit.t
-    }
-    #[inline(always)]
-    fn active(&self) -> bool {
-        true
+        self.t
     }
 }
 
-impl TriangleQuery<f32> for Closest1 {
+impl TriangleQuery<f32> for Hit {
     #[inline(always)]
     fn take(&mut self, h: TriangleHit<f32>, inst: u32, prim: u32) -> bool {
-        if h.mask && closer(h.t, inst, prim, &self.hit) {
-            self.hit = Hit { t: h.t, u: h.u, v: h.v, instance: inst, prim };
+        if h.mask && closer(h.t, inst, prim, self) {
+            *self = Hit { t: h.t, u: h.u, v: h.v, instance: inst, prim };
         }
         true
     }

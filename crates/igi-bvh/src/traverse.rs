@@ -169,8 +169,12 @@ pub(crate) trait Query<L: Lanes> {
     const SHRINKS: bool;
     /// Current ends of the rays' intervals.
     fn tfar(&self) -> L;
-    /// Rays still looking for an answer.
-    fn active(&self) -> L::Mask;
+    /// Rays still looking for an answer (all of them for a query that never retires one before
+    /// the walk ends).
+    #[inline(always)]
+    fn active(&self) -> L::Mask {
+        L::Mask::ALL
+    }
 }
 
 /// Walks `nodes` with one ray or eight, calling `leaf` for every leaf that any active ray

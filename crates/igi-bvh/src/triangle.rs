@@ -12,11 +12,13 @@
 use glam::Vec3;
 use igi_simd::{F32x8, LaneMask, Lanes, M32x8, Vec3x8};
 
-/// `bx * ay - by * ax` in double precision, rounded once to `f32`: the edge function where its
-/// single-precision value is exactly zero (module documentation).
+/// The edge functions U, V, W of the sheared vertices (a, b, c) in double precision, each
+/// rounded once to `f32`: the values where a single-precision one is exactly zero (module
+/// documentation).
 #[inline]
-fn edge_f64([ax, ay, bx, by]: [f32; 4]) -> f32 {
-    (bx as f64 * ay as f64 - by as f64 * ax as f64) as f32
+fn edges_f64([ax, ay, bx, by, cx, cy]: [f32; 6]) -> [f32; 3] {
+    let edge = |ax: f32, ay: f32, bx: f32, by: f32| (bx as f64 * ay as f64 - by as f64 * ax as f64) as f32;
+    [edge(bx, by, cx, cy), edge(cx, cy, ax, ay), edge(ax, ay, bx, by)]
 }
 
 /// The per-ray constants of the test: the permutation (kx, ky, kz) that makes z the dominant
@@ -187,9 +189,7 @@ pub(crate) fn intersect<L: Lanes, S: Shear<L>>(
     let zero = L::splat(0.0);
     let on_edge = u.eq(zero) | v.eq(zero) | w.eq(zero);
     if on_edge.any() {
-        u = u.recompute(on_edge, [bx, by, cx, cy], edge_f64);
-        v = v.recompute(on_edge, [cx, cy, ax, ay], edge_f64);
-        w = w.recompute(on_edge, [ax, ay, bx, by], edge_f64);
+        [u, v, w] = L::recompute(on_edge, [u, v, w], [ax, ay, bx, by, cx, cy], edges_f64);
     }
     let has_neg = u.lt(zero) | v.lt(zero) | w.lt(zero);
     let has_pos = u.gt(zero) | v.gt(zero) | w.gt(zero);

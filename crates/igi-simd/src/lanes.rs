@@ -12,12 +12,12 @@ use std::ops::{Add, BitAnd, BitOr, Div, Mul, Not, Sub};
 
 /// One flag per lane: `bool` for one lane, [`M32x8`] for eight.
 pub trait LaneMask: Copy + BitAnd<Output = Self> + BitOr<Output = Self> + Not<Output = Self> {
+    /// Every lane set.
+    const ALL: Self;
     /// True if any lane is set.
     fn any(self) -> bool;
     /// Number of lanes set.
     fn count(self) -> u32;
-    /// `self & !o`.
-    fn and_not(self, o: Self) -> Self;
 }
 
 /// The operations of one `f32` or of eight lanes ([`F32x8`]), with equal results lane for lane.
@@ -53,10 +53,15 @@ pub trait Lanes:
     fn reduce_min(self) -> f32;
     /// Largest lane (NaN lanes are ignored unless all are NaN).
     fn reduce_max(self) -> f32;
-    /// `self`, except that each lane where `m` is set becomes `f` of that lane of `args`: the
-    /// scalar fallback of a kernel for the rare lanes its fast path cannot settle (for eight
-    /// lanes it is kept out of line).
-    fn recompute<const K: usize>(self, m: Self::Mask, args: [Self; K], f: impl Fn([f32; K]) -> f32) -> Self;
+    /// `values`, except that in each lane where `m` is set they become `f` of that lane of
+    /// `args`: the scalar fallback of a kernel for the rare lanes its fast path cannot settle
+    /// (for eight lanes, one call kept out of line).
+    fn recompute<const K: usize, const R: usize>(
+        m: Self::Mask,
+        values: [Self; R],
+        args: [Self; K],
+        f: impl Fn([f32; K]) -> [f32; R],
+    ) -> [Self; R];
     /// Lanes converted to `i32`, truncating toward zero (out of range: `i32::MIN`, as
     /// `cvttps2dq`).
     fn to_i32(self) -> Self::Int;
@@ -69,6 +74,7 @@ pub trait Lanes:
 }
 
 impl LaneMask for bool {
+    const ALL: Self = true;
     #[inline(always)]
     fn any(self) -> bool {
         self
@@ -77,13 +83,10 @@ impl LaneMask for bool {
     fn count(self) -> u32 {
         self as u32
     }
-    #[inline(always)]
-    fn and_not(self, o: Self) -> Self {
-        self & !o
-    }
 }
 
 impl LaneMask for M32x8 {
+    const ALL: Self = M32x8::ALL;
     #[inline(always)]
     fn any(self) -> bool {
         M32x8::any(self)
@@ -91,10 +94,6 @@ impl LaneMask for M32x8 {
     #[inline(always)]
     fn count(self) -> u32 {
         self.bitmask().count_ones()
-    }
-    #[inline(always)]
-    fn and_not(self, o: Self) -> Self {
-        M32x8::and_not(self, o)
     }
 }
 
@@ -150,8 +149,13 @@ impl Lanes for f32 {
         self
     }
     #[inline(always)]
-    fn recompute<const K: usize>(self, m: bool, args: [Self; K], f: impl Fn([f32; K]) -> f32) -> Self {
-        if m { f(args) } else { self }
+    fn recompute<const K: usize, const R: usize>(
+        m: bool,
+        values: [Self; R],
+        args: [Self; K],
+        f: impl Fn([f32; K]) -> [f32; R],
+    ) -> [Self; R] {
+        if m { f(args) } else { values }
     }
     #[inline(always)]
     fn to_i32(self) -> i32 {
@@ -204,14 +208,20 @@ impl Lanes for F32x8 {
         fn lookup16(table: &[f32; 16], idx: I32x8) -> Self;
     }
     #[cold]
-    fn recompute<const K: usize>(self, m: M32x8, args: [Self; K], f: impl Fn([f32; K]) -> f32) -> Self {
-        let (mut r, args) = (self.to_array(), args.map(F32x8::to_array));
-        for (i, r) in r.iter_mut().enumerate() {
-            if m.lane(i) {
-                *r = f(std::array::from_fn(|k| args[k][i]));
+    fn recompute<const K: usize, const R: usize>(
+        m: M32x8,
+        values: [Self; R],
+        args: [Self; K],
+        f: impl Fn([f32; K]) -> [f32; R],
+    ) -> [Self; R] {
+        let (mut r, args) = (values.map(F32x8::to_array), args.map(F32x8::to_array));
+        for i in (0..8).filter(|&i| m.lane(i)) {
+            let lane = f(std::array::from_fn(|k| args[k][i]));
+            for (r, v) in r.iter_mut().zip(lane) {
+                r[i] = v;
             }
         }
-        F32x8::from_array(r)
+        r.map(F32x8::from_array)
     }
     #[inline(always)]
     fn splat_i32(v: i32) -> I32x8 {

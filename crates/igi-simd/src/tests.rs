@@ -150,7 +150,7 @@ fn shifts_gather_and_lookup() {
 
 /// Every lane-wise [`Lanes`] operation, written once over the trait: float results and integer
 /// results.
-fn lanes_kernel<L: Lanes>(a: L, b: L, idx: L::Int) -> ([L; 8], [L::Int; 2]) {
+fn lanes_kernel<L: Lanes>(a: L, b: L, idx: L::Int) -> ([L; 9], [L::Int; 2]) {
     let perm: [i32; 256] = std::array::from_fn(|k| (k * 97 % 256) as i32);
     let grad: [f32; 16] = std::array::from_fn(|k| k as f32 * 1.5 - 4.0);
     let floats = [
@@ -159,8 +159,9 @@ fn lanes_kernel<L: Lanes>(a: L, b: L, idx: L::Int) -> ([L; 8], [L::Int; 2]) {
         a.xor_sign(b),
         L::select(a.lt(b) | a.eq(b), a, b),
         L::select(a.gt(b) & !a.ge(b), a, L::splat(2.0)),
-        L::select(a.le(b).and_not(a.lt(b)), b, L::splat(-0.0)),
-        a.recompute(a.lt(b), [a, b], |[x, y]| x * 4.0 - y),
+        L::select(a.le(b), b, L::splat(-0.0)),
+        L::recompute(a.lt(b), [a], [a, b], |[x, y]| [x * 4.0 - y])[0],
+        L::recompute(a.gt(b), [a, b], [b, a], |[x, y]| [x - y, x * y])[1],
         L::lookup16(&grad, idx),
     ];
     (floats, [a.to_i32(), L::gather(&perm, idx + L::splat_i32(3))])
@@ -186,6 +187,7 @@ fn lanes_of_f32x8_equal_lanes_of_f32() {
     assert_eq!((LaneMask::any(m), m.count()), (true, m.bitmask().count_ones()));
     assert_eq!((LaneMask::any(M32x8::NONE), M32x8::NONE.count()), (false, 0));
     assert_eq!((true.any(), true.count(), false.any(), false.count()), (true, 1, false, 0));
+    assert_eq!((<M32x8 as LaneMask>::ALL.count(), <bool as LaneMask>::ALL.count()), (8, 1));
     let v = F32x8::from_array(c);
     assert_eq!((Lanes::reduce_min(v), Lanes::reduce_max(v)), (-3.0, 1e10));
     assert_eq!((Lanes::reduce_min(2.5f32), Lanes::reduce_max(2.5f32)), (2.5, 2.5));
