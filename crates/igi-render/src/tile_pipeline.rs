@@ -412,7 +412,7 @@ impl<'a> TilePipeline<'a> {
                 depth,
                 material: sp.material,
                 albedo: b.diffuse,
-                specular: b.specular,
+                specular: b.glossy,
                 exponent: b.exponent,
                 axis: mirror_direction(-dir, ns),
                 irradiance: Vec3::ZERO,

@@ -23,7 +23,7 @@ fn plane_seen_in_a_mirror_is_the_plane_times_the_reflectance() {
     // shows r × ρ/π I cos θ / d² at the mirrored point.
     let r = Vec3::new(0.9, 0.8, 0.7);
     let mirror_material =
-        Material { diffuse: Vec3::ZERO, specular: r, kind: MaterialKind::Mirror, ..Material::default() };
+        Material { diffuse: Vec3::ZERO, glossy: r, kind: MaterialKind::Mirror, ..Material::default() };
     let (y0, y1, zh) = (0.3, 3.0, 2.0);
     let mirror = |x: f32| {
         let p = [Vec3::new(x, y0, -zh), Vec3::new(x, y0, zh), Vec3::new(x, y1, zh), Vec3::new(x, y1, -zh)];
@@ -198,7 +198,7 @@ fn stacked_glass_between_mirrors_stays_bounded_at_the_deepest_chain() {
     meshes.push(square_z(-1.0, 3.0, Vec3::Z, 1));
     meshes.push(square_z(1.0, 3.0, -Vec3::Z, 1));
     meshes.push(horizontal_square("floor", Vec3::new(0.0, -2.0, 0.0), Vec2::new(3.0, 3.0), true, 2));
-    let mirror = Material { kind: MaterialKind::Mirror, specular: Vec3::splat(0.99), ..Material::default() };
+    let mirror = Material { kind: MaterialKind::Mirror, glossy: Vec3::splat(0.99), ..Material::default() };
     let mut prepared = PreparedScene::new(scene(
         meshes,
         vec![glass(), mirror, diffuse("floor", 0.5)],
