@@ -7,7 +7,7 @@
 //!    material per call; constant materials skip the call), the sky behind misses, emission
 //!    seen directly, and a shading point for every hit with a diffuse or glossy lobe;
 //! 3. **specular**: mirror and glass lobes continue as reflection and refraction rays, traced
-//!    as streams of packets bounce by bounce up to the depth limit; their hits are shaded the
+//!    as streams of packets bounce by bounce up to `specular_bounces`; their hits are shaded the
 //!    same way and become shading points of the same group, weighted by the chain's throughput;
 //! 4. **shadow**: for each light, sky VPL and VPL of the group, the shadow packets of all
 //!    shading points, and the BRDF shaders accumulating the diffuse radiance D = E/π and the
@@ -48,7 +48,7 @@ use std::time::Instant;
 
 /// Specular chains carrying less than this (per channel, relative to the camera ray) end: glass
 /// splits every ray in two, and without a floor the branches of weak internal reflections
-/// would grow as 2^depth. Two glass reflections (0.04² at normal incidence) still pass.
+/// would grow as 2^bounces. Two glass reflections (0.04² at normal incidence) still pass.
 const MIN_SPECULAR_THROUGHPUT: f32 = 1e-3;
 
 /// Largest number of rays in one bounce of a group's specular stream (a memory bound for
@@ -106,6 +106,7 @@ struct ShadingPoint {
     origin: Vec3,
     ns: Vec3,
     ng: Vec3,
+    /// Distance from the camera along the path (the filter's depth).
     depth: f32,
     material: u32,
     /// Diffuse reflectance ρ_d.
@@ -181,7 +182,7 @@ pub struct TilePipeline<'a> {
     d_min2: f32,
     compensate_clamp: bool,
     filter: Option<FilterSettings>,
-    specular_depth: u32,
+    specular_bounces: u32,
     size: (u32, u32),
     tone_map: ToneMapper,
     pixels: PixelFormat,
@@ -204,7 +205,7 @@ impl<'a> TilePipeline<'a> {
             d_min2: s.clamp * s.clamp,
             compensate_clamp: s.compensate_clamp,
             filter: s.filter,
-            specular_depth: s.specular_depth,
+            specular_bounces: s.specular_bounces,
             size: (s.width, s.height),
             tone_map: frame.tone_map,
             pixels: frame.pixels,
@@ -422,7 +423,7 @@ impl<'a> TilePipeline<'a> {
                 exact: Vec3::ZERO,
             });
         }
-        if state.bounces >= self.specular_depth {
+        if state.bounces >= self.specular_bounces {
             return;
         }
         if b.mirror.max_element() > 0.0 {
@@ -547,7 +548,7 @@ impl<'a> TilePipeline<'a> {
                         throughput: p.state.throughput * p.albedo * w,
                         depth: p.depth,
                         // No specular continuation from y.
-                        bounces: self.specular_depth,
+                        bounces: self.specular_bounces,
                         ..p.state
                     };
                     self.queue_hit(packet.ray(lane).dir, hit, state, s);
