@@ -20,8 +20,9 @@ use crate::node::Node;
 ///   primitive in leaf order.
 /// - Every node's box is the exact union of its primitives' boxes (no padding, no rounding), or
 ///   [`Aabb::EMPTY`](crate::aabb::Aabb::EMPTY)'s if all of them are empty.
-/// - The depth (see [`Bvh::depth`]) is at most [`MAX_DEPTH`](crate::traverse::MAX_DEPTH), so
-///   traversal stacks of that size never overflow.
+/// - The depth (see [`Bvh::depth`]) is at most
+///   [`TRAVERSAL_STACK_SIZE`](crate::traverse::TRAVERSAL_STACK_SIZE), so the traversal stacks
+///   never overflow.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Bvh {
     /// The nodes, root first.

@@ -22,5 +22,5 @@ pub use bvh::Bvh;
 pub use node::Node;
 pub use offset::offset_ray_origin;
 pub use ray::{Hit, HitPacket8, INVALID_ID, Ray, RayPacket8};
-pub use traverse::MAX_DEPTH;
+pub use traverse::TRAVERSAL_STACK_SIZE;
 pub use triangle::intersect_triangle;

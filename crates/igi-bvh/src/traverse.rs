@@ -20,8 +20,9 @@ use crate::node::Node;
 use glam::Vec3;
 use igi_simd::{F32x8, LaneMask, Lanes, M32x8, Vec3x8};
 
-/// Maximum BVH depth the fixed traversal stacks allow; the builders never exceed it.
-pub const MAX_DEPTH: usize = 64;
+/// Entries of the fixed traversal stacks. A walk holds at most one entry per tree level, so the
+/// builders keep every tree's depth within it.
+pub const TRAVERSAL_STACK_SIZE: usize = 64;
 
 /// 1 + 2γ₃ with γₙ = nε/(1 - nε), ε = 2⁻²⁴ (pbrt, section 3.9).
 const EXIT_SCALE: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
@@ -191,7 +192,7 @@ pub(crate) fn walk<L: Lanes, Q: Query<L>, B: BoxTest<L>>(
     if !(m & q.active()).any() {
         return;
     }
-    let mut stack = [(0u32, 0f32); MAX_DEPTH];
+    let mut stack = [(0u32, 0f32); TRAVERSAL_STACK_SIZE];
     let mut sp = 0;
     let mut node = root;
     loop {

@@ -6,7 +6,7 @@
 mod triangle_soup;
 
 use glam::Vec3;
-use igi_bvh::{Aabb, BuildParams, Bvh, MAX_DEPTH, build_binned_sah, build_sweep_sah};
+use igi_bvh::{Aabb, BuildParams, Bvh, TRAVERSAL_STACK_SIZE, build_binned_sah, build_sweep_sah};
 use triangle_soup::{Rng, SCENES, Triangle, load_scene, random_triangles, triangle_bounds};
 
 /// The smallest box containing both boxes.
@@ -44,7 +44,7 @@ fn check_invariants(bvh: &Bvh, prims: &[Aabb], params: &BuildParams, context: &s
     let (_, depth) = walk.node(0, 1);
     assert!(walk.reached.iter().all(|&r| r), "{context}: unreachable nodes");
     assert!(walk.covered.iter().all(|&c| c), "{context}: primitives in no leaf");
-    assert!(depth <= MAX_DEPTH, "{context}: depth {depth} > MAX_DEPTH");
+    assert!(depth <= TRAVERSAL_STACK_SIZE, "{context}: depth {depth} > TRAVERSAL_STACK_SIZE");
     assert_eq!(bvh.depth(), depth, "{context}: Bvh::depth");
     assert_eq!(bvh.leaf_count(), walk.leaves, "{context}: Bvh::leaf_count");
     if n == 1 {
@@ -212,7 +212,7 @@ fn depth_stays_within_the_traversal_stack() {
     let params = BuildParams { max_leaf_size: 1, ..Default::default() };
     for bvh in [build_binned_sah(&prims, &params), build_sweep_sah(&prims, &params)] {
         check_invariants(&bvh, &prims, &params, "powers of two");
-        assert!(bvh.depth() > MAX_DEPTH - 8, "the input reaches the depth limit");
+        assert!(bvh.depth() > TRAVERSAL_STACK_SIZE - 8, "the input reaches the depth limit");
     }
 }
 

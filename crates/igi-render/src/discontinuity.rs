@@ -1,6 +1,6 @@
 //! The discontinuity buffer (paper 2.1, Keller & Heidrich 2001, Wald et al. 2002): each pixel
-//! was lit by one of the n·m VPL sets only, so its irradiance carries that set's structured
-//! noise. Averaging the irradiance over the n×m window around the pixel combines all sets, but
+//! was lit by one of the n·m VPL sets only, so the light it receives carries that set's
+//! structured noise. Averaging it over the n×m window around the pixel combines all sets, but
 //! only across neighbours that see a similar surface: the same material, normals within a
 //! cosine threshold and distances along the camera path within a relative threshold. Edges,
 //! creases and depth steps stay sharp, and the filtered quantities are D = E/π and the glossy
@@ -33,17 +33,19 @@ pub struct FilterSample {
     pub depth: f32,
     /// Material index.
     pub material: u32,
-    /// D = E/π before filtering.
-    pub irradiance: Vec3,
+    /// D = E/π before filtering: the radiance a white Lambertian surface at the point
+    /// reflects, so that ρ_d·D is the diffuse term (see [`crate::vpl_lighting`]).
+    pub diffuse_radiance: Vec3,
 }
 
 /// The filter's output: D and G per point.
 #[derive(Clone, Debug, Default)]
 pub struct Filtered {
-    /// Filtered D = E/π per point.
-    pub irradiance: Vec<Vec3>,
-    /// Filtered glossy term G per point (empty if the tile has no glossy point).
-    pub glossy: Vec<Vec3>,
+    /// Filtered D = E/π per point (see [`FilterSample::diffuse_radiance`]).
+    pub diffuse_radiance: Vec<Vec3>,
+    /// Filtered G per point: the radiance a glossy lobe of unit reflectance at the point
+    /// reflects, so that ρ_s·G is the glossy term (empty if the tile has no glossy point).
+    pub glossy_radiance: Vec<Vec3>,
 }
 
 /// What the filter reads of a shading point, stored in a pixel grid per layer so that the
@@ -52,7 +54,7 @@ pub struct Filtered {
 struct Cell {
     normal: Vec3,
     depth: f32,
-    irradiance: Vec3,
+    diffuse_radiance: Vec3,
     /// Material index, or [`EMPTY`] if the layer has no point at this pixel.
     material: u32,
 }
@@ -60,7 +62,8 @@ struct Cell {
 /// No shading point at this pixel in this layer.
 const EMPTY: u32 = u32::MAX;
 
-const EMPTY_CELL: Cell = Cell { normal: Vec3::ZERO, depth: 0.0, irradiance: Vec3::ZERO, material: EMPTY };
+const EMPTY_CELL: Cell =
+    Cell { normal: Vec3::ZERO, depth: 0.0, diffuse_radiance: Vec3::ZERO, material: EMPTY };
 
 /// Scratch space of the filter: one pixel grid per (sample, path) layer, reused across tiles.
 #[derive(Clone, Debug, Default)]
@@ -69,17 +72,17 @@ pub struct DiscontinuityBuffer {
     grids: Vec<Vec<Cell>>,
     /// The glossy term G per layer, beside the grids (filled only for tiles with a glossy
     /// point, which keeps the cells small for the rest).
-    glossy: Vec<Vec<Vec3>>,
+    glossy_grids: Vec<Vec<Vec3>>,
     /// Layer of each point.
     layers: Vec<u32>,
 }
 
 impl DiscontinuityBuffer {
-    /// Filters the irradiance of the points of `tile`: `out.irradiance[i]` becomes the filtered
+    /// Filters D and G of the points of `tile`: `out.diffuse_radiance[i]` becomes the filtered
     /// D of `points[i]` for points inside the tile (points in the apron get their own value),
-    /// and likewise `out.glossy[i]` the filtered glossy term G of `glossy_in[i]` (the same
+    /// and likewise `out.glossy_radiance[i]` the filtered G of `glossy_in[i]` (the same
     /// weights; `glossy_in` is empty where no point has a glossy lobe, and then so is
-    /// `out.glossy`).
+    /// `out.glossy_radiance`).
     /// `points` must cover `region`, the tile plus the apron of [`Interleave::region`].
     pub fn filter(
         &mut self,
@@ -90,11 +93,11 @@ impl DiscontinuityBuffer {
         (points, glossy_in): (&[FilterSample], &[Vec3]),
         out: &mut Filtered,
     ) {
-        let Filtered { irradiance: out, glossy: glossy_out } = out;
+        let Filtered { diffuse_radiance: out, glossy_radiance: glossy_out } = out;
         let glossy = !glossy_in.is_empty();
         self.index(region, points, glossy_in);
         out.clear();
-        out.extend(points.iter().map(|p| p.irradiance));
+        out.extend(points.iter().map(|p| p.diffuse_radiance));
         glossy_out.clear();
         glossy_out.extend_from_slice(glossy_in);
         let ([left, right], [up, down]) = interleave.window();
@@ -104,7 +107,7 @@ impl DiscontinuityBuffer {
                 continue;
             }
             let grid = &self.grids[self.layers[i] as usize];
-            let glossy_grid = &self.glossy[self.layers[i] as usize];
+            let glossy_grid = &self.glossy_grids[self.layers[i] as usize];
             let (x0, x1) = (x.saturating_sub(left), (x + right).min(region.x1 - 1));
             let mut sum = [Vec3::ZERO; 2];
             let mut count = 0u32;
@@ -114,7 +117,7 @@ impl DiscontinuityBuffer {
                     // The centre always counts (a normal's dot product with itself can round
                     // below a threshold of 1), so count ≥ 1.
                     if (qx == x && qy == y) || similar(p, q, settings) {
-                        sum[0] += q.irradiance;
+                        sum[0] += q.diffuse_radiance;
                         if glossy {
                             sum[1] += glossy_grid[index];
                         }
@@ -145,12 +148,12 @@ impl DiscontinuityBuffer {
                         self.keys.push(key);
                         if self.grids.len() < self.keys.len() {
                             self.grids.push(Vec::new());
-                            self.glossy.push(Vec::new());
+                            self.glossy_grids.push(Vec::new());
                         }
                         let grid = &mut self.grids[self.keys.len() - 1];
                         grid.clear();
                         grid.resize(region.pixel_count(), EMPTY_CELL);
-                        let glossy_grid = &mut self.glossy[self.keys.len() - 1];
+                        let glossy_grid = &mut self.glossy_grids[self.keys.len() - 1];
                         glossy_grid.clear();
                         if !glossy.is_empty() {
                             glossy_grid.resize(region.pixel_count(), Vec3::ZERO);
@@ -161,10 +164,14 @@ impl DiscontinuityBuffer {
             };
             last = Some((key, layer));
             self.layers.push(layer);
-            self.grids[layer as usize][p.pixel as usize] =
-                Cell { normal: p.normal, depth: p.depth, irradiance: p.irradiance, material: p.material };
+            self.grids[layer as usize][p.pixel as usize] = Cell {
+                normal: p.normal,
+                depth: p.depth,
+                diffuse_radiance: p.diffuse_radiance,
+                material: p.material,
+            };
             if let Some(g) = glossy.get(self.layers.len() - 1) {
-                self.glossy[layer as usize][p.pixel as usize] = *g;
+                self.glossy_grids[layer as usize][p.pixel as usize] = *g;
             }
         }
     }
@@ -187,7 +194,7 @@ mod tests {
         let mut points = Vec::new();
         for y in region.y0..region.y1 {
             for x in region.x0..region.x1 {
-                let (normal, depth, irradiance) = f(x, y);
+                let (normal, depth, diffuse_radiance) = f(x, y);
                 points.push(FilterSample {
                     pixel: region.index(x, y) as u32,
                     sample: 0,
@@ -195,7 +202,7 @@ mod tests {
                     normal,
                     depth,
                     material: 0,
-                    irradiance,
+                    diffuse_radiance,
                 });
             }
         }
@@ -213,7 +220,7 @@ mod tests {
             (points, &[]),
             &mut out,
         );
-        out.irradiance
+        out.diffuse_radiance
     }
 
     #[test]

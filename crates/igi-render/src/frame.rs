@@ -37,7 +37,7 @@ pub struct IgiSettings {
     /// low variance of the clamped estimate, for about one more ray per shading point.
     pub compensate_clamp: bool,
     /// Largest number of specular bounces (mirror and glass) followed from the camera.
-    pub specular_depth: u32,
+    pub specular_bounces: u32,
     /// Largest number of surface interactions of a light path, each leaving a VPL: 0 lights
     /// the scene with the VPLs on the lights only (direct light), 1 adds one bounce of
     /// indirect light, and so on up to [`MAX_BOUNCES`](limits::MAX_BOUNCES).
@@ -85,7 +85,7 @@ impl Default for IgiSettings {
             filter: Some(FilterSettings::default()),
             clamp: 0.0,
             compensate_clamp: false,
-            specular_depth: 5,
+            specular_bounces: 5,
             bounces: limits::MAX_BOUNCES,
             tile_size: 64,
             reseed_per_frame: false,
@@ -113,8 +113,8 @@ pub mod limits {
     pub const MAX_INTERLEAVE: u32 = 16;
     /// Largest number of primary rays per pixel.
     pub const MAX_AA: u32 = 64;
-    /// Deepest specular chain.
-    pub const MAX_SPECULAR_DEPTH: u32 = 16;
+    /// Most specular bounces a camera path may follow.
+    pub const MAX_SPECULAR_BOUNCES: u32 = 16;
     /// Surface interactions (diffuse, mirror or glass) followed per light path; a path leaves
     /// at most `MAX_BOUNCES + 1` VPLs. The walk is truncated there: with a scene albedo of 0.8
     /// the energy dropped is 0.8³² ≈ 0.08 % of the indirect light, and every interaction keeps
@@ -165,10 +165,10 @@ impl IgiSettings {
         if !(self.clamp >= 0.0 && self.clamp.is_finite()) {
             return err("clamp", format!("{} is not a finite distance ≥ 0", self.clamp));
         }
-        if self.specular_depth > limits::MAX_SPECULAR_DEPTH {
+        if self.specular_bounces > limits::MAX_SPECULAR_BOUNCES {
             return err(
-                "specular-depth",
-                format!("{} is more than {}", self.specular_depth, limits::MAX_SPECULAR_DEPTH),
+                "specular-bounces",
+                format!("{} is more than {}", self.specular_bounces, limits::MAX_SPECULAR_BOUNCES),
             );
         }
         if self.bounces > limits::MAX_BOUNCES {

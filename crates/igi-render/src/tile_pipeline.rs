@@ -7,11 +7,11 @@
 //!    material per call; constant materials skip the call), the sky behind misses, emission
 //!    seen directly, and a shading point for every hit with a diffuse or glossy lobe;
 //! 3. **specular**: mirror and glass lobes continue as reflection and refraction rays, traced
-//!    as streams of packets bounce by bounce up to the depth limit; their hits are shaded the
+//!    as streams of packets bounce by bounce up to `specular_bounces`; their hits are shaded the
 //!    same way and become shading points of the same group, weighted by the chain's throughput;
 //! 4. **shadow**: for each light, sky VPL and VPL of the group, the shadow packets of all
-//!    shading points, and the BRDF shaders accumulating D = E/π and the glossy term G
-//!    ([`crate::vpl_lighting`]).
+//!    shading points, and the BRDF shaders accumulating the diffuse radiance D = E/π and the
+//!    glossy radiance G ([`crate::vpl_lighting`]).
 //!
 //! Specular rays run before the shadow phase (not after it, as in a Whitted tracer) so that
 //! every shading point of the group, seen directly or through glass, is lit in one pass over
@@ -48,7 +48,7 @@ use std::time::Instant;
 
 /// Specular chains carrying less than this (per channel, relative to the camera ray) end: glass
 /// splits every ray in two, and without a floor the branches of weak internal reflections
-/// would grow as 2^depth. Two glass reflections (0.04² at normal incidence) still pass.
+/// would grow as 2^bounces. Two glass reflections (0.04² at normal incidence) still pass.
 const MIN_SPECULAR_THROUGHPUT: f32 = 1e-3;
 
 /// Largest number of rays in one bounce of a group's specular stream (a memory bound for
@@ -106,19 +106,22 @@ struct ShadingPoint {
     origin: Vec3,
     ns: Vec3,
     ng: Vec3,
+    /// Distance from the camera along the path (the filter's depth).
     depth: f32,
     material: u32,
     /// Diffuse reflectance ρ_d.
     albedo: Vec3,
     /// Glossy reflectance ρ_s, its exponent and lobe axis (the mirror direction of the
     /// direction to the camera).
-    specular: Vec3,
+    glossy: Vec3,
     exponent: f32,
     axis: Vec3,
-    /// D = E/π from the VPLs (filtered).
-    irradiance: Vec3,
-    /// G = Σ E · lobe from the VPLs (filtered): the glossy radiance per unit ρ_s.
-    glossy: Vec3,
+    /// Diffuse radiance D = E/π from the VPLs (filtered): what a white Lambertian surface
+    /// here reflects, so that ρ_d·D is the diffuse term.
+    diffuse_radiance: Vec3,
+    /// Glossy radiance G = Σ E · lobe from the VPLs (filtered): what the glossy lobe reflects
+    /// per unit ρ_s, so that ρ_s·G is the glossy term.
+    glossy_radiance: Vec3,
     /// Radiance reflected from point, spot and directional lights: exact, so never filtered
     /// (their shadow edges stay sharp).
     exact: Vec3,
@@ -161,7 +164,7 @@ pub struct TileScratch {
     next_stream: Vec<SpecularRay>,
     receivers: Receivers,
     filter_samples: Vec<FilterSample>,
-    glossy: Vec<Vec3>,
+    glossy_radiance: Vec<Vec3>,
     filtered: Filtered,
     filter: DiscontinuityBuffer,
 }
@@ -179,7 +182,7 @@ pub struct TilePipeline<'a> {
     d_min2: f32,
     compensate_clamp: bool,
     filter: Option<FilterSettings>,
-    specular_depth: u32,
+    specular_bounces: u32,
     size: (u32, u32),
     tone_map: ToneMapper,
     pixels: PixelFormat,
@@ -202,7 +205,7 @@ impl<'a> TilePipeline<'a> {
             d_min2: s.clamp * s.clamp,
             compensate_clamp: s.compensate_clamp,
             filter: s.filter,
-            specular_depth: s.specular_depth,
+            specular_bounces: s.specular_bounces,
             size: (s.width, s.height),
             tone_map: frame.tone_map,
             pixels: frame.pixels,
@@ -412,15 +415,15 @@ impl<'a> TilePipeline<'a> {
                 depth,
                 material: sp.material,
                 albedo: b.diffuse,
-                specular: b.specular,
+                glossy: b.glossy,
                 exponent: b.exponent,
                 axis: mirror_direction(-dir, ns),
-                irradiance: Vec3::ZERO,
-                glossy: Vec3::ZERO,
+                diffuse_radiance: Vec3::ZERO,
+                glossy_radiance: Vec3::ZERO,
                 exact: Vec3::ZERO,
             });
         }
-        if state.bounces >= self.specular_depth {
+        if state.bounces >= self.specular_bounces {
             return;
         }
         if b.mirror.max_element() > 0.0 {
@@ -545,7 +548,7 @@ impl<'a> TilePipeline<'a> {
                         throughput: p.state.throughput * p.albedo * w,
                         depth: p.depth,
                         // No specular continuation from y.
-                        bounces: self.specular_depth,
+                        bounces: self.specular_bounces,
                         ..p.state
                     };
                     self.queue_hit(packet.ray(lane).dir, hit, state, s);
@@ -569,17 +572,17 @@ impl<'a> TilePipeline<'a> {
         let receivers = &mut s.receivers;
         receivers.clear();
         for p in points.iter() {
-            let glossy = (p.specular.max_element() > 0.0).then_some((p.axis, p.exponent));
+            let glossy = (p.glossy.max_element() > 0.0).then_some((p.axis, p.exponent));
             receivers.push(p.origin, p.ns, p.ng, glossy);
         }
         let accel = self.scene.accel();
         if !self.vpls.lights().is_empty() {
             receivers.add_lights(accel, self.vpls.lights().iter(), 1.0, rays);
             for (i, p) in points.iter_mut().enumerate() {
-                let (d, g) = receivers.irradiance(i);
-                p.exact = p.albedo * d + p.specular * g;
+                let (d, g) = receivers.radiance(i);
+                p.exact = p.albedo * d + p.glossy * g;
             }
-            receivers.reset_irradiance();
+            receivers.reset_radiance();
         }
         let aa = self.interleave.aa as usize;
         let sky = self.vpls.sky(set).iter().skip(sample as usize).step_by(aa);
@@ -587,17 +590,17 @@ impl<'a> TilePipeline<'a> {
         let vpls = self.vpls.set(set).iter().skip(sample as usize).step_by(aa);
         receivers.add_vpls(accel, vpls, aa as f32, self.d_min2, rays);
         for (i, p) in points.iter_mut().enumerate() {
-            (p.irradiance, p.glossy) = receivers.irradiance(i);
+            (p.diffuse_radiance, p.glossy_radiance) = receivers.radiance(i);
         }
     }
 
-    /// Filters the irradiance and composes the tile's pixels.
+    /// Filters the diffuse and glossy radiance and composes the tile's pixels.
     fn compose(&self, tile: &Tile, region: &PixelRect, s: &mut TileScratch) -> Vec<Vec3> {
-        let TileScratch { points, emitted, filter_samples, glossy, filtered, filter, .. } = s;
+        let TileScratch { points, emitted, filter_samples, glossy_radiance, filtered, filter, .. } = s;
         // Most tiles have no glossy point; their glossy term stays out of the filter.
-        glossy.clear();
-        if points.iter().any(|p| p.glossy != Vec3::ZERO) {
-            glossy.extend(points.iter().map(|p| p.glossy));
+        glossy_radiance.clear();
+        if points.iter().any(|p| p.glossy_radiance != Vec3::ZERO) {
+            glossy_radiance.extend(points.iter().map(|p| p.glossy_radiance));
         }
         match &self.filter {
             Some(settings) => {
@@ -609,25 +612,26 @@ impl<'a> TilePipeline<'a> {
                     normal: p.ns,
                     depth: p.depth,
                     material: p.material,
-                    irradiance: p.irradiance,
+                    diffuse_radiance: p.diffuse_radiance,
                 }));
-                filter.filter(region, tile, &self.interleave, settings, (filter_samples, glossy), filtered);
+                let input = (&filter_samples[..], &glossy_radiance[..]);
+                filter.filter(region, tile, &self.interleave, settings, input, filtered);
                 // The compensation's points lie wherever its rays landed, not on a pixel grid:
                 // averaging their D over neighbours would weight it by the wrong distances.
                 for (i, p) in points.iter().enumerate() {
                     if p.state.path & COMPENSATION != 0 {
-                        filtered.irradiance[i] = p.irradiance;
-                        if let Some(g) = filtered.glossy.get_mut(i) {
-                            *g = p.glossy;
+                        filtered.diffuse_radiance[i] = p.diffuse_radiance;
+                        if let Some(g) = filtered.glossy_radiance.get_mut(i) {
+                            *g = p.glossy_radiance;
                         }
                     }
                 }
             }
             None => {
-                filtered.irradiance.clear();
-                filtered.irradiance.extend(points.iter().map(|p| p.irradiance));
-                filtered.glossy.clear();
-                filtered.glossy.extend_from_slice(glossy);
+                filtered.diffuse_radiance.clear();
+                filtered.diffuse_radiance.extend(points.iter().map(|p| p.diffuse_radiance));
+                filtered.glossy_radiance.clear();
+                filtered.glossy_radiance.extend_from_slice(glossy_radiance);
             }
         }
 
@@ -637,9 +641,9 @@ impl<'a> TilePipeline<'a> {
             let (x, y) = region.pixel(pixel);
             tile.rect.contains(x, y).then(|| tile.rect.index(x, y))
         };
-        for (i, (p, d)) in points.iter().zip(&filtered.irradiance).enumerate() {
+        for (i, (p, d)) in points.iter().zip(&filtered.diffuse_radiance).enumerate() {
             if let Some(pixel) = tile_index(p.state.pixel) {
-                let g = filtered.glossy.get(i).map_or(Vec3::ZERO, |g| p.specular * *g);
+                let g = filtered.glossy_radiance.get(i).map_or(Vec3::ZERO, |g| p.glossy * *g);
                 pixels[pixel] += p.state.throughput * (p.albedo * *d + g + p.exact);
             }
         }

@@ -465,7 +465,7 @@ impl<'a> Emitters<'a> {
                     position: s.position,
                     normal: n,
                     power: power * params.diffuse,
-                    glossy: power * params.specular,
+                    glossy: power * params.glossy,
                     exponent: params.exponent,
                     axis: mirror_direction(wo, n),
                 });

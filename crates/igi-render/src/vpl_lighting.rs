@@ -2,10 +2,12 @@
 //! points of the set as 8-ray packets (any hit), and the accumulation of the contributions
 //! (paper 3.1.2), eight points at a time.
 //!
-//! What is accumulated per point is the irradiance divided by π, D = E/π, so that a
-//! Lambertian lobe of reflectance ρ_d reflects L = ρ_d·D, and for points with a glossy lobe
-//! also G = Σ E · (n+2)/(2π) cosⁿα (the modified Phong lobe of [`igi_shade::brdf::phong`] at
-//! the direction of each light), so that the glossy lobe reflects L = ρ_s·G. The BRDF shaders
+//! What is accumulated per point is the irradiance divided by π, D = E/π (the *diffuse
+//! radiance*: what a white Lambertian surface reflects), so that a Lambertian lobe of
+//! reflectance ρ_d reflects L = ρ_d·D, and for points with a glossy lobe also
+//! G = Σ E · (n+2)/(2π) cosⁿα (the *glossy radiance*: what the modified Phong lobe of
+//! [`igi_shade::brdf::phong`] reflects at unit reflectance, summed over the directions of the
+//! lights), so that the glossy lobe reflects L = ρ_s·G. The BRDF shaders
 //! are thus evaluated eight points at a time for every VPL. The discontinuity filter smooths
 //! D and G before the reflectances multiply them back in (paper 2.1), which keeps texture
 //! detail sharp. Per light:
@@ -104,13 +106,14 @@ fn load(a: &[[f32; 8]; 3]) -> Vec3x8 {
     Vec3x8::new(F32x8::from_array(a[0]), F32x8::from_array(a[1]), F32x8::from_array(a[2]))
 }
 
-/// The shading points of one interleave group and their accumulated D = E/π and G, in chunks
+/// The shading points of one interleave group and their accumulated diffuse radiance D = E/π
+/// and glossy radiance G (see the module documentation), in chunks
 /// of eight. Keep one per thread and reuse it: [`Receivers::clear`] keeps the memory.
 #[derive(Clone, Debug, Default)]
 pub struct Receivers {
     chunks: Vec<Chunk>,
-    irradiance: Vec<Vec3x8>,
-    glossy: Vec<Vec3x8>,
+    diffuse_radiance: Vec<Vec3x8>,
+    glossy_radiance: Vec<Vec3x8>,
     len: usize,
 }
 
@@ -118,8 +121,8 @@ impl Receivers {
     /// Removes every point.
     pub fn clear(&mut self) {
         self.chunks.clear();
-        self.irradiance.clear();
-        self.glossy.clear();
+        self.diffuse_radiance.clear();
+        self.glossy_radiance.clear();
         self.len = 0;
     }
 
@@ -138,8 +141,8 @@ impl Receivers {
             }
             chunk.bits = 0;
             self.chunks.push(chunk);
-            self.irradiance.push(Vec3x8::splat([0.0; 3]));
-            self.glossy.push(Vec3x8::splat([0.0; 3]));
+            self.diffuse_radiance.push(Vec3x8::splat([0.0; 3]));
+            self.glossy_radiance.push(Vec3x8::splat([0.0; 3]));
         }
         if let Some(chunk) = self.chunks.last_mut() {
             chunk.set(lane, origin, ns, ng, glossy);
@@ -148,13 +151,18 @@ impl Receivers {
     }
 
     /// Sets the accumulated D and G of every point back to zero (the points stay).
-    pub fn reset_irradiance(&mut self) {
-        self.irradiance.iter_mut().chain(&mut self.glossy).for_each(|d| *d = Vec3x8::splat([0.0; 3]));
+    pub fn reset_radiance(&mut self) {
+        self.diffuse_radiance
+            .iter_mut()
+            .chain(&mut self.glossy_radiance)
+            .for_each(|d| *d = Vec3x8::splat([0.0; 3]));
     }
 
-    /// D = E/π and G accumulated at point `i` (in the order of [`Receivers::push`]).
-    pub fn irradiance(&self, i: usize) -> (Vec3, Vec3) {
-        (Vec3::from(self.irradiance[i / 8].lane(i % 8)), Vec3::from(self.glossy[i / 8].lane(i % 8)))
+    /// The diffuse radiance D and glossy radiance G accumulated at point `i` (in the order of
+    /// [`Receivers::push`]).
+    pub fn radiance(&self, i: usize) -> (Vec3, Vec3) {
+        let lane = |v: &[Vec3x8]| Vec3::from(v[i / 8].lane(i % 8));
+        (lane(&self.diffuse_radiance), lane(&self.glossy_radiance))
     }
 
     /// Adds the light of the surface VPLs `vpls`, each weighted by `weight`, with the clamp
@@ -180,7 +188,8 @@ impl Receivers {
             let vpl_axis = Vec3x8::splat(vpl.axis.to_array());
             let vpl_exponent = F32x8::splat(vpl.exponent);
             let vpl_cos_min = F32x8::splat(lobe_cutoff(vpl.exponent));
-            let chunks = self.chunks.iter().zip(self.irradiance.iter_mut().zip(self.glossy.iter_mut()));
+            let chunks =
+                self.chunks.iter().zip(self.diffuse_radiance.iter_mut().zip(self.glossy_radiance.iter_mut()));
             for (chunk, (acc, acc_glossy)) in chunks {
                 let origin = load(&chunk.origin);
                 let d = y - origin;
@@ -236,7 +245,8 @@ impl Receivers {
     ) {
         let zero = F32x8::ZERO;
         for light in lights {
-            let chunks = self.chunks.iter().zip(self.irradiance.iter_mut().zip(self.glossy.iter_mut()));
+            let chunks =
+                self.chunks.iter().zip(self.diffuse_radiance.iter_mut().zip(self.glossy_radiance.iter_mut()));
             for (chunk, (acc, acc_glossy)) in chunks {
                 let origin = load(&chunk.origin);
                 let active = M32x8::from_bitmask(chunk.bits);

@@ -22,7 +22,7 @@ fn glossy(name: &str) -> Material {
     Material {
         name: name.into(),
         diffuse: Vec3::splat(RHO_D),
-        specular: Vec3::splat(RHO_S),
+        glossy: Vec3::splat(RHO_S),
         exponent: EXPONENT,
         ..Material::default()
     }
@@ -107,7 +107,7 @@ fn glossy_cornell() -> (PreparedScene, igi_scene::Camera) {
     let mut scene = igi_scene::builtin("cornell-box").expect("built-in cornell-box");
     for m in &mut scene.materials {
         if !m.is_emissive() {
-            m.specular = 0.5 * m.diffuse;
+            m.glossy = 0.5 * m.diffuse;
             m.diffuse *= 0.5;
             m.exponent = 20.0;
         }

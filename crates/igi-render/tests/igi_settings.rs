@@ -40,7 +40,7 @@ fn validate_rejects_each_bad_setting_and_names_its_flag() {
         ("clamp", Box::new(|s| s.clamp = -0.1)),
         ("clamp", Box::new(move |s| s.clamp = nan)),
         ("clamp", Box::new(|s| s.clamp = f32::INFINITY)),
-        ("specular-depth", Box::new(|s| s.specular_depth = limits::MAX_SPECULAR_DEPTH + 1)),
+        ("specular-bounces", Box::new(|s| s.specular_bounces = limits::MAX_SPECULAR_BOUNCES + 1)),
         ("tile-size", Box::new(|s| s.tile_size = 0)),
         ("tile-size", Box::new(|s| s.tile_size = limits::MAX_TILE + 1)),
         (
@@ -75,7 +75,7 @@ fn validate_rejects_each_bad_setting_and_names_its_flag() {
         filter: Some(FilterSettings { min_normal_cos: -1.0, max_depth_ratio: 0.0 }),
         clamp: 0.0,
         compensate_clamp: true,
-        specular_depth: limits::MAX_SPECULAR_DEPTH,
+        specular_bounces: limits::MAX_SPECULAR_BOUNCES,
         bounces: igi_render::frame::limits::MAX_BOUNCES,
         tile_size: limits::MAX_TILE,
         reseed_per_frame: true,
@@ -192,7 +192,7 @@ fn odd_but_valid_settings_render() {
         ("one pixel", f(|s| (s.width, s.height) = (1, 1))),
         ("one VPL, largest interleave", f(|s| (s.vpls_per_pixel, s.interleave) = (1, [16, 16]))),
         ("largest aa, tile 1", f(|s| (s.aa, s.tile_size) = (64, 1))),
-        ("specular depth 0", f(|s| s.specular_depth = 0)),
+        ("specular bounces 0", f(|s| s.specular_bounces = 0)),
         (
             "filter accepting everything",
             f(|s| s.filter = Some(FilterSettings { min_normal_cos: -1.0, max_depth_ratio: 1e30 })),

@@ -1,6 +1,6 @@
 //! Mirrors and glass in the IGI pipeline: camera paths follow specular bounces (a mirror
 //! reflects, glass splits into a Fresnel-weighted reflection and refraction) up to
-//! `specular_depth`, and the diffuse points they reach are lit like points seen directly,
+//! `specular_bounces`, and the diffuse points they reach are lit like points seen directly,
 //! weighted by the chain's throughput. The scenes keep punctual light off the specular surfaces
 //! (caustics of point and directional lights are beyond both IGI and the path tracer), so the
 //! answers are closed forms.
@@ -23,7 +23,7 @@ fn plane_seen_in_a_mirror_is_the_plane_times_the_reflectance() {
     // shows r × ρ/π I cos θ / d² at the mirrored point.
     let r = Vec3::new(0.9, 0.8, 0.7);
     let mirror_material =
-        Material { diffuse: Vec3::ZERO, specular: r, kind: MaterialKind::Mirror, ..Material::default() };
+        Material { diffuse: Vec3::ZERO, glossy: r, kind: MaterialKind::Mirror, ..Material::default() };
     let (y0, y1, zh) = (0.3, 3.0, 2.0);
     let mirror = |x: f32| {
         let p = [Vec3::new(x, y0, -zh), Vec3::new(x, y0, zh), Vec3::new(x, y1, zh), Vec3::new(x, y1, -zh)];
@@ -111,22 +111,22 @@ fn glass() -> Material {
 }
 
 /// The fraction of light a camera ray along unit `d` (from the origin, toward -z) brings
-/// through the parallel slab with at most `depth` specular bounces: (1 − F)² Σ_k F^2k over
-/// the paths with 2 + 2k ≤ `depth` glass interactions (k round trips inside). F is the
+/// through the parallel slab with at most `bounces` specular bounces: (1 − F)² Σ_k F^2k over
+/// the paths with 2 + 2k ≤ `bounces` glass interactions (k round trips inside). F is the
 /// Fresnel reflectance at the ray's angle (the same at both faces of a parallel slab).
-fn slab_transmission(d: Vec3, depth: u32) -> f32 {
+fn slab_transmission(d: Vec3, bounces: u32) -> f32 {
     let f = fresnel_dielectric(-d.z, 1.0 / 1.5);
-    let round_trips = (0..).take_while(|k| 2 + 2 * k <= depth);
+    let round_trips = (0..).take_while(|k| 2 + 2 * k <= bounces);
     round_trips.map(|k| (1.0 - f).powi(2) * f.powi(2 * k as i32)).sum()
 }
 
 #[test]
-fn emitter_behind_glass_is_dimmed_by_the_fresnel_chain_up_to_the_specular_depth() {
+fn emitter_behind_glass_is_dimmed_by_the_fresnel_chain_up_to_the_specular_bounce_limit() {
     // An emitter at z = -2 (facing the camera) seen at normal incidence through the slab.
     // Light reflected by the slab goes back toward the camera side, where nothing is. Each
-    // specular bounce costs one unit of depth: depth 0 or 1 never reach the emitter (black),
-    // depth 2-3 give the single pass (1 − F)² = 0.9216, depth 4-5 add one internal round
-    // trip (× (1 + F²)), and depth 16 is the full incoherent sum (1 − F) / (1 + F) = 0.92308.
+    // specular bounce counts one: 0 or 1 bounces never reach the emitter (black), 2-3 give
+    // the single pass (1 − F)² = 0.9216, 4-5 add one internal round trip (× (1 + F²)), and
+    // 16 is the full incoherent sum (1 − F) / (1 + F) = 0.92308.
     // No sampling is involved (the emitter is seen along deterministic chains), so 1e-5.
     let le = Vec3::new(1.0, 2.0, 3.0);
     let mut meshes = vec![square_z(-2.0, 10.0, Vec3::ZERO, 0)];
@@ -135,17 +135,17 @@ fn emitter_behind_glass_is_dimmed_by_the_fresnel_chain_up_to_the_specular_depth(
     let cam = camera(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0), 2.0);
     let (w, h) = (8, 8);
     let pin = PinholeCamera::new(&cam, w, h);
-    for depth in [0, 1, 2, 3, 4, 5, 16] {
+    for bounces in [0, 1, 2, 3, 4, 5, 16] {
         let mut f = exact_frame(cam, w, h);
-        f.settings.specular_depth = depth;
+        f.settings.specular_bounces = bounces;
         let film = render_igi(&mut prepared, &f);
         for y in 0..h {
             for x in 0..w {
-                let want = le * slab_transmission(pin.direction(x, y), depth);
+                let want = le * slab_transmission(pin.direction(x, y), bounces);
                 let got = film.get(x, y);
                 assert!(
                     (got - want).abs().max_element() <= 1e-5 * le.max_element(),
-                    "depth {depth}, pixel ({x}, {y}): got {got}, want {want}"
+                    "{bounces} bounces, pixel ({x}, {y}): got {got}, want {want}"
                 );
             }
         }
@@ -161,7 +161,7 @@ fn lit_plane_behind_glass_is_dimmed_by_the_fresnel_chain() {
     // A grey plane at z = -3 facing the camera, lit by a directional light from the side
     // (travelling along (1, 0, -1)/√2): its shadow rays pass 1.7 units beside the slab, so the
     // plane is lit exactly (ρ/π E cos 45°; it cannot light itself). Seen through the slab with
-    // the default specular depth 5 and the default aa 4 and filter, every pixel is
+    // the default 5 specular bounces and the default aa 4 and filter, every pixel is
     // (1 − F)² (1 + F²) times that constant (the transmission varies by < 1e-5 over the 2°
     // view). Points reached through different chains are filtered separately, each constant.
     let irradiance = Vec3::new(2.0, 1.5, 1.0);
@@ -198,14 +198,14 @@ fn stacked_glass_between_mirrors_stays_bounded_at_the_deepest_chain() {
     meshes.push(square_z(-1.0, 3.0, Vec3::Z, 1));
     meshes.push(square_z(1.0, 3.0, -Vec3::Z, 1));
     meshes.push(horizontal_square("floor", Vec3::new(0.0, -2.0, 0.0), Vec2::new(3.0, 3.0), true, 2));
-    let mirror = Material { kind: MaterialKind::Mirror, specular: Vec3::splat(0.99), ..Material::default() };
+    let mirror = Material { kind: MaterialKind::Mirror, glossy: Vec3::splat(0.99), ..Material::default() };
     let mut prepared = PreparedScene::new(scene(
         meshes,
         vec![glass(), mirror, diffuse("floor", 0.5)],
         vec![Light::Point { position: Vec3::new(0.0, 1.5, 0.0), intensity: Vec3::ONE }],
     ));
     let mut frame = exact_frame(camera(Vec3::new(0.3, 0.2, 0.9), Vec3::new(-0.2, -0.1, -1.0), 60.0), 24, 24);
-    frame.settings.specular_depth = igi_render::frame::limits::MAX_SPECULAR_DEPTH;
+    frame.settings.specular_bounces = igi_render::frame::limits::MAX_SPECULAR_BOUNCES;
     let out = FrameRenderer::new(2).render(&mut prepared, &frame, &|_, _| {}).expect("valid settings");
     assert!(out.image.film().unwrap().pixels().iter().all(|p| p.is_finite()));
     let per_pixel = out.rays.specular as f64 / (24.0 * 24.0);

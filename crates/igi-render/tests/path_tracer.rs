@@ -233,7 +233,7 @@ fn mirror_shows_the_lit_plane_times_its_reflectance() {
     let reflectance = Vec3::new(0.9, 0.8, 0.7);
     let mirror_material = Material {
         diffuse: Vec3::ZERO,
-        specular: reflectance,
+        glossy: reflectance,
         kind: MaterialKind::Mirror,
         ..Material::default()
     };
@@ -303,7 +303,7 @@ fn paths_between_two_perfect_mirrors_stop_at_the_cap() {
     // emits, so the image is black.
     let mirror = Material {
         diffuse: Vec3::ZERO,
-        specular: Vec3::ONE,
+        glossy: Vec3::ONE,
         kind: MaterialKind::Mirror,
         ..Material::default()
     };

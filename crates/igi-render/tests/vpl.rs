@@ -69,11 +69,11 @@ fn plane(y: f32, half: f32, up: bool, material: u32) -> Mesh {
     horizontal_square("plane", Vec3::new(0.0, y, 0.0), Vec2::splat(half), up, material)
 }
 
-fn material(kind: MaterialKind, specular: f32) -> Material {
+fn material(kind: MaterialKind, reflectance: f32) -> Material {
     Material {
         name: "specular".into(),
         diffuse: Vec3::ZERO,
-        specular: Vec3::splat(specular),
+        glossy: Vec3::splat(reflectance),
         kind,
         ..Material::default()
     }

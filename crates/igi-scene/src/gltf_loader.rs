@@ -10,7 +10,7 @@
 //!   with a warning.
 //! - The scene is the `scene` property, else `scenes[0]`, else every root node.
 //! - Materials (metallic-roughness mapped onto the Phong-style model simply):
-//!   `diffuse` = baseColor·(1 − metallic), `specular` = mix(0.04, baseColor, metallic),
+//!   `diffuse` = baseColor·(1 − metallic), `glossy` = mix(0.04, baseColor, metallic),
 //!   `exponent` = 2/α² − 2 with α = roughness² (the Blinn-Phong exponent matching a GGX lobe
 //!   of that width), `diffuse_texture` = baseColorTexture (sRGB); metallic ≥ 0.99 with
 //!   roughness ≤ 0.01 is a [`MaterialKind::Mirror`](crate::MaterialKind::Mirror), a

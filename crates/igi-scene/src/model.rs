@@ -62,8 +62,10 @@ pub struct Material {
     pub diffuse: Vec3,
     /// Optional texture that multiplies `diffuse` (index into [`Scene::textures`]).
     pub diffuse_texture: Option<u32>,
-    /// Specular reflectance ρ_s of the glossy lobe (linear RGB).
-    pub specular: Vec3,
+    /// Reflectance ρ_s of the glossy Phong lobe (linear RGB; MTL `Ks`, the scene file's
+    /// `specular`). A [`MaterialKind::Mirror`] has no glossy lobe and reads it as the mirror's
+    /// reflectance instead, as MTL's `illum` 3 reads `Ks`.
+    pub glossy: Vec3,
     /// Phong exponent of the glossy lobe.
     pub exponent: f32,
     /// Emitted radiance L_e in W/(sr m²) toward the front side (the winding normal).
@@ -93,7 +95,7 @@ pub enum MaterialKind {
     /// Lambertian diffuse plus an optional glossy Phong lobe.
     #[default]
     Plastic,
-    /// Perfect mirror with reflectance `specular`.
+    /// Perfect mirror with reflectance `glossy` (white if zero).
     Mirror,
     /// Dielectric with index `ior`.
     Glass,
@@ -105,7 +107,7 @@ impl Default for Material {
             name: "default".into(),
             diffuse: Vec3::splat(0.8),
             diffuse_texture: None,
-            specular: Vec3::ZERO,
+            glossy: Vec3::ZERO,
             exponent: 1.0,
             emission: Vec3::ZERO,
             bump_texture: None,

@@ -12,7 +12,7 @@
 //! | MTL | [`Material`] |
 //! |---|---|
 //! | `Kd`, `map_Kd` | `diffuse` (clamped to [0, 1]), `diffuse_texture` (sRGB) |
-//! | `Ks`, `Ns` | `specular`, `exponent` |
+//! | `Ks`, `Ns` | `glossy` (a mirror's reflectance for `illum` 3, 5), `exponent` |
 //! | `Ke` | `emission` (radiance) |
 //! | `bump`, `map_bump`, `map_Bump` | `bump_texture` (linear) |
 //! | `d`, else `Tr` | `transparency` = 1 − `d`, else `Tr`. `Tr` is *transparency*: files that write both (`d 1` and `Tr 0`) agree, and `d` wins when they don't |
@@ -194,7 +194,7 @@ fn material(
         name: m.name.clone(),
         diffuse: clamped,
         diffuse_texture: load(&m.diffuse_texture, ColorSpace::Srgb),
-        specular: m.specular.map_or(defaults.specular, Vec3::from).max(Vec3::ZERO),
+        glossy: m.specular.map_or(defaults.glossy, Vec3::from).max(Vec3::ZERO),
         exponent: m.shininess.unwrap_or(defaults.exponent).max(0.0),
         emission: m.emissive.map_or(defaults.emission, Vec3::from).max(Vec3::ZERO),
         bump_texture: load(&m.normal_texture, ColorSpace::Linear),

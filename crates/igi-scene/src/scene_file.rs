@@ -38,7 +38,7 @@
 //! type = "marble"                # checker | marble | wood | brick | turbulence
 //! scale = 2.0                    # optional, default 1: pattern features per unit length
 //! colors = [[0.9, 0.9, 0.85], [0.3, 0.3, 0.35]]   # optional, default [[0.8]*3, [0.2]*3]
-//! specular = [0.05, 0.05, 0.05]  # optional, default [0, 0, 0]
+//! specular = [0.05, 0.05, 0.05]  # optional, default [0, 0, 0]: the glossy lobe's reflectance
 //! exponent = 40.0                # optional, default 20
 //! bump = 0.002                   # optional, default 0 (no bump)
 //! # marble: octaves (default 4), turbulence (default 5)

@@ -16,7 +16,7 @@ pub struct ShaderDesc {
     /// The two linear-RGB colours the pattern blends between (diffuse reflectance).
     pub colors: [Vec3; 2],
     /// Reflectance of the glossy lobe (zero for a matte surface).
-    pub specular: Vec3,
+    pub glossy: Vec3,
     /// Phong exponent of the glossy lobe.
     pub exponent: f32,
     /// Bump amplitude: how far (in world units, before `scale`) the pattern's height field

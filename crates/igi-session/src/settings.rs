@@ -36,7 +36,7 @@ pub struct ViewSettings {
     /// d_min of the VPL clamp, in scene units (0: off).
     pub clamp: f32,
     /// Largest number of mirror and glass bounces from the camera.
-    pub specular_depth: u32,
+    pub specular_bounces: u32,
     /// Largest number of bounces of a light path (0: direct light only).
     pub bounces: u32,
     /// Fixed exposure in stops, or `None` for Reinhard's operator from the previous frame's
@@ -67,7 +67,7 @@ impl ViewSettings {
             filter_normal: filter.min_normal_cos,
             filter_depth: filter.max_depth_ratio,
             clamp: IgiSettings::clamp_for(diagonal),
-            specular_depth: igi.specular_depth,
+            specular_bounces: igi.specular_bounces,
             bounces: igi.bounces,
             exposure: None,
             key: igi_render::tonemap::DEFAULT_KEY,
@@ -90,7 +90,7 @@ impl ViewSettings {
                 max_depth_ratio: self.filter_depth,
             }),
             clamp: self.clamp,
-            specular_depth: self.specular_depth,
+            specular_bounces: self.specular_bounces,
             bounces: self.bounces,
             ..IgiSettings::default()
         }

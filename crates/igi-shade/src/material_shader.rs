@@ -3,14 +3,14 @@
 //!
 //! | material | lobes |
 //! |---|---|
-//! | `Plastic` | diffuse = `diffuse` × diffuse texture (RGB); glossy = `specular`, `exponent` (MTL `Ks`, `Ns`; glTF: see below) |
-//! | `Mirror` | mirror = `specular` (white if zero) |
+//! | `Plastic` | diffuse = `diffuse` × diffuse texture (RGB); glossy = `glossy`, `exponent` (MTL `Ks`, `Ns`; glTF: see below) |
+//! | `Mirror` | mirror = `glossy` (white if zero) |
 //! | `Glass` | glass = 1 with index `ior` (1.5 if unset or 1) |
 //!
 //! and emission = `emission` for all; a bump texture (MTL `bump`, `map_bump`) bends the
 //! shading normal ([`crate::bump`]), and so does a tangent-space normal map (glTF
 //! `normalTexture`, tangent frame from ∂p/∂u; see [`normal_mapped`]). glTF metallic-roughness materials arrive already mapped
-//! by the loader (`igi_scene::gltf_loader`): diffuse = base·(1 − metallic), specular =
+//! by the loader (`igi_scene::gltf_loader`): diffuse = base·(1 − metallic), glossy =
 //! mix(0.04, base, metallic), exponent = 2/α² − 2 with α = roughness², the Phong exponent
 //! whose lobe matches a microfacet lobe of that width.
 //!
@@ -35,7 +35,7 @@ pub struct MaterialShader {
     bump_texture: Option<Arc<MipMap>>,
     normal_texture: Option<Arc<MipMap>>,
     normal_scale: f32,
-    specular: Vec3,
+    glossy: Vec3,
     exponent: f32,
     mirror: Vec3,
     glass: f32,
@@ -55,10 +55,10 @@ impl MaterialShader {
             bump_texture: map(material.bump_texture),
             normal_texture: map(material.normal_texture),
             normal_scale: material.normal_scale,
-            specular: if plastic { material.specular } else { Vec3::ZERO },
+            glossy: if plastic { material.glossy } else { Vec3::ZERO },
             exponent: material.exponent,
             mirror: match material.kind {
-                MaterialKind::Mirror if material.specular.max_element() > 0.0 => material.specular,
+                MaterialKind::Mirror if material.glossy.max_element() > 0.0 => material.glossy,
                 MaterialKind::Mirror => Vec3::ONE,
                 _ => Vec3::ZERO,
             },
@@ -96,7 +96,7 @@ impl SurfaceShader for MaterialShader {
             self.diffuse_texture.is_some() || self.bump_texture.is_some() || self.normal_texture.is_some();
         (!textured).then_some(BrdfParams {
             diffuse: self.diffuse,
-            specular: self.specular,
+            glossy: self.glossy,
             exponent: self.exponent,
             mirror: self.mirror,
             glass: self.glass,
@@ -108,7 +108,7 @@ impl SurfaceShader for MaterialShader {
 
     fn shade(&self, hits: &ShadingHit8, out: &mut BrdfParams8) {
         let splat = |v: Vec3| Vec3x8::splat(v.to_array());
-        out.specular = splat(self.specular);
+        out.glossy = splat(self.glossy);
         out.exponent = F32x8::splat(self.exponent);
         out.mirror = splat(self.mirror);
         out.glass = F32x8::splat(self.glass);

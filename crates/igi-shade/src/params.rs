@@ -3,13 +3,13 @@
 //! The BRDF at a point is a sum of lobes (paper 3.2), each weighted by its own reflectance:
 //!
 //! ```text
-//! f = diffuse/π  +  specular · (n+2)/(2π) · cosⁿα  +  mirror · δ_reflect  +  glass · (dielectric)
+//! f = diffuse/π  +  glossy · (n+2)/(2π) · cosⁿα  +  mirror · δ_reflect  +  glass · (dielectric)
 //! ```
 //!
 //! with α the angle between ω_i and the mirror direction of ω_o, n = `exponent` (modified
 //! Phong, Lafortune & Willems 1994: energy-conserving and reciprocal), and the dielectric a
 //! smooth interface of index `ior` that reflects with Fresnel weight F and refracts 1 − F.
-//! A surface conserves energy when `diffuse + specular + mirror + glass ≤ 1` per channel;
+//! A surface conserves energy when `diffuse + glossy + mirror + glass ≤ 1` per channel;
 //! [`BrdfParams::conserving`] scales a surface that asks for more.
 
 use glam::Vec3;
@@ -21,7 +21,7 @@ pub struct BrdfParams {
     /// Lambertian reflectance ρ_d (linear RGB).
     pub diffuse: Vec3,
     /// Reflectance ρ_s of the glossy (modified Phong) lobe.
-    pub specular: Vec3,
+    pub glossy: Vec3,
     /// Phong exponent n of the glossy lobe (≥ 0; larger is sharper).
     pub exponent: f32,
     /// Reflectance of the perfect mirror lobe.
@@ -43,7 +43,7 @@ impl BrdfParams {
     pub fn black(n: Vec3) -> Self {
         Self {
             diffuse: Vec3::ZERO,
-            specular: Vec3::ZERO,
+            glossy: Vec3::ZERO,
             exponent: 1.0,
             mirror: Vec3::ZERO,
             glass: 0.0,
@@ -55,7 +55,7 @@ impl BrdfParams {
 
     /// True if the surface has a lobe the VPLs light (diffuse or glossy).
     pub fn has_non_delta(&self) -> bool {
-        self.diffuse.max_element() > 0.0 || self.specular.max_element() > 0.0
+        self.diffuse.max_element() > 0.0 || self.glossy.max_element() > 0.0
     }
 
     /// The parameters with every reflectance clamped to [0, 1], non-finite values replaced
@@ -74,7 +74,7 @@ pub struct BrdfParams8 {
     /// Lambertian reflectance ρ_d.
     pub diffuse: Vec3x8,
     /// Reflectance of the glossy lobe.
-    pub specular: Vec3x8,
+    pub glossy: Vec3x8,
     /// Phong exponent of the glossy lobe.
     pub exponent: F32x8,
     /// Reflectance of the mirror lobe.
@@ -96,7 +96,7 @@ impl BrdfParams8 {
         let zero = Vec3x8::splat([0.0; 3]);
         Self {
             diffuse: zero,
-            specular: zero,
+            glossy: zero,
             exponent: F32x8::splat(1.0),
             mirror: zero,
             glass: F32x8::ZERO,
@@ -111,7 +111,7 @@ impl BrdfParams8 {
         let v = |x: Vec3| Vec3x8::splat(x.to_array());
         Self {
             diffuse: v(p.diffuse),
-            specular: v(p.specular),
+            glossy: v(p.glossy),
             exponent: F32x8::splat(p.exponent),
             mirror: v(p.mirror),
             glass: F32x8::splat(p.glass),
@@ -127,9 +127,9 @@ impl BrdfParams8 {
         let finite = |x: F32x8| x.eq(x) & x.abs().lt(F32x8::splat(f32::INFINITY));
         let unit = |x: F32x8| F32x8::select(finite(x), x.max(zero).min(one), zero);
         let unit3 = |v: Vec3x8| Vec3x8::new(unit(v.x), unit(v.y), unit(v.z));
-        let (diffuse, specular, mirror, glass) =
-            (unit3(self.diffuse), unit3(self.specular), unit3(self.mirror), unit(self.glass));
-        let sum = diffuse + specular + mirror;
+        let (diffuse, glossy, mirror, glass) =
+            (unit3(self.diffuse), unit3(self.glossy), unit3(self.mirror), unit(self.glass));
+        let sum = diffuse + glossy + mirror;
         let total = (sum.x.max(sum.y).max(sum.z)) + glass;
         let k = F32x8::select(total.gt(one), one / total, one);
         let exponent =
@@ -138,7 +138,7 @@ impl BrdfParams8 {
         let positive = |x: F32x8| F32x8::select(finite(x), x.max(zero), zero);
         Self {
             diffuse: diffuse * k,
-            specular: specular * k,
+            glossy: glossy * k,
             exponent,
             mirror: mirror * k,
             glass: glass * k,
@@ -158,12 +158,12 @@ impl BrdfParams8 {
             let (a, b, c) = (x.x.to_array(), x.y.to_array(), x.z.to_array());
             std::array::from_fn::<Vec3, 8, _>(|i| Vec3::new(a[i], b[i], c[i]))
         };
-        let (diffuse, specular, mirror) = (v(self.diffuse), v(self.specular), v(self.mirror));
+        let (diffuse, glossy, mirror) = (v(self.diffuse), v(self.glossy), v(self.mirror));
         let (normal, emission) = (v(self.shading_normal), v(self.emission));
         let (exponent, glass, ior) = (self.exponent.to_array(), self.glass.to_array(), self.ior.to_array());
         std::array::from_fn(|i| BrdfParams {
             diffuse: diffuse[i],
-            specular: specular[i],
+            glossy: glossy[i],
             exponent: exponent[i],
             mirror: mirror[i],
             glass: glass[i],

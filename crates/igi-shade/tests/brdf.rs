@@ -118,15 +118,15 @@ fn f64v(w: Vec3) -> DVec3 {
 }
 
 /// A surface with diffuse and glossy lobes only.
-fn surface(diffuse: Vec3, specular: Vec3, exponent: f32, normal: Vec3) -> BrdfParams {
-    BrdfParams { diffuse, specular, exponent, ..BrdfParams::black(normal) }
+fn surface(diffuse: Vec3, glossy: Vec3, exponent: f32, normal: Vec3) -> BrdfParams {
+    BrdfParams { diffuse, glossy, exponent, ..BrdfParams::black(normal) }
 }
 
 /// The lobe choice probabilities the module documentation promises: proportional to each
 /// lobe's largest reflectance channel (after [`BrdfParams::conserving`]).
 fn choice(p: BrdfParams) -> [f64; 4] {
     let p = p.conserving();
-    let w = [p.diffuse.max_element(), p.specular.max_element(), p.mirror.max_element(), p.glass];
+    let w = [p.diffuse.max_element(), p.glossy.max_element(), p.mirror.max_element(), p.glass];
     let total: f64 = w.iter().map(|&x| f64::from(x)).sum();
     w.map(|x| f64::from(x) / total)
 }
@@ -457,7 +457,7 @@ fn mean_sample_weight_equals_the_directional_albedo_plus_mirror_and_glass() {
     let z = Vec3::Z;
     let coloured = |d: [f32; 3], s: [f32; 3], e: f32, m: [f32; 3], g: f32| BrdfParams {
         diffuse: Vec3::from(d),
-        specular: Vec3::from(s),
+        glossy: Vec3::from(s),
         exponent: e,
         mirror: Vec3::from(m),
         glass: g,
@@ -721,7 +721,7 @@ fn sample_weight_is_f_cos_over_pdf_and_delta_weights_are_reflectance_over_probab
         let shading = tilted(DVec3::Z, rng.sphere(), rng.range(0.0, 1.2));
         let params = BrdfParams {
             diffuse: rng.rgb(0.0, 0.5),
-            specular: rng.rgb(0.0, 0.5),
+            glossy: rng.rgb(0.0, 0.5),
             exponent: rng.range(0.0, 3.0).exp2().powi(3) as f32,
             mirror: if rng.uniform() < 0.5 { rng.rgb(0.0, 0.3) } else { Vec3::ZERO },
             glass: if rng.uniform() < 0.5 { rng.range(0.0, 0.3) as f32 } else { 0.0 },
@@ -1031,7 +1031,7 @@ fn conserving_clamps_to_finite_lobes_summing_to_at_most_one() {
         let rgb = |rng: &mut Rng| Vec3::new(pick(rng), pick(rng), pick(rng));
         let input = BrdfParams {
             diffuse: rgb(&mut rng),
-            specular: rgb(&mut rng),
+            glossy: rgb(&mut rng),
             exponent: pick(&mut rng) * 1000.0,
             mirror: rgb(&mut rng),
             glass: pick(&mut rng),
@@ -1041,10 +1041,10 @@ fn conserving_clamps_to_finite_lobes_summing_to_at_most_one() {
         };
         let p = input.conserving();
         let ctx = format!("#{k}: {input:?} → {p:?}");
-        for v in [p.diffuse, p.specular, p.mirror, Vec3::splat(p.glass)] {
+        for v in [p.diffuse, p.glossy, p.mirror, Vec3::splat(p.glass)] {
             assert!(v.is_finite() && v.min_element() >= 0.0 && v.max_element() <= 1.0, "{ctx}");
         }
-        let sum = p.diffuse + p.specular + p.mirror + Vec3::splat(p.glass);
+        let sum = p.diffuse + p.glossy + p.mirror + Vec3::splat(p.glass);
         assert!(sum.max_element() <= 1.0 + 1e-6, "{ctx}: lobes sum to {sum}");
         assert!(p.exponent.is_finite() && (0.0..=1.0e6).contains(&p.exponent), "{ctx}");
         assert!(p.ior.is_finite() && p.ior > 0.0, "{ctx}");
@@ -1054,19 +1054,19 @@ fn conserving_clamps_to_finite_lobes_summing_to_at_most_one() {
         let again = p.conserving();
         let drift = (again.diffuse - p.diffuse).abs() + (again.mirror - p.mirror).abs();
         assert!(drift.max_element() <= 1e-6 && (again.glass - p.glass).abs() <= 1e-6, "{ctx}");
-        let lobes = [input.diffuse, input.specular, input.mirror, Vec3::splat(input.glass)];
+        let lobes = [input.diffuse, input.glossy, input.mirror, Vec3::splat(input.glass)];
         let valid = lobes.iter().all(|v| v.is_finite() && v.min_element() >= 0.0 && v.max_element() <= 1.0);
-        let input_sum = input.diffuse + input.specular + input.mirror + Vec3::splat(input.glass);
+        let input_sum = input.diffuse + input.glossy + input.mirror + Vec3::splat(input.glass);
         if valid && input_sum.max_element() <= 1.0 {
             assert_eq!(
-                (p.diffuse, p.specular, p.mirror, p.glass),
-                (input.diffuse, input.specular, input.mirror, input.glass),
+                (p.diffuse, p.glossy, p.mirror, p.glass),
+                (input.diffuse, input.glossy, input.mirror, input.glass),
                 "{ctx}"
             );
         } else if valid {
             // Scaled down together, only as far as needed: the brightest channel sums to 1.
             let k = 1.0 / input_sum.max_element();
-            for (got, want) in [p.diffuse, p.specular, p.mirror, Vec3::splat(p.glass)].iter().zip(lobes) {
+            for (got, want) in [p.diffuse, p.glossy, p.mirror, Vec3::splat(p.glass)].iter().zip(lobes) {
                 assert!((*got - want * k).abs().max_element() <= 1e-6, "{ctx}");
             }
             assert!((sum.max_element() - 1.0).abs() <= 1e-6, "{ctx}");
@@ -1085,7 +1085,7 @@ fn conserving_clamps_to_finite_lobes_summing_to_at_most_one() {
     let black = Bsdf::new(
         BrdfParams {
             diffuse: nan,
-            specular: nan,
+            glossy: nan,
             exponent: f32::NAN,
             mirror: nan,
             glass: f32::NAN,

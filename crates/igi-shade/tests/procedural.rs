@@ -12,7 +12,7 @@ const C0: Vec3 = Vec3::new(0.8, 0.2, 0.1);
 const C1: Vec3 = Vec3::new(0.1, 0.3, 0.9);
 
 fn desc(pattern: Pattern, scale: f32, bump: f32) -> ShaderDesc {
-    ShaderDesc { pattern, scale, colors: [C0, C1], specular: Vec3::splat(0.2), exponent: 40.0, bump }
+    ShaderDesc { pattern, scale, colors: [C0, C1], glossy: Vec3::splat(0.2), exponent: 40.0, bump }
 }
 
 /// Eight hits at `points` (object = world space) with shading and geometric normal `n[i]`.
@@ -68,7 +68,7 @@ fn checker_colours_at_known_points() {
     for i in 0..8 {
         assert_eq!(diffuse(&out, i), want[i], "lane {i} at {}", p[i]);
         assert_eq!(normal(&out, i), Vec3::Z, "a checker has no bump");
-        assert_eq!(Vec3::from(out.specular.lane(i)), Vec3::splat(0.2));
+        assert_eq!(Vec3::from(out.glossy.lane(i)), Vec3::splat(0.2));
         assert_eq!(out.exponent.lane(i), 40.0);
     }
 }

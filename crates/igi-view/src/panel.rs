@@ -88,7 +88,7 @@ impl Panel {
             row(ui, "light bounces", DragValue::new(&mut s.bounces).range(0..=MAX_BOUNCES));
             row(ui, "clamp d_min", DragValue::new(&mut s.clamp).range(0.0..=f32::MAX).speed(0.01));
             row(ui, "AA samples", DragValue::new(&mut s.aa).range(1..=64));
-            row(ui, "specular depth", DragValue::new(&mut s.specular_depth).range(0..=16));
+            row(ui, "specular bounces", DragValue::new(&mut s.specular_bounces).range(0..=16));
             ui.heading("Filter");
             ui.checkbox(&mut s.filter, "discontinuity filter");
             row(ui, "normal cosine ≥", DragValue::new(&mut s.filter_normal).range(-1.0..=1.0).speed(0.01));

@@ -349,6 +349,17 @@ mod tests {
     }
 
     #[test]
+    fn specular_depth_stays_a_hidden_name_of_specular_bounces() {
+        // Command lines written before the flag was renamed keep working.
+        let bounces =
+            |flag| args(&["igi", "render", "cornell-box", "-o", "x.png", flag, "3"]).frame.specular_bounces;
+        assert_eq!((bounces("--specular-bounces"), bounces("--specular-depth")), (3, 3));
+        let mut cli = <crate::cli::Cli as clap::CommandFactory>::command();
+        let help = cli.find_subcommand_mut("render").expect("render command").render_long_help().to_string();
+        assert!(help.contains("--specular-bounces") && !help.contains("--specular-depth"), "{help}");
+    }
+
+    #[test]
     fn missing_scene_names_the_file() {
         let a = args(&["igi", "render", "/no/such/dir/scene.obj", "-o", "/tmp/never.png"]);
         let err = format!("{:#}", run(&a).unwrap_err());

@@ -53,8 +53,9 @@ pub struct FrameArgs {
     #[arg(long)]
     pub compensate: bool,
     /// Largest number of mirror and glass bounces followed from the camera.
-    #[arg(long, default_value_t = 5)]
-    pub specular_depth: u32,
+    // `--specular-depth` is the flag's former name, kept so existing command lines work.
+    #[arg(long, alias = "specular-depth", default_value_t = 5)]
+    pub specular_bounces: u32,
     /// Largest number of bounces of a light path (each leaves a VPL): 0 is direct light only,
     /// 1 adds one bounce of indirect light.
     #[arg(long, default_value_t = igi_render::frame::limits::MAX_BOUNCES)]
@@ -108,7 +109,7 @@ impl FrameArgs {
             }),
             clamp: self.clamp.unwrap_or_else(|| IgiSettings::clamp_for(diagonal)),
             compensate_clamp: self.compensate,
-            specular_depth: self.specular_depth,
+            specular_bounces: self.specular_bounces,
             bounces: self.bounces,
             tile_size: self.tile_size,
             reseed_per_frame: false,

@@ -66,7 +66,7 @@ impl ViewerArgs {
             filter_normal: filter.min_normal_cos,
             filter_depth: filter.max_depth_ratio,
             clamp: s.clamp,
-            specular_depth: s.specular_depth,
+            specular_bounces: s.specular_bounces,
             bounces: s.bounces,
             exposure: self.exposure,
             key: DEFAULT_KEY,

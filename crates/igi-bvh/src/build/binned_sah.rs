@@ -19,7 +19,7 @@ use super::{BuildParams, levels_to_split, prim_count};
 use crate::aabb::Aabb;
 use crate::bvh::Bvh;
 use crate::node::Node;
-use crate::traverse::MAX_DEPTH;
+use crate::traverse::TRAVERSAL_STACK_SIZE;
 
 /// Nodes with at least this many primitives bin in parallel chunks.
 const PARALLEL_BINNING_MIN: usize = 1 << 14;
@@ -82,7 +82,7 @@ enum Decision {
     /// Split at a bin plane.
     Plane(BinSplit, BinMapping),
     /// Split at the object median along an axis: when all centroids coincide (no plane
-    /// separates them) or when the SAH split could exceed [`MAX_DEPTH`].
+    /// separates them) or when the SAH split could exceed [`TRAVERSAL_STACK_SIZE`] levels.
     Median(usize),
 }
 
@@ -141,9 +141,10 @@ impl Builder {
 
     /// Chooses between a leaf and the best bin plane with the SAH (nodes of more than
     /// [`SMALL_NODE_MAX`] primitives). More than `max_leaf_size` primitives are always split. A
-    /// split whose larger side could not be finished within [`MAX_DEPTH`] by halving gives way
-    /// to a leaf or a median split, so every node at depth `d` with `n` primitives keeps
-    /// `d + levels_to_split(n) <= MAX_DEPTH`, which holds at the root for any `n < 2³¹`.
+    /// split whose larger side could not be finished within [`TRAVERSAL_STACK_SIZE`] levels by
+    /// halving gives way to a leaf or a median split, so every node at depth `d` with `n`
+    /// primitives keeps `d + levels_to_split(n) <= TRAVERSAL_STACK_SIZE`, which holds at the root
+    /// for any `n < 2³¹`.
     fn decide(&self, task: &Task, bins: &mut Bins) -> Decision {
         let n = task.boxes.len();
         let max_leaf = self.params.max_leaf_size as usize;
@@ -196,10 +197,11 @@ fn reindexed(mut node: Node, base: u32) -> Node {
 
 impl<'a> Task<'a> {
     /// True if both children of a split with `left_count` primitives on the left can be
-    /// finished within [`MAX_DEPTH`], halving if need be, with leaves of `max_leaf` primitives.
+    /// finished within [`TRAVERSAL_STACK_SIZE`] levels, halving if need be, with leaves of
+    /// `max_leaf` primitives.
     fn children_fit_depth(&self, left_count: usize, max_leaf: usize) -> bool {
         let larger = left_count.max(self.boxes.len() - left_count);
-        self.depth + 1 + levels_to_split(larger, max_leaf) <= MAX_DEPTH
+        self.depth + 1 + levels_to_split(larger, max_leaf) <= TRAVERSAL_STACK_SIZE
     }
 
     /// Partitions the primitives at a bin plane. The children's bounds come from the bins,

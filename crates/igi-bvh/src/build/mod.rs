@@ -11,8 +11,8 @@
 //! Sibenik, Lost Empire and random triangle soups the binned builder stays within 1.2 % of the
 //! full sweep (`cargo run --release -p igi-bvh --example build_report`).
 //!
-//! Both bound the tree's depth by the traversal stacks' [`MAX_DEPTH`](crate::traverse::MAX_DEPTH),
-//! whatever the input: where a split could lead deeper, they split at the median instead.
+//! Both bound the tree's depth by the size of the traversal stacks,
+//! [`TRAVERSAL_STACK_SIZE`](crate::traverse::TRAVERSAL_STACK_SIZE), whatever the input: where a split could lead deeper, they split at the median instead.
 
 use crate::aabb::Aabb;
 
@@ -96,8 +96,9 @@ fn prim_count(prim_bounds: &[Aabb], params: &BuildParams) -> Option<usize> {
 
 /// The number of tree levels below a node of `n` primitives if it is halved until every part
 /// fits in a leaf of `max_leaf_size`: `⌈log₂ ⌈n / max_leaf_size⌉⌉`. The builders keep
-/// `depth + levels_to_split(n) <= MAX_DEPTH` for every node, which bounds the tree's depth by
-/// the traversal stacks' [`MAX_DEPTH`](crate::traverse::MAX_DEPTH).
+/// `depth + levels_to_split(n) <= TRAVERSAL_STACK_SIZE` for every node, which bounds the tree's
+/// depth by the size of the traversal stacks
+/// ([`TRAVERSAL_STACK_SIZE`](crate::traverse::TRAVERSAL_STACK_SIZE)).
 fn levels_to_split(n: usize, max_leaf_size: usize) -> usize {
     let leaves = n.div_ceil(max_leaf_size);
     (usize::BITS - leaves.saturating_sub(1).leading_zeros()) as usize

@@ -10,7 +10,7 @@ use super::box3a::Box3A;
 use super::prim_box::PrimBox;
 use super::{BuildParams, levels_to_split};
 use crate::node::Node;
-use crate::traverse::MAX_DEPTH;
+use crate::traverse::TRAVERSAL_STACK_SIZE;
 
 /// The largest node, in primitives, built as a small subtree.
 pub(crate) const SMALL_NODE_MAX: usize = 16;
@@ -112,7 +112,7 @@ impl SmallSubtree<'_> {
             return self.leaf(lo, hi, bounds);
         }
         let larger = split.left_count.max(n - split.left_count);
-        if depth + 1 + levels_to_split(larger, max_leaf) > MAX_DEPTH {
+        if depth + 1 + levels_to_split(larger, max_leaf) > TRAVERSAL_STACK_SIZE {
             if leaf_allowed {
                 return self.leaf(lo, hi, bounds);
             }

@@ -11,7 +11,7 @@ use super::{BuildParams, levels_to_split, prim_count};
 use crate::aabb::Aabb;
 use crate::bvh::Bvh;
 use crate::node::Node;
-use crate::traverse::MAX_DEPTH;
+use crate::traverse::TRAVERSAL_STACK_SIZE;
 
 /// Builds a BVH over primitives given by their bounding boxes with the full-sweep SAH.
 ///
@@ -90,7 +90,7 @@ impl SweepBuilder {
             return bounds.leaf(first as u32, count as u32);
         }
         let larger = split.left_count.max(count - split.left_count);
-        if depth + 1 + levels_to_split(larger, max_leaf) > MAX_DEPTH {
+        if depth + 1 + levels_to_split(larger, max_leaf) > TRAVERSAL_STACK_SIZE {
             if leaf_allowed {
                 return bounds.leaf(first as u32, count as u32);
             }

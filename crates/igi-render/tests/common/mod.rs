@@ -323,7 +323,7 @@ pub fn every_path_room() -> igi_render::PreparedScene {
         diffuse("floor", 0.7),
         emitter("light", Vec3::new(17.0, 12.0, 4.0)),
         Material { diffuse: Vec3::new(0.6, 0.1, 0.1), ..Material::default() },
-        Material { kind: igi_scene::MaterialKind::Mirror, specular: Vec3::splat(0.8), ..Material::default() },
+        Material { kind: igi_scene::MaterialKind::Mirror, glossy: Vec3::splat(0.8), ..Material::default() },
         Material { kind: igi_scene::MaterialKind::Glass, ior: 1.5, ..Material::default() },
     ];
     let lights = vec![Light::Point { position: Vec3::new(-1.0, 1.5, 1.0), intensity: Vec3::splat(0.5) }];

@@ -43,7 +43,7 @@ fn materials() -> Vec<Material> {
         plain("white", Vec3::splat(0.75)),
         plain("red", Vec3::new(0.7, 0.12, 0.1)),
         plain("blue", Vec3::new(0.12, 0.2, 0.65)),
-        Material { specular: Vec3::splat(0.1), exponent: 40.0, ..plain("statue", Vec3::new(0.8, 0.75, 0.6)) },
+        Material { glossy: Vec3::splat(0.1), exponent: 40.0, ..plain("statue", Vec3::new(0.8, 0.75, 0.6)) },
         Material { emission: Vec3::new(30.0, 27.0, 22.0), ..plain("lamp", Vec3::ZERO) },
     ]
 }

@@ -47,7 +47,7 @@ fn shaded(name: &str, desc: ShaderDesc, mean_t: f32) -> (Material, f32) {
     let material = Material {
         name: name.into(),
         diffuse: desc.colors[0],
-        specular: desc.specular,
+        glossy: desc.glossy,
         exponent: desc.exponent,
         shader: Some(desc),
         ..Material::default()
@@ -67,7 +67,7 @@ fn materials() -> Vec<(Material, f32)> {
                 pattern: Pattern::Marble { octaves: 4, turbulence: 3.0 },
                 scale: 1.2,
                 colors: [Vec3::new(0.85, 0.84, 0.8), Vec3::new(0.25, 0.25, 0.28)],
-                specular: Vec3::splat(0.08),
+                glossy: Vec3::splat(0.08),
                 exponent: 60.0,
                 bump: 0.0,
             },
@@ -79,7 +79,7 @@ fn materials() -> Vec<(Material, f32)> {
                 pattern: Pattern::Brick { size: Vec3::new(brick_len, 0.085, brick_len), mortar: 0.012 },
                 scale: 1.0,
                 colors: [Vec3::new(0.55, 0.18, 0.1), Vec3::new(0.7, 0.68, 0.62)],
-                specular: Vec3::ZERO,
+                glossy: Vec3::ZERO,
                 exponent: 1.0,
                 bump: 0.01,
             },
@@ -92,7 +92,7 @@ fn materials() -> Vec<(Material, f32)> {
                 pattern: Pattern::Wood { rings: 6.0, turbulence: 0.6 },
                 scale: 2.0,
                 colors: [Vec3::new(0.55, 0.36, 0.18), Vec3::new(0.3, 0.17, 0.08)],
-                specular: Vec3::splat(0.05),
+                glossy: Vec3::splat(0.05),
                 exponent: 30.0,
                 bump: 0.001,
             },
@@ -104,7 +104,7 @@ fn materials() -> Vec<(Material, f32)> {
                 pattern: Pattern::Checker,
                 scale: 4.0,
                 colors: [Vec3::splat(0.8), Vec3::new(0.1, 0.1, 0.12)],
-                specular: Vec3::ZERO,
+                glossy: Vec3::ZERO,
                 exponent: 1.0,
                 bump: 0.0,
             },
@@ -116,7 +116,7 @@ fn materials() -> Vec<(Material, f32)> {
                 pattern: Pattern::Turbulence { octaves: 5 },
                 scale: 3.0,
                 colors: [Vec3::new(0.1, 0.2, 0.55), Vec3::new(0.8, 0.85, 0.9)],
-                specular: Vec3::splat(0.3),
+                glossy: Vec3::splat(0.3),
                 exponent: 80.0,
                 bump: 0.004,
             },
@@ -177,7 +177,7 @@ pub(super) fn lambert_scene() -> Scene {
     let lambert = |(m, mean_t): (Material, f32)| match &m.shader {
         Some(desc) => Material {
             name: format!("{}-lambert", m.name),
-            diffuse: (desc.colors[0].lerp(desc.colors[1], mean_t) + desc.specular).min(Vec3::ONE),
+            diffuse: (desc.colors[0].lerp(desc.colors[1], mean_t) + desc.glossy).min(Vec3::ONE),
             ..Material::default()
         },
         None => m,
@@ -238,11 +238,11 @@ mod tests {
             assert!(l.shader.is_none());
             assert_eq!(m.emission, l.emission);
             if let Some(desc) = &m.shader {
-                assert_eq!(l.specular, Vec3::ZERO);
+                assert_eq!(l.glossy, Vec3::ZERO);
                 // The constant colour is a blend of the pattern's two colours plus the glossy
                 // reflectance (the same total reflectance).
                 let (lo, hi) = (desc.colors[0].min(desc.colors[1]), desc.colors[0].max(desc.colors[1]));
-                let diffuse = l.diffuse - desc.specular;
+                let diffuse = l.diffuse - desc.glossy;
                 let eps = Vec3::splat(1e-6);
                 assert!(diffuse.cmpge(lo - eps).all() && diffuse.cmple(hi + eps).all(), "{}", m.name);
             } else {

@@ -29,7 +29,7 @@ fn materials() -> Vec<Material> {
         diffuse("blue", Vec3::new(0.12, 0.22, 0.55)),
         diffuse("wood", Vec3::new(0.5, 0.34, 0.2)),
         Material {
-            specular: Vec3::splat(0.25),
+            glossy: Vec3::splat(0.25),
             exponent: 60.0,
             ..diffuse("glossy", Vec3::new(0.15, 0.25, 0.6))
         },

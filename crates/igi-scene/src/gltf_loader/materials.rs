@@ -77,7 +77,7 @@ impl Loader<'_> {
             name: material.name().map_or_else(|| format!("materials[{index}]"), str::to_owned),
             diffuse: base * (1.0 - metallic),
             diffuse_texture,
-            specular: Vec3::splat(0.04).lerp(base, metallic),
+            glossy: Vec3::splat(0.04).lerp(base, metallic),
             exponent: 2.0 / (alpha * alpha) - 2.0,
             emission: emission.max(Vec3::ZERO),
             bump_texture: None,

@@ -151,7 +151,7 @@ fn material_override(
     Ok(Material {
         name: file.get_ref().clone(),
         diffuse,
-        specular: colour("specular", spec.specular, defaults.specular)?,
+        glossy: colour("specular", spec.specular, defaults.glossy)?,
         exponent,
         emission: colour("emission", spec.emission, defaults.emission)?,
         ..defaults

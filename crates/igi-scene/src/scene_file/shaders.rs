@@ -99,7 +99,7 @@ fn shader_from(check: &Checker, index: usize, entry: &Spanned<ShaderSpec>) -> Re
             check.reflectance(&span, path("colors"), first)?,
             check.reflectance(&span, path("colors"), second)?,
         ],
-        specular: check.reflectance(&span, path("specular"), spec.specular.unwrap_or_default())?,
+        glossy: check.reflectance(&span, path("specular"), spec.specular.unwrap_or_default())?,
         exponent: check.amount(&span, path("exponent"), spec.exponent.unwrap_or(SHADER_EXPONENT), true)?,
         bump: check.amount(&span, path("bump"), spec.bump.unwrap_or(0.0), true)?,
     })
@@ -159,7 +159,7 @@ mod tests {
             pattern: Pattern::Checker,
             scale: 1.0,
             colors: [Vec3::splat(0.8), Vec3::splat(0.2)],
-            specular: Vec3::ZERO,
+            glossy: Vec3::ZERO,
             exponent: 20.0,
             bump: 0.0,
         };
@@ -172,7 +172,7 @@ mod tests {
             ShaderDesc {
                 scale: 2.5,
                 colors: [Vec3::new(0.9, 0.9, 0.85), Vec3::new(0.3, 0.3, 0.35)],
-                specular: Vec3::splat(0.05),
+                glossy: Vec3::splat(0.05),
                 exponent: 40.0,
                 bump: 0.002,
                 ..common.clone()

@@ -72,7 +72,7 @@ impl Bsdf {
         let params = params.conserving();
         let w = [
             params.diffuse.max_element(),
-            params.specular.max_element(),
+            params.glossy.max_element(),
             params.mirror.max_element(),
             params.glass,
         ];
@@ -103,9 +103,9 @@ impl Bsdf {
             return Vec3::ZERO;
         }
         let mut f = lambert(self.params.diffuse);
-        if self.params.specular.max_element() > 0.0 {
+        if self.params.glossy.max_element() > 0.0 {
             let cos_alpha = mirror_direction(wo, n).dot(wi);
-            f += self.params.specular * phong_lobe(self.params.exponent, cos_alpha);
+            f += self.params.glossy * phong_lobe(self.params.exponent, cos_alpha);
         }
         f
     }

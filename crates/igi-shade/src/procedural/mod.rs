@@ -44,7 +44,7 @@ pub struct ProceduralShader {
     pattern: Pattern,
     scale: f32,
     colors: [Vec3; 2],
-    specular: Vec3,
+    glossy: Vec3,
     exponent: f32,
     bump: f32,
 }
@@ -56,7 +56,7 @@ impl ProceduralShader {
             pattern: desc.pattern,
             scale: desc.scale,
             colors: desc.colors,
-            specular: desc.specular,
+            glossy: desc.glossy,
             exponent: desc.exponent,
             bump: desc.bump,
         }
@@ -84,7 +84,7 @@ impl SurfaceShader for ProceduralShader {
         let rest = F32x8::splat(1.0) - sample.t;
         let blend = |a: f32, b: f32| sample.t.mul_add(F32x8::splat(b), rest * F32x8::splat(a));
         out.diffuse = Vec3x8::new(blend(c0.x, c1.x), blend(c0.y, c1.y), blend(c0.z, c1.z));
-        out.specular = Vec3x8::splat(self.specular.to_array());
+        out.glossy = Vec3x8::splat(self.glossy.to_array());
         out.exponent = F32x8::splat(self.exponent);
         if let Some(grad) = sample.height_gradient {
             let g = grad * F32x8::splat(self.bump * self.scale);

@@ -9,7 +9,7 @@ use igi_bvh::{Accel, Ray};
 use std::path::Path;
 
 /// A virtual point light as embree-bench writes it: position, normal ((0,0,0) for an omni
-/// start point) and path depth (0 on the light).
+/// start point) and bounce count (0 on the light; the file's `depth` column).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BenchVpl {
     /// Position.
@@ -17,7 +17,7 @@ pub struct BenchVpl {
     /// Surface normal, or zero.
     pub n: Vec3,
     /// Bounces from the light.
-    pub depth: u32,
+    pub bounces: u32,
 }
 
 /// SplitMix64 (Steele et al. 2014), embree-bench's generator, so seeds mean the same.
@@ -114,8 +114,8 @@ pub fn random_walk_vpls(
             }
             WalkSource::Point(light) => (*light, Vec3::ZERO, sphere_dir(rng.uniform(), rng.uniform())),
         };
-        all.push(BenchVpl { p, n, depth: 0 });
-        let mut depth = 1;
+        all.push(BenchVpl { p, n, bounces: 0 });
+        let mut bounces = 1;
         while all.len() < want {
             let hit = accel.intersect(&Ray { origin: p, dir: d, tnear, tfar: f32::INFINITY });
             if !hit.is_hit() || is_emissive(hit.instance, hit.prim) {
@@ -126,13 +126,13 @@ pub fn random_walk_vpls(
             if ng.dot(d) > 0.0 {
                 ng = -ng;
             }
-            all.push(BenchVpl { p: q, n: ng, depth });
+            all.push(BenchVpl { p: q, n: ng, bounces });
             if rng.uniform() >= CONT_PROB {
                 break;
             }
             p = q;
             d = cosine_dir(ng, rng.uniform(), rng.uniform());
-            depth += 1;
+            bounces += 1;
         }
     }
     if all.len() < want {
@@ -179,7 +179,7 @@ pub fn read_vpl_file(path: &Path, sets: usize, k: usize) -> Result<Vec<BenchVpl>
         vpls[set * k + slot] = Some(BenchVpl {
             p: Vec3::new(num(f[2])?, num(f[3])?, num(f[4])?),
             n: Vec3::new(num(f[5])?, num(f[6])?, num(f[7])?),
-            depth: f[8].parse::<u32>().with_context(|| format!("{}: bad depth {:?}", at(), f[8]))?,
+            bounces: f[8].parse::<u32>().with_context(|| format!("{}: bad depth {:?}", at(), f[8]))?,
         });
     }
     let missing = vpls.iter().filter(|v| v.is_none()).count();
