@@ -39,11 +39,6 @@ impl Film {
         &self.pixels
     }
 
-    /// All pixels, mutable.
-    pub fn pixels_mut(&mut self) -> &mut [Vec3] {
-        &mut self.pixels
-    }
-
     /// The pixel at column `x`, row `y`.
     #[inline]
     pub fn get(&self, x: u32, y: u32) -> Vec3 {

@@ -153,9 +153,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         Mode::Igi => {
             let out = renderer.render_accumulated(&mut prepared, &frame, args.frames, &progress)?;
             let summary = igi_summary(&out, args.frames, &frame.settings);
-            let FrameImage::Linear { film, .. } = out.image else {
-                unreachable!("an accumulated frame is linear")
-            };
+            let film = out.image.into_film().context("an accumulated frame without its film")?;
             (film, out.stats, summary)
         }
         Mode::Path => {

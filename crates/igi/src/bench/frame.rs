@@ -1,6 +1,6 @@
 //! `igi bench frame`: frames per second of the whole instant-global-illumination pipeline
-//! (VPL generation, primary rays, shading, shadow rays, specular rays, filter, tone mapping to
-//! 8-bit), with the time per phase, Mrays/s, rays per pixel and the energy the VPL clamp
+//! (VPL generation, primary rays, shading, specular rays, bias compensation, shadow rays,
+//! filter, tone mapping to 8-bit), with the time per phase, Mrays/s, rays per pixel and the energy the VPL clamp
 //! removes.
 
 use crate::frame_args::FrameArgs;
