@@ -23,7 +23,7 @@ use crate::transport::Transport;
 use crate::worker::HEARTBEAT;
 use igi_render::stats::{PhaseTimes, RayCounts};
 use igi_render::tonemap::LuminanceStats;
-use igi_render::{CancelToken, FrameImage, FrameOutput, Pixels, TileGrid};
+use igi_render::{CancelToken, FrameImage, FrameOutput, TileGrid};
 use std::time::{Duration, Instant};
 
 /// How rank 0 schedules.
@@ -485,13 +485,12 @@ fn check_tile(rank: usize, job: &FrameJob, grid: &TileGrid, result: &TileResult)
         return bad(format!("tile {} of a frame of {} tiles", result.tile, grid.len()));
     }
     let expected = grid.tile(result.tile).rect.pixel_count();
-    let whole_pixels = !matches!(&result.pixels, Pixels::Srgb8(b) if b.len() % 3 != 0);
-    let format_ok = whole_pixels && result.pixels.format() == job.frame.pixels;
-    if !format_ok || result.pixels.len() != expected {
+    let count = result.pixels.pixel_count();
+    if result.pixels.format() != job.frame.pixels || count != Some(expected) {
         return bad(format!(
             "tile {} with {} pixels of the wrong kind or count ({expected} expected)",
             result.tile,
-            result.pixels.len()
+            count.map_or("an inconsistent number of".into(), |n| n.to_string())
         ));
     }
     Ok(())
@@ -517,7 +516,7 @@ fn assemble(active: Active, nodes: usize, wait: Duration) -> ClusterFrame {
         tiles_per_node[node] += 1;
     }
     let s = &frame.settings;
-    let image = FrameImage::from_tiles(frame.pixels, s.width, s.height, pixels, &frame.tone_map);
+    let image = FrameImage::from_tiles(frame.pixels, s.width, s.height, pixels);
     ClusterFrame {
         output: FrameOutput { image, stats, rays, times, elapsed: active.started.elapsed(), vpls },
         tiles_per_node,

@@ -23,13 +23,19 @@ pub enum PixelFormat {
     Linear,
 }
 
-/// The pixels of one tile, row-major within the tile, in the frame's [`PixelFormat`].
+/// The pixels of one tile, row-major within the tile, in the frame's [`PixelFormat`]. The
+/// display image is encoded with the tile (while it is in cache) in either format.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Pixels {
     /// 3 bytes per pixel, tone-mapped with the frame's tone map.
     Srgb8(Vec<u8>),
-    /// Linear RGB radiance per pixel.
-    Linear(Vec<Vec3>),
+    /// Linear RGB radiance per pixel, and its display image as in [`Pixels::Srgb8`].
+    Linear {
+        /// The radiance.
+        radiance: Vec<Vec3>,
+        /// `radiance` tone-mapped and sRGB-encoded, 3 bytes per pixel.
+        srgb8: Vec<u8>,
+    },
 }
 
 impl Pixels {
@@ -37,21 +43,24 @@ impl Pixels {
     pub fn format(&self) -> PixelFormat {
         match self {
             Self::Srgb8(_) => PixelFormat::Srgb8,
-            Self::Linear(_) => PixelFormat::Linear,
+            Self::Linear { .. } => PixelFormat::Linear,
         }
     }
 
-    /// Number of pixels.
-    pub fn len(&self) -> usize {
+    /// Number of pixels, or `None` if the parts disagree (a byte count not a multiple of 3,
+    /// or a display image of another size than the radiance).
+    pub fn pixel_count(&self) -> Option<usize> {
         match self {
-            Self::Srgb8(bytes) => bytes.len() / 3,
-            Self::Linear(pixels) => pixels.len(),
+            Self::Srgb8(bytes) => (bytes.len() % 3 == 0).then_some(bytes.len() / 3),
+            Self::Linear { radiance, srgb8 } => (srgb8.len() == 3 * radiance.len()).then_some(radiance.len()),
         }
     }
 
-    /// True if there are no pixels.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
+    /// The display image.
+    pub fn srgb8(&self) -> &[u8] {
+        match self {
+            Self::Srgb8(bytes) | Self::Linear { srgb8: bytes, .. } => bytes,
+        }
     }
 }
 
@@ -92,31 +101,26 @@ impl FrameImage {
     }
 
     /// The image of a frame put together from its tiles, which must all be in `format` and
-    /// cover the image; a linear image's display image is made with `tone_map`.
+    /// cover the image.
     pub fn from_tiles(
         format: PixelFormat,
         width: u32,
         height: u32,
         tiles: impl IntoIterator<Item = (Tile, Pixels)>,
-        tone_map: &ToneMapper,
     ) -> Self {
-        match format {
-            PixelFormat::Srgb8 => {
-                let mut bytes = vec![0u8; 3 * width as usize * height as usize];
-                for (tile, pixels) in tiles {
-                    let Pixels::Srgb8(src) = pixels else { panic!("a linear tile in an 8-bit frame") };
-                    copy_tile(&mut bytes, 3 * width as usize, &tile, &src, 3);
-                }
-                Self::Srgb8 { width, height, bytes }
+        let mut bytes = vec![0u8; 3 * width as usize * height as usize];
+        let mut film = (format == PixelFormat::Linear).then(|| Film::new(width, height));
+        for (tile, pixels) in tiles {
+            copy_tile(&mut bytes, 3 * width as usize, &tile, pixels.srgb8(), 3);
+            match (pixels, &mut film) {
+                (Pixels::Linear { radiance, .. }, Some(film)) => film.write_tile(&tile, &radiance),
+                (Pixels::Srgb8(_), None) => {}
+                _ => panic!("a tile of another format than its frame"),
             }
-            PixelFormat::Linear => {
-                let mut film = Film::new(width, height);
-                for (tile, pixels) in tiles {
-                    let Pixels::Linear(src) = pixels else { panic!("an 8-bit tile in a linear frame") };
-                    film.write_tile(&tile, &src);
-                }
-                Self::from_film(film, tone_map)
-            }
+        }
+        match film {
+            Some(film) => Self::Linear { film, srgb8: bytes },
+            None => Self::Srgb8 { width, height, bytes },
         }
     }
 

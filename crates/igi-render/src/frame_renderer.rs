@@ -116,13 +116,7 @@ impl FrameRenderer {
             pixels.push((t.tile, t.pixels));
         }
         let s = &frame.settings;
-        let assembling = Instant::now();
-        let image = self
-            .scheduler
-            .install(|| FrameImage::from_tiles(frame.pixels, s.width, s.height, pixels, &frame.tone_map));
-        // A linear frame's display image is encoded here, on all threads (thread time, as the
-        // tile phases count it).
-        times.add(Phase::ToneMap, assembling.elapsed() * self.threads() as u32);
+        let image = FrameImage::from_tiles(frame.pixels, s.width, s.height, pixels);
         Ok(FrameOutput { image, stats, rays, times, elapsed: start.elapsed(), vpls: plan.vpl_count() })
     }
 

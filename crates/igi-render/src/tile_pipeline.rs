@@ -246,13 +246,12 @@ impl<'a> TilePipeline<'a> {
         let pixels = self.compose(&tile, &region, scratch);
         times.lap(Phase::Filter, &mut clock);
         let stats = LuminanceStats::of_pixels(&pixels);
+        // Encoded here, while the tile is in cache, for either format.
+        let mut srgb8 = Vec::new();
+        self.tone_map.encode_pixels(&pixels, &mut srgb8);
         let pixels = match self.pixels {
-            PixelFormat::Linear => Pixels::Linear(pixels),
-            PixelFormat::Srgb8 => {
-                let mut srgb8 = Vec::new();
-                self.tone_map.encode_pixels(&pixels, &mut srgb8);
-                Pixels::Srgb8(srgb8)
-            }
+            PixelFormat::Linear => Pixels::Linear { radiance: pixels, srgb8 },
+            PixelFormat::Srgb8 => Pixels::Srgb8(srgb8),
         };
         times.lap(Phase::ToneMap, &mut clock);
         TileOutput { tile, pixels, stats, rays, times }
