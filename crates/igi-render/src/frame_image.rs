@@ -7,10 +7,10 @@
 //! image's own statistics; a linear frame still carries its display image.
 
 use crate::film::{Film, copy_tile};
+use crate::output::to_srgb8;
 use crate::tile::Tile;
 use crate::tonemap::ToneMapper;
 use glam::Vec3;
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// The pixels a frame delivers.
@@ -87,16 +87,9 @@ pub enum FrameImage {
 }
 
 impl FrameImage {
-    /// A linear image and its display image under `tone_map`, encoded on the current rayon
-    /// pool (the pixels are independent, so the bytes are the same on any number of threads).
+    /// A linear image and its display image under `tone_map` ([`to_srgb8`]).
     pub fn from_film(film: Film, tone_map: &ToneMapper) -> Self {
-        let mut srgb8 = vec![0u8; 3 * film.pixels().len()];
-        const CHUNK: usize = 4096;
-        srgb8.par_chunks_mut(3 * CHUNK).zip(film.pixels().par_chunks(CHUNK)).for_each(|(out, pixels)| {
-            let mut encoded = Vec::with_capacity(out.len());
-            tone_map.encode_pixels(pixels, &mut encoded);
-            out.copy_from_slice(&encoded);
-        });
+        let srgb8 = to_srgb8(&film, tone_map);
         Self::Linear { film, srgb8 }
     }
 

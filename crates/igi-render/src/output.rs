@@ -8,6 +8,7 @@ pub use atomic_file::{check_writable, write_atomically};
 
 use crate::film::Film;
 use crate::tonemap::ToneMapper;
+use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 
 /// Why an output file could not be written.
@@ -73,10 +74,15 @@ pub fn write_image(film: &Film, path: &Path, tone_map: &ToneMapper) -> Result<()
     }
 }
 
-/// The tone-mapped 8-bit sRGB pixels of `film`, row-major RGB, row 0 at the top.
+/// The tone-mapped 8-bit sRGB pixels of `film`, row-major RGB, row 0 at the top, encoded on
+/// the current rayon pool (the pixels are independent, so the bytes are the same on any
+/// number of threads).
 pub fn to_srgb8(film: &Film, tone_map: &ToneMapper) -> Vec<u8> {
-    let mut out = Vec::new();
-    tone_map.encode_pixels(film.pixels(), &mut out);
+    const CHUNK: usize = 4096;
+    let mut out = vec![0u8; 3 * film.pixels().len()];
+    out.par_chunks_mut(3 * CHUNK)
+        .zip(film.pixels().par_chunks(CHUNK))
+        .for_each(|(out, pixels)| tone_map.encode_pixels(pixels, out));
     out
 }
 

@@ -247,7 +247,7 @@ impl<'a> TilePipeline<'a> {
         times.lap(Phase::Filter, &mut clock);
         let stats = LuminanceStats::of_pixels(&pixels);
         // Encoded here, while the tile is in cache, for either format.
-        let mut srgb8 = Vec::new();
+        let mut srgb8 = vec![0u8; 3 * pixels.len()];
         self.tone_map.encode_pixels(&pixels, &mut srgb8);
         let pixels = match self.pixels {
             PixelFormat::Linear => Pixels::Linear { radiance: pixels, srgb8 },

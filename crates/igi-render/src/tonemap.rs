@@ -155,13 +155,14 @@ impl ToneMapper {
         [e.encode(m.x), e.encode(m.y), e.encode(m.z)]
     }
 
-    /// Appends the 8-bit sRGB values of `pixels` to `out`, 3 bytes per pixel.
-    pub fn encode_pixels(&self, pixels: &[Vec3], out: &mut Vec<u8>) {
+    /// Writes the 8-bit sRGB values of `pixels` into `out`, 3 bytes per pixel (`out` holds
+    /// exactly `3 * pixels.len()` bytes).
+    pub fn encode_pixels(&self, pixels: &[Vec3], out: &mut [u8]) {
+        assert_eq!(out.len(), 3 * pixels.len(), "3 bytes per pixel");
         let e = Srgb8Encoder::get();
-        out.reserve(3 * pixels.len());
-        for &p in pixels {
+        for (&p, rgb) in pixels.iter().zip(out.chunks_exact_mut(3)) {
             let m = self.map(p);
-            out.extend_from_slice(&[e.encode(m.x), e.encode(m.y), e.encode(m.z)]);
+            rgb.copy_from_slice(&[e.encode(m.x), e.encode(m.y), e.encode(m.z)]);
         }
     }
 }
