@@ -158,7 +158,6 @@ impl FrameRenderer {
         let start = Instant::now();
         let mut mean = Progressive::new(ToneMap::default());
         let (mut rays, mut times, mut vpls) = (RayCounts::default(), PhaseTimes::default(), 0);
-        let mut shown = None;
         for i in 0..frames {
             f.frame = frame.frame.wrapping_add(i);
             let done_before = per_frame.saturating_mul(i);
@@ -166,9 +165,9 @@ impl FrameRenderer {
             rays += one.rays;
             times += one.times;
             vpls += one.vpls;
-            shown = Some(mean.add(one.image, one.stats));
+            mean.add(one.image, one.stats);
         }
-        let Shown { image, stats } = shown.unwrap_or_else(|| unreachable!("at least one frame"));
+        let Shown { image, stats } = mean.show();
         Ok(FrameOutput { image, stats, rays, times, elapsed: start.elapsed(), vpls })
     }
 }

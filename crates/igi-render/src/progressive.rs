@@ -26,6 +26,9 @@ pub struct Progressive {
     width: u32,
     height: u32,
     frames: u32,
+    /// The last frame as rendered while it is what to show (an 8-bit frame, or the first of a
+    /// mean); `None` once a mean of several frames is.
+    latest: Option<Shown>,
 }
 
 /// What a view shows after a frame: its image (or the mean of the frames so far) and the
@@ -49,6 +52,7 @@ impl Progressive {
             width: 0,
             height: 0,
             frames: 0,
+            latest: None,
         }
     }
 
@@ -74,22 +78,36 @@ impl Progressive {
 
     /// Takes a rendered frame and its tile statistics. A linear frame joins the mean (a frame
     /// of another size starts it anew); an 8-bit frame, which cannot be averaged, ends it.
-    /// Returns what to show: the frame itself while the mean has one frame, else the mean.
-    pub fn add(&mut self, image: FrameImage, stats: LuminanceStats) -> Shown {
-        let shown = match image.film() {
-            None => {
-                self.frames = 0;
-                Shown { image, stats }
-            }
+    pub fn add(&mut self, image: FrameImage, stats: LuminanceStats) {
+        match image.film() {
+            None => self.frames = 0,
             Some(film) if self.frames == 0 || (film.width(), film.height()) != (self.width, self.height) => {
                 self.sum.clear();
                 self.sum.extend_from_slice(film.pixels());
                 (self.width, self.height, self.frames) = (film.width(), film.height(), 1);
-                Shown { image, stats }
             }
             Some(film) => {
                 self.sum.iter_mut().zip(film.pixels()).for_each(|(s, p)| *s += *p);
                 self.frames += 1;
+                self.latest = None;
+                return;
+            }
+        }
+        self.latest = Some(Shown { image, stats });
+    }
+
+    /// What to show now: the last frame itself while the mean has one frame (or it came as
+    /// 8-bit pixels), else the mean, measured and tone-mapped with its own statistics (an
+    /// empty image before any frame). The next frame's tone map follows from its statistics.
+    /// Averaging many frames and showing only the end measures and encodes the mean once.
+    pub fn show(&mut self) -> Shown {
+        let shown = match self.latest.take() {
+            Some(latest) => latest,
+            None if self.frames == 0 => Shown {
+                image: FrameImage::Srgb8 { width: 0, height: 0, bytes: Vec::new() },
+                stats: LuminanceStats::default(),
+            },
+            None => {
                 let scale = 1.0 / self.frames as f32;
                 let mean =
                     Film::from_pixels(self.width, self.height, self.sum.iter().map(|&s| s * scale).collect());
@@ -116,16 +134,19 @@ mod tests {
     fn mean_of_frames_and_reset() {
         let mut p = Progressive::new(ToneMap::default());
         let (a, sa) = linear(vec![Vec3::ONE, Vec3::ZERO]);
-        assert_eq!(p.add(a.clone(), sa).image, a, "one frame is shown as rendered");
+        p.add(a.clone(), sa);
+        assert_eq!(p.show().image, a, "one frame is shown as rendered");
         let (b, sb) = linear(vec![Vec3::splat(3.0), Vec3::X]);
-        let shown = p.add(b, sb);
+        p.add(b, sb);
+        let shown = p.show();
         assert_eq!(p.frames(), 2);
         assert_eq!(shown.image.film().unwrap().pixels(), &[Vec3::splat(2.0), Vec3::new(0.5, 0.0, 0.0)]);
         assert_eq!(shown.stats, LuminanceStats::of_pixels(shown.image.film().unwrap().pixels()));
         assert_eq!(p.tone_mapper(), ToneMapper::new(ToneMap::default(), &shown.stats));
         p.reset();
         let (c, sc) = linear(vec![Vec3::Y]);
-        assert_eq!((p.add(c, sc).image.film().unwrap().pixels(), p.frames()), (&[Vec3::Y][..], 1));
+        p.add(c, sc);
+        assert_eq!((p.show().image.film().unwrap().pixels(), p.frames()), (&[Vec3::Y][..], 1));
     }
 
     #[test]
@@ -135,7 +156,8 @@ mod tests {
         p.add(a, sa);
         let stats = LuminanceStats { log_sum: 0.5, count: 1, max: 2.0 };
         let image = FrameImage::Srgb8 { width: 1, height: 1, bytes: vec![1, 2, 3] };
-        assert_eq!(p.add(image.clone(), stats).image, image);
+        p.add(image.clone(), stats);
+        assert_eq!(p.show().image, image);
         assert_eq!(p.frames(), 0);
         assert_eq!(p.tone_mapper(), ToneMapper::new(ToneMap::default(), &stats));
     }

@@ -298,7 +298,8 @@ impl Session {
                 return Err(e);
             }
         };
-        let Shown { image, .. } = self.progressive.add(out.image, out.stats);
+        self.progressive.add(out.image, out.stats);
+        let Shown { image, .. } = self.progressive.show();
 
         let elapsed = start.elapsed().as_secs_f64();
         let now = Instant::now();

@@ -232,14 +232,13 @@ fn render_frames(
             frame.pixels = if linear { PixelFormat::Linear } else { PixelFormat::Srgb8 };
             frame.settings.reseed_per_frame |= linear && args.frames > 1;
             view.reset();
-            let mut shown = None;
             for i in 0..if linear { args.frames } else { 1 } {
                 frame.frame = first.frame.wrapping_add(i);
                 let out = source.render(scene, &frame)?;
                 rays += out.rays.total();
-                shown = Some(view.add(out.image, out.stats));
+                view.add(out.image, out.stats);
             }
-            let Some(Shown { image, stats }) = shown else { unreachable!("at least one frame") };
+            let Shown { image, stats } = view.show();
             let image = match image {
                 FrameImage::Srgb8 { bytes, .. } => Image::Srgb8(bytes),
                 FrameImage::Linear { film, .. } if exr => Image::Exr(film),

@@ -130,6 +130,7 @@ pub fn run(args: &ClusterBenchArgs) -> Result<()> {
         for i in 0..total {
             let out = master.finish().with_context(|| format!("frame {i} with {nodes} node(s)"))?;
             view.add(out.output.image, out.output.stats);
+            view.show();
             if i + 1 < total {
                 state.tone_map = view.tone_mapper();
                 master.begin(job(i + 1, &state))?;

@@ -114,8 +114,8 @@ pub fn run(args: &FrameBenchArgs) -> Result<()> {
         let mut out = renderer.render(&mut prepared, f, &|_, _| {})?;
         out.elapsed += posed;
         view.reset();
-        let shown = view.add(out.image, out.stats);
-        out.image = shown.image;
+        view.add(out.image, out.stats);
+        out.image = view.show().image;
         Ok(out)
     };
     for i in 0..args.warmup {
