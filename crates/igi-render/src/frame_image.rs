@@ -117,30 +117,6 @@ impl FrameImage {
         }
     }
 
-    /// The format of the image.
-    pub fn format(&self) -> PixelFormat {
-        match self {
-            Self::Srgb8 { .. } => PixelFormat::Srgb8,
-            Self::Linear { .. } => PixelFormat::Linear,
-        }
-    }
-
-    /// Width in pixels.
-    pub fn width(&self) -> u32 {
-        match self {
-            Self::Srgb8 { width, .. } => *width,
-            Self::Linear { film, .. } => film.width(),
-        }
-    }
-
-    /// Height in pixels.
-    pub fn height(&self) -> u32 {
-        match self {
-            Self::Srgb8 { height, .. } => *height,
-            Self::Linear { film, .. } => film.height(),
-        }
-    }
-
     /// The display image: 3 bytes per pixel, row-major, row 0 at the top.
     pub fn srgb8(&self) -> &[u8] {
         match self {
