@@ -13,7 +13,8 @@
 //! - [`lights`], [`environment`] and [`sampling`]: light sources, the environment (sky)
 //!   light and deterministic sample sequences. How surfaces scatter light (surface shaders
 //!   feeding BRDF shaders) is the `igi-shade` crate's, shared by every estimator here.
-//! - [`vpl`]: virtual point lights from random walks (instant radiosity).
+//! - [`vpl`]: virtual point lights from random walks (instant radiosity), kept by
+//!   [`view_importance`], their importance to what the camera sees.
 //! - [`interleave`]: interleaved sampling of VPL sets and anti-aliasing samples.
 //! - [`tile_pipeline`] and [`vpl_lighting`]: the streaming per-tile pipeline and its inner
 //!   shadow-ray loop.
@@ -63,6 +64,7 @@ pub mod stats;
 pub mod tile;
 pub mod tile_pipeline;
 pub mod tonemap;
+pub mod view_importance;
 pub mod vpl;
 pub mod vpl_lighting;
 

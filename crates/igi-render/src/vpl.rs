@@ -93,16 +93,30 @@
 //! T = max(1, V − lights): a set keeps at least one path even when the punctual lights alone
 //! exhaust V, or it would hold no indirect light. The frame starts round(S·T / e) paths, at
 //! least one and at most min(64·T, [`MAX_SAMPLES`] / S) per set, shared out so that sets
-//! differ by at most one path, where e is the expected number of VPLs per path. (Rounding
+//! differ by at most one path, where e is the expected number of VPLs a path leaves and the
+//! frame keeps (see "Keeping the VPLs the view needs" below). (Rounding
 //! per set instead, with e = 2.5 and T = 11, would give every set 4 paths and 10 VPLs.) The walk
 //! makes e depend on the scene's reflectances, textures, specular surfaces and on how much
 //! light escapes through openings, which no closed formula over the materials captures (a
 //! closed scene of mean reflectance r leaves P_area + 1/(1 − r) VPLs per path; for the
 //! Cornell box, open at the front, that is 4.0 against 2.9 measured). So e is measured: a
-//! pilot of [`PILOT_PATHS`] paths with a fixed seed runs the same walk and counts VPLs. The
-//! pilot depends only on the scene (and the camera, for the headlight), so the paths do not change
-//! between frames of a still scene, and the pilot's own VPLs are discarded, so the estimate
-//! stays unbiased. The number of VPLs in a set is random, about V on average.
+//! pilot of [`PILOT_PATHS`] paths with a fixed seed runs the same walk and sums the
+//! probabilities of keeping its VPLs. The pilot depends only on the scene and the camera, so
+//! the paths do not change between frames of a still scene, and the pilot's own VPLs are
+//! discarded, so the estimate stays unbiased. The number of VPLs in a set is random, about V
+//! on average.
+//!
+//! # Keeping the VPLs the view needs
+//!
+//! Each VPL a path leaves, on a surface or in the sky, is kept with the probability
+//! [`ViewImportance`] gives it: 1 if it can light a point the camera sees, else
+//! [`UNSEEN_ACCEPTANCE`](crate::view_importance::UNSEEN_ACCEPTANCE), its power then divided
+//! by that probability (unbiased). The decision is a hash of the frame's seed, the path and
+//! the vertex, so the sets still depend only on the scene and the [`FrameState`]; the walk
+//! goes on either way, so the paths and their Sobol dimensions do not change. A scene lit
+//! through an opening (Sponza's atrium) thereby starts four times the paths and lights the
+//! view with V VPLs per set instead of a handful, and a viewer's one-frame solution after a
+//! camera move is as bright as the still view's mean instead of half as bright.
 //!
 //! [`AreaLights::sample`]: crate::lights::AreaLights::sample
 
@@ -112,6 +126,7 @@ use crate::lights::{SpotCone, luminance};
 use crate::prepared::PreparedScene;
 use crate::sampling::{Cdf, MAX_SAMPLES, hash_combine, sobol4};
 use crate::sampling::{concentric_disc, uniform_cone, uniform_sphere};
+use crate::view_importance::ViewImportance;
 use glam::{Vec2, Vec3};
 use igi_bvh::{Ray, offset_ray_origin};
 use igi_scene::Light;
@@ -134,6 +149,8 @@ const _: () = assert!(BOUNCE_DIMENSIONS + MAX_BOUNCES <= sobol_burley::NUM_DIMEN
 
 /// Mixed into the frame seed so the VPL sequences differ from the pixels' sequences.
 const VPL_STREAM: u32 = 0x5650_4c53;
+/// Mixed into the frame seed for the decisions which VPLs to keep ([`ViewImportance`]).
+const KEEP_STREAM: u32 = 0x6b65_6570;
 /// Scramble seed of the pilot: fixed, so the number of paths does not follow the frame seed.
 const PILOT_SEED: u32 = 0x7069_6c74;
 /// Paths per set are at most this many times the target T (bounds the work where the pilot
@@ -197,7 +214,8 @@ impl VplSets {
     /// empty sets.
     pub fn generate(scene: &PreparedScene, frame: &FrameState) -> Self {
         let lights = scene.punctual_lights(&frame.camera);
-        let Some(emitters) = Emitters::new(scene, &lights, frame.settings.bounces) else {
+        let view = ViewImportance::new(scene, frame);
+        let Some(emitters) = Emitters::new(scene, &lights, frame.settings.bounces, view) else {
             let sets = vec![Vec::new(); frame.settings.set_count() as usize];
             let sky = sets.iter().map(|_| Vec::new()).collect();
             return Self { lights, sets, sky, paths: 0, expected_vpls_per_path: 0.0 };
@@ -232,7 +250,7 @@ impl VplSets {
         let (sets, sky) = (0..set_count)
             .into_par_iter()
             .map(|s| {
-                let mut set = PathVpls { surface: Vec::with_capacity(capacity), sky: Vec::new() };
+                let mut set = PathVpls { surface: Vec::with_capacity(capacity), ..PathVpls::default() };
                 let (first, count) = share(paths, set_count, s);
                 for k in span.first + first..span.first + first + count {
                     emitters.trace_path(k, seed, count, &mut set);
@@ -293,6 +311,8 @@ fn share(paths: u32, sets: u32, s: u32) -> (u32, u32) {
 struct PathVpls {
     surface: Vec<Vpl>,
     sky: Vec<Light>,
+    /// The VPLs kept in expectation: the sum of their probabilities of being kept.
+    expected: f32,
 }
 
 /// Where a light path starts.
@@ -322,11 +342,13 @@ struct Emitters<'a> {
     sphere: (Vec3, f32),
     /// Surface interactions a walk follows ([`IgiSettings::bounces`](crate::IgiSettings::bounces)).
     bounces: u32,
+    /// Which VPLs the view needs.
+    view: ViewImportance,
 }
 
 impl<'a> Emitters<'a> {
     /// The sources of `scene`'s area lights and of `lights`; `None` if none emits any power.
-    fn new(scene: &'a PreparedScene, lights: &[Light], bounces: u32) -> Option<Self> {
+    fn new(scene: &'a PreparedScene, lights: &[Light], bounces: u32, view: ViewImportance) -> Option<Self> {
         let bounds = scene.bounds();
         let sphere =
             if bounds.is_empty() { (Vec3::ZERO, 0.0) } else { (bounds.centroid(), 0.5 * bounds.diagonal()) };
@@ -371,24 +393,72 @@ impl<'a> Emitters<'a> {
             choice,
             sphere,
             bounces: bounces.min(MAX_BOUNCES),
+            view,
         })
     }
 
-    /// The mean number of VPLs of [`PILOT_PATHS`] paths under the fixed pilot seed.
+    /// The mean number of VPLs kept (in expectation) of [`PILOT_PATHS`] paths under the
+    /// fixed pilot seed.
     fn pilot(&self) -> f32 {
-        let mut vpls = PathVpls::default();
-        let mut count = 0;
-        for k in 0..PILOT_PATHS {
-            vpls.surface.clear();
-            vpls.sky.clear();
-            self.trace_path(k, PILOT_SEED, 1, &mut vpls);
-            count += vpls.surface.len() + vpls.sky.len();
-        }
-        count as f32 / PILOT_PATHS as f32
+        // In parallel (each kept VPL may cost a shadow ray per grid point), summed in path
+        // order so the sum does not depend on the threads.
+        let expected: Vec<f32> = (0..PILOT_PATHS)
+            .into_par_iter()
+            .map(|k| {
+                let mut vpls = PathVpls::default();
+                self.trace_path(k, PILOT_SEED, 1, &mut vpls);
+                vpls.expected
+            })
+            .collect();
+        expected.iter().sum::<f32>() / PILOT_PATHS as f32
     }
 
-    /// Traces path `k` of `paths` of the set with scramble seed `seed`, appending its VPLs.
+    /// Traces path `k` of `paths` of the set with scramble seed `seed`, appending the VPLs it
+    /// keeps ([`Emitters::keep`]).
     fn trace_path(&self, k: u32, seed: u32, paths: u32, out: &mut PathVpls) {
+        let (surface_before, sky_before) = (out.surface.len(), out.sky.len());
+        self.start_path(k, seed, paths, out);
+        self.keep(k, seed, surface_before, sky_before, out);
+    }
+
+    /// Keeps each VPL of path `k` from index `surface_before` (`sky_before` for the sky VPL)
+    /// on with its probability of [`ViewImportance`], dividing the power of one kept with
+    /// probability p < 1 by p; adds the probabilities to [`PathVpls::expected`].
+    fn keep(&self, k: u32, seed: u32, surface_before: usize, sky_before: usize, out: &mut PathVpls) {
+        let accel = self.scene.accel();
+        // One uniform number per VPL: the path's surface vertex, the sky VPL after them all.
+        let path_seed = hash_combine(hash_combine(seed, KEEP_STREAM), k);
+        let kept = |vertex: usize, p: f32| {
+            let u = (hash_combine(path_seed, vertex as u32) >> 8) as f32 / (1u32 << 24) as f32;
+            (u < p).then(|| 1.0 / p)
+        };
+        // The kept VPLs go after the path's own, which then go.
+        let end = out.surface.len();
+        for i in surface_before..end {
+            let v = out.surface[i];
+            let p = self.view.surface_acceptance(accel, v.position, v.normal);
+            out.expected += p;
+            if let Some(scale) = kept(i - surface_before, p) {
+                out.surface.push(Vpl { power: v.power * scale, glossy: v.glossy * scale, ..v });
+            }
+        }
+        out.surface.drain(surface_before..end);
+        let end = out.sky.len();
+        for i in sky_before..end {
+            if let Light::Directional { direction, irradiance } = out.sky[i] {
+                let p = self.view.sky_acceptance(accel, direction);
+                out.expected += p;
+                if let Some(scale) = kept(MAX_BOUNCES as usize + 1 + i - sky_before, p) {
+                    out.sky.push(Light::Directional { direction, irradiance: irradiance * scale });
+                }
+            }
+        }
+        out.sky.drain(sky_before..end);
+    }
+
+    /// Starts path `k` of `paths` of the set with scramble seed `seed` at a light and walks
+    /// it, appending every VPL it leaves.
+    fn start_path(&self, k: u32, seed: u32, paths: u32, out: &mut PathVpls) {
         let vpls = &mut out.surface;
         let [u_light, u_select, u0, u1] = sobol4(k, LIGHT_DIMENSIONS, seed);
         let [d0, d1, ..] = sobol4(k, EMISSION_DIMENSIONS, seed);

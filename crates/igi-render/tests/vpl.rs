@@ -222,6 +222,61 @@ fn directional_light_deposits_e_cos_area_albedo_on_either_side_of_a_plane() {
 }
 
 #[test]
+fn vpls_the_view_cannot_see_are_kept_one_in_sixteen_with_sixteen_times_the_power() {
+    // The sun on a 4 × 4 floor before a wall, seen from the front and from under the floor:
+    // from under it no VPL can light what the camera sees, so a frame keeps one in sixteen,
+    // each with 16 times the power, and starts 16 times the paths to keep V VPLs per set.
+    let rho = 0.5;
+    let (direction, irradiance) = (Vec3::new(0.3, -1.0, 0.0).normalize(), Vec3::new(2.0, 1.5, 1.0));
+    let wall = square_z(-2.0, 2.0, Vec3::Z, 0);
+    let scene = PreparedScene::new(scene(
+        vec![plane(0.0, 2.0, true, 0), wall],
+        vec![diffuse("grey", rho)],
+        vec![Light::Directional { direction, irradiance }],
+    ));
+    let vpls = 32;
+    let from = |position: Vec3, seed: u32| FrameState {
+        camera: camera(position, Vec3::new(0.0, 0.5, -2.0), 60.0),
+        ..frame(seed, vpls)
+    };
+    let (front, under) = (Vec3::new(0.0, 1.5, 3.0), Vec3::new(0.0, -3.0, 3.0));
+    let (seen, unseen) =
+        (VplSets::generate(&scene, &from(front, 0)), VplSets::generate(&scene, &from(under, 0)));
+    let ratio = unseen.paths() as f32 / seen.paths() as f32;
+    assert!(
+        (ratio - 16.0).abs() < 0.1,
+        "{} paths from under the floor, {} from the front",
+        unseen.paths(),
+        seen.paths()
+    );
+    // Every VPL carries about Φ ρ / P (the walk's weight over its survival probability is 1
+    // for grey Lambertian surfaces, up to the shading normals): kept with probability 1/16, 16
+    // times that of one path of the frame.
+    let brightest = |sets: &VplSets| sets.set(0).iter().map(|v| v.power).fold(Vec3::ZERO, Vec3::max);
+    let (kept, seen) = (brightest(&unseen), brightest(&seen));
+    assert!(rel_err(kept, 16.0 / ratio * seen) < 0.01, "{kept} against {seen}");
+    for position in [front, under] {
+        let (mut counts, mut floor_power) = (Vec::new(), Vec::new());
+        for seed in 0..20 {
+            let sets = VplSets::generate(&scene, &from(position, seed));
+            for s in 0..sets.set_count() {
+                counts.push(sets.set(s).len() as f64);
+                floor_power.push(sets.set(s).iter().filter(|v| v.normal == Vec3::Y).map(|v| v.power).sum());
+            }
+        }
+        let (mean, _) = mean_and_error(&counts);
+        assert!((mean / f64::from(vpls - 1) - 1.0).abs() < 0.1, "camera at {position}: {mean} VPLs per set");
+        // The sun deposits E cosθ A ρ on the floor, whichever VPLs are kept.
+        assert_mean3(
+            &floor_power,
+            irradiance * direction.y.abs() * 16.0 * rho,
+            0.0,
+            &format!("camera at {position}"),
+        );
+    }
+}
+
+#[test]
 fn point_light_paths_start_at_the_light_and_fill_its_solid_angle() {
     // An isotropic light 1 below the centre of a 6 × 6 plane: the VPLs face down (the side
     // the light arrived from), none sits at the light, and they sum to I Ω ρ.

@@ -1,0 +1,108 @@
+//! [`ViewImportance`]: which VPLs can light what the camera sees, and with what probability a
+//! frame keeps the others.
+//!
+//! Light paths start where the lights' power is (see [`crate::vpl`]), not where the camera
+//! looks. Where light enters through an opening, most of them leave their VPLs where no
+//! visible point can see them: the sun and the sky of Sponza's atrium send their paths through
+//! a disc across the whole model, and nine in ten end on the outside of the roof or under the
+//! floor. A frame of V VPLs per pixel then lights the view with a handful; one frame (what a
+//! viewer shows after every camera move) has black shadows and is much darker than the mean
+//! of many frames that a still view shows.
+//!
+//! So a frame keeps VPLs by their importance to the view (Georgiev & Slusallek 2010, "Simple
+//! and Robust Iterative Importance Sampling of Virtual Point Lights", section 3, with the
+//! visibility from the view as the importance): a VPL that a point of a coarse grid of camera
+//! hits sees is kept; any other is kept with probability [`UNSEEN_ACCEPTANCE`] and its power
+//! divided by it, so every VPL keeps its expected contribution and the estimate stays
+//! unbiased (a grid point stands for the pixels around it, which may see a VPL it does not).
+//! The frame then starts as many more paths as it takes to keep V VPLs per set ([`crate::vpl`],
+//! "Paths per set"), so a frame's VPLs light what the camera sees. Where the camera sees
+//! every VPL, as in the Cornell box, all are kept and nothing changes.
+
+use crate::camera::PinholeCamera;
+use crate::frame::FrameState;
+use crate::lights::SHADOW_SHORTEN;
+use crate::prepared::PreparedScene;
+use glam::Vec3;
+use igi_bvh::{Accel, Ray, offset_ray_origin};
+
+/// The probability of keeping a VPL that no point of the grid sees. Small enough that an
+/// unseen VPL costs a sixteenth of a seen one on average, large enough that the 16-fold
+/// power of one kept near points the grid missed stays within the clamp's bound.
+pub const UNSEEN_ACCEPTANCE: f32 = 1.0 / 16.0;
+
+/// Columns of the grid of camera rays (its rows follow the image's aspect ratio).
+const GRID_COLUMNS: u32 = 16;
+
+/// A point the camera sees: the offset origin of rays from it and the normal of its visible
+/// side.
+#[derive(Clone, Copy, Debug)]
+struct ViewPoint {
+    origin: Vec3,
+    normal: Vec3,
+}
+
+/// The points a frame's camera sees on a coarse grid, which decide the probability of keeping
+/// a VPL.
+#[derive(Clone, Debug, Default)]
+pub struct ViewImportance {
+    points: Vec<ViewPoint>,
+}
+
+impl ViewImportance {
+    /// The first hits of a grid of camera rays through the centres of `frame`'s grid cells
+    /// (at most [`GRID_COLUMNS`] columns). Only what the camera sees directly counts: light
+    /// seen through a mirror or glass alone keeps its VPLs at the unseen probability.
+    pub fn new(scene: &PreparedScene, frame: &FrameState) -> Self {
+        let (width, height) = (frame.settings.width.max(1), frame.settings.height.max(1));
+        let camera = PinholeCamera::new(&frame.camera, width, height);
+        let columns = GRID_COLUMNS.min(width);
+        let rows = ((columns as f32 * height as f32 / width as f32).round() as u32).clamp(1, height);
+        let mut points = Vec::with_capacity((columns * rows) as usize);
+        for row in 0..rows {
+            for column in 0..columns {
+                let x = ((2 * column + 1) * width / (2 * columns)).min(width - 1);
+                let y = ((2 * row + 1) * height / (2 * rows)).min(height - 1);
+                let ray = camera.ray(x, y);
+                let hit = scene.accel().intersect(&ray);
+                if !hit.is_hit() {
+                    continue;
+                }
+                let surface = scene.surface(&hit);
+                let n = surface.geometric_normal;
+                let normal = if n.dot(ray.dir) < 0.0 { n } else { -n };
+                if normal.is_finite() {
+                    points.push(ViewPoint { origin: offset_ray_origin(surface.position, normal), normal });
+                }
+            }
+        }
+        Self { points }
+    }
+
+    /// The probability of keeping a surface VPL at `position` emitting on the side of
+    /// `normal`: 1 if a grid point sees it, else [`UNSEEN_ACCEPTANCE`] (1 when the camera sees
+    /// nothing at all: no VPL matters then).
+    pub fn surface_acceptance(&self, accel: &Accel, position: Vec3, normal: Vec3) -> f32 {
+        let seen = self.points.iter().any(|p| {
+            let to_vpl = position - p.origin;
+            p.normal.dot(to_vpl) > 0.0
+                && normal.dot(to_vpl) < 0.0
+                && !accel.occluded(&Ray { origin: p.origin, dir: to_vpl, tnear: 0.0, tfar: SHADOW_SHORTEN })
+        });
+        self.acceptance(seen)
+    }
+
+    /// The probability of keeping a sky VPL whose light travels along `direction`: 1 if it
+    /// reaches a grid point unoccluded, else [`UNSEEN_ACCEPTANCE`].
+    pub fn sky_acceptance(&self, accel: &Accel, direction: Vec3) -> f32 {
+        let seen = self
+            .points
+            .iter()
+            .any(|p| p.normal.dot(direction) < 0.0 && !accel.occluded(&Ray::new(p.origin, -direction)));
+        self.acceptance(seen)
+    }
+
+    fn acceptance(&self, seen: bool) -> f32 {
+        if seen || self.points.is_empty() { 1.0 } else { UNSEEN_ACCEPTANCE }
+    }
+}
