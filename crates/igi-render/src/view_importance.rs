@@ -25,6 +25,7 @@ use crate::lights::SHADOW_SHORTEN;
 use crate::prepared::PreparedScene;
 use glam::Vec3;
 use igi_bvh::{Accel, Ray, offset_ray_origin};
+use igi_shade::brdf::dielectric::{Interface, glass_exit_side, reflect, refract};
 
 /// The probability of keeping a VPL that no point of the grid sees. Small enough that an
 /// unseen VPL costs a sixteenth of a seen one on average, large enough that the 16-fold
@@ -33,6 +34,8 @@ pub const UNSEEN_ACCEPTANCE: f32 = 1.0 / 16.0;
 
 /// Columns of the grid of camera rays (its rows follow the image's aspect ratio).
 const GRID_COLUMNS: u32 = 16;
+/// Most mirror and glass bounces a grid ray follows: glass splits every ray in two.
+const MAX_SPECULAR_BOUNCES: u32 = 4;
 
 /// A point the camera sees: the offset origin of rays from it and the normal of its visible
 /// side.
@@ -50,29 +53,68 @@ pub struct ViewImportance {
 }
 
 impl ViewImportance {
-    /// The first hits of a grid of camera rays through the centres of `frame`'s grid cells
-    /// (at most [`GRID_COLUMNS`] columns). Only what the camera sees directly counts: light
-    /// seen through a mirror or glass alone keeps its VPLs at the unseen probability.
+    /// The points the camera sees through the centres of `frame`'s grid cells (at most
+    /// [`GRID_COLUMNS`] columns): each ray's first hit with a diffuse or glossy lobe, and
+    /// through mirrors and glass the points they show, up to [`MAX_SPECULAR_BOUNCES`]
+    /// reflections and refractions (the camera paths of `TilePipeline` follow the same lobes).
     pub fn new(scene: &PreparedScene, frame: &FrameState) -> Self {
         let (width, height) = (frame.settings.width.max(1), frame.settings.height.max(1));
         let camera = PinholeCamera::new(&frame.camera, width, height);
         let columns = GRID_COLUMNS.min(width);
         let rows = ((columns as f32 * height as f32 / width as f32).round() as u32).clamp(1, height);
+        let bounces = frame.settings.specular_bounces.min(MAX_SPECULAR_BOUNCES);
         let mut points = Vec::with_capacity((columns * rows) as usize);
+        let mut rays = Vec::new();
         for row in 0..rows {
             for column in 0..columns {
                 let x = ((2 * column + 1) * width / (2 * columns)).min(width - 1);
                 let y = ((2 * row + 1) * height / (2 * rows)).min(height - 1);
-                let ray = camera.ray(x, y);
-                let hit = scene.accel().intersect(&ray);
-                if !hit.is_hit() {
-                    continue;
-                }
-                let surface = scene.surface(&hit);
-                let n = surface.geometric_normal;
-                let normal = if n.dot(ray.dir) < 0.0 { n } else { -n };
-                if normal.is_finite() {
-                    points.push(ViewPoint { origin: offset_ray_origin(surface.position, normal), normal });
+                rays.push((camera.ray(x, y), 0));
+                while let Some((ray, bounce)) = rays.pop() {
+                    let hit = scene.accel().intersect(&ray);
+                    if !hit.is_hit() {
+                        continue;
+                    }
+                    let surface = scene.surface(&hit);
+                    let params = scene.shade(&surface, 0.0);
+                    let dir = ray.dir.normalize();
+                    let ng = surface.geometric_normal;
+                    let facing = if ng.dot(dir) < 0.0 { ng } else { -ng };
+                    if params.has_non_delta() && facing.is_finite() {
+                        points.push(ViewPoint {
+                            origin: offset_ray_origin(surface.position, facing),
+                            normal: facing,
+                        });
+                    }
+                    if bounce == bounces {
+                        continue;
+                    }
+                    if params.mirror.max_element() > 0.0 {
+                        let ns =
+                            if ng.dot(dir) < 0.0 { params.shading_normal } else { -params.shading_normal };
+                        let reflected = reflect(dir, ns);
+                        if reflected.dot(facing) > 0.0 {
+                            rays.push((
+                                Ray::new(offset_ray_origin(surface.position, facing), reflected),
+                                bounce + 1,
+                            ));
+                        }
+                    }
+                    if params.glass > 0.0 {
+                        let interface = Interface::new(dir, params.shading_normal, params.ior);
+                        let reflected = reflect(dir, interface.normal);
+                        let refracted = refract(dir, interface.normal, interface.eta);
+                        let continuations = [(Some(reflected), true), (refracted, false)];
+                        for (out, reflection) in continuations {
+                            let Some(out) = out else { continue };
+                            if let Some(side) = glass_exit_side(dir, out, ng, reflection) {
+                                rays.push((
+                                    Ray::new(offset_ray_origin(surface.position, side), out),
+                                    bounce + 1,
+                                ));
+                            }
+                        }
+                    }
                 }
             }
         }

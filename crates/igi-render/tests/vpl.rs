@@ -10,6 +10,7 @@ use igi_render::PreparedScene;
 use igi_render::frame::limits::MAX_BOUNCES;
 use igi_render::frame::{FrameState, IgiSettings};
 use igi_render::lights::eye_light;
+use igi_render::view_importance::{UNSEEN_ACCEPTANCE, ViewImportance};
 use igi_render::vpl::{Vpl, VplSets};
 use igi_scene::{Light, Material, MaterialKind, Mesh};
 use std::f64::consts::PI;
@@ -273,6 +274,33 @@ fn vpls_the_view_cannot_see_are_kept_one_in_sixteen_with_sixteen_times_the_power
             0.0,
             &format!("camera at {position}"),
         );
+    }
+}
+
+#[test]
+fn vpls_seen_in_a_mirror_are_kept() {
+    // The camera at the origin looks at a wall (z = 5); behind it stands another (z = -4),
+    // and a VPL at z = -3 faces that one. The wall in front cannot see the VPL; with a mirror
+    // over the left half of it, the camera's rays see the wall behind, which the VPL lights.
+    let vpl = (Vec3::new(0.0, 0.0, -3.0), -Vec3::Z);
+    let walls = vec![square_z(5.0, 10.0, Vec3::ZERO, 0), square_z(-4.0, 10.0, Vec3::ZERO, 0)];
+    let mirror = quad_facing(
+        "mirror",
+        [
+            Vec3::new(-10.0, -10.0, 4.9),
+            Vec3::new(0.0, -10.0, 4.9),
+            Vec3::new(0.0, 10.0, 4.9),
+            Vec3::new(-10.0, 10.0, 4.9),
+        ],
+        Vec3::ZERO,
+        1,
+    );
+    let frame = FrameState { camera: camera(Vec3::ZERO, Vec3::new(0.0, 0.0, 5.0), 60.0), ..frame(0, 12) };
+    let materials = vec![diffuse("grey", 0.5), material(MaterialKind::Mirror, 1.0)];
+    for (meshes, want) in [(walls.clone(), UNSEEN_ACCEPTANCE), ([walls, vec![mirror]].concat(), 1.0)] {
+        let scene = PreparedScene::new(scene(meshes, materials.clone(), Vec::new()));
+        let view = ViewImportance::new(&scene, &frame);
+        assert_eq!(view.surface_acceptance(scene.accel(), vpl.0, vpl.1), want);
     }
 }
 
