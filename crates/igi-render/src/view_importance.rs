@@ -10,8 +10,8 @@
 //! of many frames that a still view shows.
 //!
 //! So a frame keeps VPLs by their importance to the view (Georgiev & Slusallek 2010, "Simple
-//! and Robust Iterative Importance Sampling of Virtual Point Lights", section 3, with the
-//! visibility from the view as the importance): a VPL that a point of a coarse grid of camera
+//! and Robust Iterative Importance Sampling of Virtual Point Lights", with the visibility
+//! from the view as the importance): a VPL that a point of a coarse grid of camera
 //! hits sees is kept; any other is kept with probability [`UNSEEN_ACCEPTANCE`] and its power
 //! divided by it, so every VPL keeps its expected contribution and the estimate stays
 //! unbiased (a grid point stands for the pixels around it, which may see a VPL it does not).
@@ -27,9 +27,9 @@ use glam::Vec3;
 use igi_bvh::{Accel, Ray, offset_ray_origin};
 use igi_shade::brdf::dielectric::{Interface, glass_exit_side, reflect, refract};
 
-/// The probability of keeping a VPL that no point of the grid sees. Small enough that an
-/// unseen VPL costs a sixteenth of a seen one on average, large enough that the 16-fold
-/// power of one kept near points the grid missed stays within the clamp's bound.
+/// The probability of keeping a VPL that no point of the grid sees. The smaller, the less of
+/// a frame's VPLs go where the camera does not look; the larger, the less a kept one that
+/// lights pixels between the grid points stands out (it carries 1/p times a path's power).
 pub const UNSEEN_ACCEPTANCE: f32 = 1.0 / 16.0;
 
 /// Columns of the grid of camera rays (its rows follow the image's aspect ratio).
