@@ -4,7 +4,7 @@
 //! only across neighbours that see a similar surface: the same material, normals within a
 //! cosine threshold and distances along the camera path within a relative threshold. Edges,
 //! creases and depth steps stay sharp, and the filtered quantities are D = E/π and the glossy
-//! term G before the albedo and the glossy reflectance multiply them back in, so texture
+//! terms G and S before the albedo and the glossy reflectance multiply them back in, so texture
 //! detail stays sharp too.
 //!
 //! Shading points are matched by (sample index, camera path): sample j of a pixel is filtered
@@ -38,14 +38,15 @@ pub struct FilterSample {
     pub diffuse_radiance: Vec3,
 }
 
-/// The filter's output: D and G per point.
+/// The filter's output: D, and G and S, per point.
 #[derive(Clone, Debug, Default)]
 pub struct Filtered {
     /// Filtered D = E/π per point (see [`FilterSample::diffuse_radiance`]).
     pub diffuse_radiance: Vec<Vec3>,
-    /// Filtered G per point: the radiance a glossy lobe of unit reflectance at the point
-    /// reflects, so that ρ_s·G is the glossy term (empty if the tile has no glossy point).
-    pub glossy_radiance: Vec<Vec3>,
+    /// Filtered G and S per point: the radiance a glossy lobe of unit reflectance at the point
+    /// reflects, so that ρ_s·G is the glossy term, and a GGX lobe's Schlick radiance (see
+    /// [`crate::vpl_lighting`]; empty if the tile has no glossy point).
+    pub glossy_radiance: Vec<[Vec3; 2]>,
 }
 
 /// What the filter reads of a shading point, stored in a pixel grid per layer so that the
@@ -70,17 +71,17 @@ const EMPTY_CELL: Cell =
 pub struct DiscontinuityBuffer {
     keys: Vec<(u32, u32)>,
     grids: Vec<Vec<Cell>>,
-    /// The glossy term G per layer, beside the grids (filled only for tiles with a glossy
-    /// point, which keeps the cells small for the rest).
-    glossy_grids: Vec<Vec<Vec3>>,
+    /// The glossy terms G and S per layer, beside the grids (filled only for tiles with a
+    /// glossy point, which keeps the cells small for the rest).
+    glossy_grids: Vec<Vec<[Vec3; 2]>>,
     /// Layer of each point.
     layers: Vec<u32>,
 }
 
 impl DiscontinuityBuffer {
-    /// Filters D and G of the points of `tile`: `out.diffuse_radiance[i]` becomes the filtered
+    /// Filters D, G and S of the points of `tile`: `out.diffuse_radiance[i]` becomes the filtered
     /// D of `points[i]` for points inside the tile (points in the apron get their own value),
-    /// and likewise `out.glossy_radiance[i]` the filtered G of `glossy_in[i]` (the same
+    /// and likewise `out.glossy_radiance[i]` the filtered G and S of `glossy_in[i]` (the same
     /// weights; `glossy_in` is empty where no point has a glossy lobe, and then so is
     /// `out.glossy_radiance`).
     /// `points` must cover `region`, the tile plus the apron of [`Interleave::region`].
@@ -90,7 +91,7 @@ impl DiscontinuityBuffer {
         tile: &Tile,
         interleave: &Interleave,
         settings: &FilterSettings,
-        (points, glossy_in): (&[FilterSample], &[Vec3]),
+        (points, glossy_in): (&[FilterSample], &[[Vec3; 2]]),
         out: &mut Filtered,
     ) {
         let Filtered { diffuse_radiance: out, glossy_radiance: glossy_out } = out;
@@ -109,7 +110,7 @@ impl DiscontinuityBuffer {
             let grid = &self.grids[self.layers[i] as usize];
             let glossy_grid = &self.glossy_grids[self.layers[i] as usize];
             let (x0, x1) = (x.saturating_sub(left), (x + right).min(region.x1 - 1));
-            let mut sum = [Vec3::ZERO; 2];
+            let mut sum = [Vec3::ZERO; 3];
             let mut count = 0u32;
             for qy in y.saturating_sub(up)..=(y + down).min(region.y1 - 1) {
                 let row = region.index(x0, qy)..=region.index(x1, qy);
@@ -119,7 +120,9 @@ impl DiscontinuityBuffer {
                     if (qx == x && qy == y) || similar(p, q, settings) {
                         sum[0] += q.diffuse_radiance;
                         if glossy {
-                            sum[1] += glossy_grid[index];
+                            let [g, s] = glossy_grid[index];
+                            sum[1] += g;
+                            sum[2] += s;
                         }
                         count += 1;
                     }
@@ -127,13 +130,13 @@ impl DiscontinuityBuffer {
             }
             out[i] = sum[0] / count as f32;
             if glossy {
-                glossy_out[i] = sum[1] / count as f32;
+                glossy_out[i] = [sum[1] / count as f32, sum[2] / count as f32];
             }
         }
     }
 
     /// Builds one pixel grid per (sample, path) layer holding the points.
-    fn index(&mut self, region: &PixelRect, points: &[FilterSample], glossy: &[Vec3]) {
+    fn index(&mut self, region: &PixelRect, points: &[FilterSample], glossy: &[[Vec3; 2]]) {
         self.keys.clear();
         self.layers.clear();
         let mut last: Option<((u32, u32), u32)> = None;
@@ -156,7 +159,7 @@ impl DiscontinuityBuffer {
                         let glossy_grid = &mut self.glossy_grids[self.keys.len() - 1];
                         glossy_grid.clear();
                         if !glossy.is_empty() {
-                            glossy_grid.resize(region.pixel_count(), Vec3::ZERO);
+                            glossy_grid.resize(region.pixel_count(), [Vec3::ZERO; 2]);
                         }
                         (self.keys.len() - 1) as u32
                     }

@@ -37,13 +37,12 @@ use crate::stats::{Phase, PhaseTimes, RayCounts};
 use crate::tile::Tile;
 use crate::tonemap::{LuminanceStats, ToneMapper};
 use crate::vpl::VplSets;
-use crate::vpl_lighting::Receivers;
+use crate::vpl_lighting::{GlossyLobe, Receivers};
 use glam::Vec3;
 use igi_bvh::{Hit, Ray, offset_ray_origin};
 use igi_shade::BrdfParams;
 use igi_shade::brdf::cosine_hemisphere;
 use igi_shade::brdf::dielectric::{Interface, glass_exit_side, reflect, refract};
-use igi_shade::brdf::phong::mirror_direction;
 use std::time::Instant;
 
 /// Specular chains carrying less than this (per channel, relative to the camera ray) end: glass
@@ -111,17 +110,16 @@ struct ShadingPoint {
     material: u32,
     /// Diffuse reflectance ρ_d.
     albedo: Vec3,
-    /// Glossy reflectance ρ_s, its exponent and lobe axis (the mirror direction of the
-    /// direction to the camera).
+    /// Glossy reflectance ρ_s (F₀ for GGX) and the glossy lobe toward the camera.
     glossy: Vec3,
-    exponent: f32,
-    axis: Vec3,
+    lobe: Option<GlossyLobe>,
     /// Diffuse radiance D = E/π from the VPLs (filtered): what a white Lambertian surface
     /// here reflects, so that ρ_d·D is the diffuse term.
     diffuse_radiance: Vec3,
     /// Glossy radiance G = Σ E · lobe from the VPLs (filtered): what the glossy lobe reflects
-    /// per unit ρ_s, so that ρ_s·G is the glossy term.
-    glossy_radiance: Vec3,
+    /// per unit ρ_s, so that ρ_s·G is the glossy term; and the Schlick radiance S of a GGX
+    /// lobe, reflected as it is ([`crate::vpl_lighting`]).
+    glossy_radiance: [Vec3; 2],
     /// Radiance reflected from point, spot and directional lights: exact, so never filtered
     /// (their shadow edges stay sharp).
     exact: Vec3,
@@ -164,7 +162,7 @@ pub struct TileScratch {
     next_stream: Vec<SpecularRay>,
     receivers: Receivers,
     filter_samples: Vec<FilterSample>,
-    glossy_radiance: Vec<Vec3>,
+    glossy_radiance: Vec<[Vec3; 2]>,
     filtered: Filtered,
     filter: DiscontinuityBuffer,
 }
@@ -415,10 +413,9 @@ impl<'a> TilePipeline<'a> {
                 material: sp.material,
                 albedo: b.diffuse,
                 glossy: b.glossy,
-                exponent: b.exponent,
-                axis: mirror_direction(-dir, ns),
+                lobe: GlossyLobe::new(b, ns, -dir),
                 diffuse_radiance: Vec3::ZERO,
-                glossy_radiance: Vec3::ZERO,
+                glossy_radiance: [Vec3::ZERO; 2],
                 exact: Vec3::ZERO,
             });
         }
@@ -571,25 +568,26 @@ impl<'a> TilePipeline<'a> {
         let receivers = &mut s.receivers;
         receivers.clear();
         for p in points.iter() {
-            let glossy = (p.glossy.max_element() > 0.0).then_some((p.axis, p.exponent));
-            receivers.push(p.origin, p.ns, p.ng, glossy);
+            receivers.push(p.origin, p.ns, p.ng, p.lobe);
         }
         let accel = self.scene.accel();
         if !self.vpls.lights().is_empty() {
             receivers.add_lights(accel, self.vpls.lights().iter(), 1.0, rays);
             for (i, p) in points.iter_mut().enumerate() {
-                let (d, g) = receivers.radiance(i);
-                p.exact = p.albedo * d + p.glossy * g;
+                let (d, g, schlick) = receivers.radiance(i);
+                p.exact = p.albedo * d + p.glossy * g + schlick;
             }
             receivers.reset_radiance();
         }
+        receivers.regularise();
         let aa = self.interleave.aa as usize;
         let sky = self.vpls.sky(set).iter().skip(sample as usize).step_by(aa);
         receivers.add_lights(accel, sky, aa as f32, rays);
         let vpls = self.vpls.set(set).iter().skip(sample as usize).step_by(aa);
         receivers.add_vpls(accel, vpls, aa as f32, self.d_min2, rays);
         for (i, p) in points.iter_mut().enumerate() {
-            (p.diffuse_radiance, p.glossy_radiance) = receivers.radiance(i);
+            let (d, g, schlick) = receivers.radiance(i);
+            (p.diffuse_radiance, p.glossy_radiance) = (d, [g, schlick]);
         }
     }
 
@@ -598,7 +596,7 @@ impl<'a> TilePipeline<'a> {
         let TileScratch { points, emitted, filter_samples, glossy_radiance, filtered, filter, .. } = s;
         // Most tiles have no glossy point; their glossy term stays out of the filter.
         glossy_radiance.clear();
-        if points.iter().any(|p| p.glossy_radiance != Vec3::ZERO) {
+        if points.iter().any(|p| p.glossy_radiance != [Vec3::ZERO; 2]) {
             glossy_radiance.extend(points.iter().map(|p| p.glossy_radiance));
         }
         match &self.filter {
@@ -642,7 +640,7 @@ impl<'a> TilePipeline<'a> {
         };
         for (i, (p, d)) in points.iter().zip(&filtered.diffuse_radiance).enumerate() {
             if let Some(pixel) = tile_index(p.state.pixel) {
-                let g = filtered.glossy_radiance.get(i).map_or(Vec3::ZERO, |g| p.glossy * *g);
+                let g = filtered.glossy_radiance.get(i).map_or(Vec3::ZERO, |[g, s]| p.glossy * *g + *s);
                 pixels[pixel] += p.state.throughput * (p.albedo * *d + g + p.exact);
             }
         }

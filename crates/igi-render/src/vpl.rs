@@ -49,7 +49,9 @@
 //!   ```
 //!
 //!   with r the mirror direction of ω_in (toward the light): a glossy VPL lights mostly the
-//!   mirror direction of the light that reached it. The original system kept only the diffuse
+//!   mirror direction of the light that reached it. On a glTF (GGX) surface the parentheses
+//!   hold that BRDF instead, Φ·f_r(ω_in, ω) = Φρ_d(1 − s)/π + (Φρ_s(1 − s) + Φ s)·D·V
+//!   ([`igi_shade::brdf::ggx`]). The original system kept only the diffuse
 //!   part (paper section 5 names this a weakness); here a VPL carries its glossy lobe.
 //! - The walk goes on in a direction sampled from the whole BSDF ([`Bsdf::sample`]: diffuse,
 //!   glossy, mirror or glass lobe, the lobe chosen by reflectance), carrying Φ ← Φ·w/q with w
@@ -127,10 +129,11 @@ use crate::prepared::PreparedScene;
 use crate::sampling::{Cdf, MAX_SAMPLES, hash_combine, sobol4};
 use crate::sampling::{concentric_disc, uniform_cone, uniform_sphere};
 use crate::view_importance::ViewImportance;
+use crate::vpl_lighting::GlossyLobe;
 use glam::{Vec2, Vec3};
 use igi_bvh::{Ray, offset_ray_origin};
 use igi_scene::Light;
-use igi_shade::brdf::{Bsdf, cosine_hemisphere, phong::mirror_direction};
+use igi_shade::brdf::{Bsdf, cosine_hemisphere};
 use rayon::prelude::*;
 use std::f32::consts::PI;
 
@@ -166,6 +169,13 @@ const DISC_MARGIN: f32 = 1e-3;
 /// I(ω) = max(0, normal · ω) · (power / π + glossy · (exponent + 2)/(2π) · max(0, axis · ω)^exponent)
 /// ```
 ///
+/// for a Phong `lobe`, and for a GGX `lobe` with ω_in its fixed direction and s, D·V its
+/// terms between ω_in and ω ([`igi_shade::brdf::ggx`])
+///
+/// ```text
+/// I(ω) = max(0, normal · ω) · (power·(1 − s)/π + (glossy·(1 − s) + schlick·s)·D·V)
+/// ```
+///
 /// (the surface's diffuse and glossy reflection of the light that reached it; see the module
 /// documentation).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -176,23 +186,23 @@ pub struct Vpl {
     pub normal: Vec3,
     /// Power Φ·ρ_d of the diffuse part per channel.
     pub power: Vec3,
-    /// Power Φ·ρ_s of the glossy part per channel (zero for a Lambertian VPL).
+    /// Power Φ·ρ_s of the glossy part per channel (Φ·F₀ for GGX; zero for a Lambertian VPL).
     pub glossy: Vec3,
-    /// Phong exponent of the glossy part.
-    pub exponent: f32,
-    /// Unit axis of the glossy part: the mirror direction of the direction toward the light.
-    pub axis: Vec3,
+    /// Power Φ of the Schlick part of a GGX lobe (zero otherwise).
+    pub schlick: Vec3,
+    /// The glossy lobe, its fixed direction toward the light (`None` for a Lambertian VPL).
+    pub lobe: Option<GlossyLobe>,
 }
 
 impl Vpl {
     /// A Lambertian VPL (a point on an area light, or on a matte surface).
     pub fn diffuse(position: Vec3, normal: Vec3, power: Vec3) -> Self {
-        Self { position, normal, power, glossy: Vec3::ZERO, exponent: 1.0, axis: normal }
+        Self { position, normal, power, glossy: Vec3::ZERO, schlick: Vec3::ZERO, lobe: None }
     }
 
     /// True if the VPL has a glossy part.
     pub fn is_glossy(&self) -> bool {
-        self.glossy.max_element() > 0.0
+        self.lobe.is_some()
     }
 }
 
@@ -531,13 +541,15 @@ impl<'a> Emitters<'a> {
                 } else {
                     -params.shading_normal
                 };
+                let lobe = GlossyLobe::new(&params, n, wo).map(GlossyLobe::regularised);
+                let ggx = matches!(lobe, Some(GlossyLobe::Ggx { .. }));
                 vpls.push(Vpl {
                     position: s.position,
                     normal: n,
                     power: power * params.diffuse,
                     glossy: power * params.glossy,
-                    exponent: params.exponent,
-                    axis: mirror_direction(wo, n),
+                    schlick: if ggx { power } else { Vec3::ZERO },
+                    lobe,
                 });
             }
             let Some(sample) = bsdf.sample(wo, u_choice, Vec2::new(u_dir0, u_dir1)) else { return };

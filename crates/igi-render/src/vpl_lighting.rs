@@ -7,7 +7,11 @@
 //! reflectance ρ_d reflects L = ρ_d·D, and for points with a glossy lobe also
 //! G = Σ E · (n+2)/(2π) cosⁿα (the *glossy radiance*: what the modified Phong lobe of
 //! [`igi_shade::brdf::phong`] reflects at unit reflectance, summed over the directions of the
-//! lights), so that the glossy lobe reflects L = ρ_s·G. The BRDF shaders
+//! lights), so that the glossy lobe reflects L = ρ_s·G. A point with the glTF GGX lobe
+//! ([`igi_shade::brdf::ggx`], f = ρ_d(1 − s)/π + (F₀(1 − s) + s)·D·V) accumulates instead
+//! D = Σ E(1 − s)/π, G = Σ E (1 − s)·D·V and the *Schlick radiance* S = Σ E s·D·V, so that it
+//! reflects L = ρ_d·D + F₀·G + S: every factor that depends on the light's direction is in
+//! the sums, every factor that a texture sets is outside them. The BRDF shaders
 //! are thus evaluated eight points at a time for every VPL. The discontinuity filter smooths
 //! D and G before the reflectances multiply them back in (paper 2.1), which keeps texture
 //! detail sharp. Per light:
@@ -15,11 +19,20 @@
 //! ```text
 //! surface VPL at y, normal n_y, diffuse power Φ, glossy power Φ_s (see `Vpl`):
 //!     E = w · (Φ/π + Φ_s · lobe_y(x − y)) · cosθ_x · cosθ_y / max(|x − y|², d_min²) · V(x, y)
+//!     (a GGX VPL: Φ(1 − s)/π + (Φ_s(1 − s) + Φ_S s)·D·V in the parentheses, Φ_S its
+//!     Schlick power)
 //! point light (intensity I; a spot light only inside its cone):
 //!     E = I · cosθ_x / |x − p|² · V(x, p)
 //! directional light (irradiance E_l toward −direction):
 //!     E = E_l · cosθ_x · V(x, ∞)
 //! ```
+//!
+//! A GGX lobe lit by VPLs (surface and sky VPLs, not the exact lights) is widened to at
+//! least [`MIN_VPL_ALPHA`], at the receiver and at the VPL: a lobe narrower than the angle
+//! between neighbouring VPLs turns each VPL into its own highlight, a sparkle per pixel on
+//! smooth metal and glass-like paint (path-space regularisation, Kaplanyan & Dachsbacher
+//! 2013: a biased but bounded and noise-free estimate). The exact lights keep the true width,
+//! so their highlights stay sharp, and the Phong lobe is left as it is.
 //!
 //! with w the weight of the VPL in this sample (N for a VPL shared among N anti-aliasing
 //! samples, paper 3.3) and d_min the clamp that bounds the 1/d² singularity (the bias the
@@ -32,8 +45,64 @@ use crate::vpl::Vpl;
 use glam::Vec3;
 use igi_bvh::{Accel, RayPacket8, offset_ray_origin};
 use igi_scene::Light;
-use igi_shade::brdf::phong::phong_lobe8;
+use igi_shade::brdf::ggx::ggx_terms;
+use igi_shade::brdf::phong::{mirror_direction, phong_lobe8};
+use igi_shade::{BrdfParams, GlossyModel};
 use igi_simd::{F32x8, M32x8, Vec3x8};
+
+/// A glossy lobe with one of its two directions fixed, as the VPL loop evaluates it toward the
+/// other: at a shading point the fixed direction is the viewer's, at a VPL the light's (the
+/// lobes are reciprocal, so either direction may be the fixed one).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum GlossyLobe {
+    /// A modified Phong lobe: the unit mirror direction of the fixed direction, the exponent.
+    Phong {
+        /// Unit lobe axis.
+        axis: Vec3,
+        /// Phong exponent.
+        exponent: f32,
+    },
+    /// A GGX lobe (glTF): the fixed unit direction, in the hemisphere of the normal, and α.
+    Ggx {
+        /// The fixed unit direction.
+        fixed: Vec3,
+        /// GGX width α.
+        alpha: f32,
+    },
+}
+
+/// The smallest GGX width α with which VPLs light a point or a VPL lights (see the module
+/// documentation): glTF roughness 0.45.
+pub const MIN_VPL_ALPHA: f32 = 0.2;
+
+impl GlossyLobe {
+    /// The lobe as VPLs see it: a GGX lobe widened to at least [`MIN_VPL_ALPHA`].
+    pub fn regularised(self) -> Self {
+        match self {
+            Self::Ggx { fixed, alpha } => Self::Ggx { fixed, alpha: alpha.max(MIN_VPL_ALPHA) },
+            phong => phong,
+        }
+    }
+
+    /// The glossy lobe of `params` at a point of unit shading normal `n` (on the lit side)
+    /// with the unit direction `fixed` fixed, or `None` if the point has no glossy lobe. A
+    /// GGX direction at or below the shading horizon (a bent normal) is lifted just above it,
+    /// where the lobe is finite.
+    pub fn new(params: &BrdfParams, n: Vec3, fixed: Vec3) -> Option<Self> {
+        if !params.has_glossy() {
+            return None;
+        }
+        Some(match params.model {
+            GlossyModel::Phong => Self::Phong { axis: mirror_direction(fixed, n), exponent: params.exponent },
+            GlossyModel::Ggx => {
+                const MIN_COS: f32 = 1e-4;
+                let cos = fixed.dot(n);
+                let fixed = if cos >= MIN_COS { fixed } else { (fixed + n * (MIN_COS - cos)).normalize() };
+                Self::Ggx { fixed, alpha: params.alpha }
+            }
+        })
+    }
+}
 use std::f32::consts::{FRAC_1_PI, PI};
 
 /// Eight shading points in structure-of-arrays form.
@@ -45,16 +114,22 @@ struct Chunk {
     ns: [[f32; 8]; 3],
     /// Unit geometric normals on the lit side.
     ng: [[f32; 8]; 3],
-    /// Axes of the glossy lobes (unit; the mirror direction of the direction to the viewer).
+    /// Axes of the Phong lobes (unit; the mirror direction of the direction to the viewer).
     lobe_axis: [[f32; 8]; 3],
     /// Phong exponents of the glossy lobes.
     exponent: [f32; 8],
     /// Cosines to the lobe axes below which the lobes are negligible ([`lobe_cutoff`]).
     lobe_cos_min: [f32; 8],
+    /// Unit directions to the viewer of the GGX lobes.
+    view: [[f32; 8]; 3],
+    /// GGX widths α.
+    alpha: [f32; 8],
     /// Occupied lanes.
     bits: u32,
-    /// Occupied lanes with a glossy lobe.
+    /// Occupied lanes with a glossy lobe (Phong or GGX).
     glossy_bits: u32,
+    /// Occupied lanes with a GGX lobe.
+    ggx_bits: u32,
 }
 
 impl Chunk {
@@ -65,23 +140,39 @@ impl Chunk {
         lobe_axis: [[0.0; 8]; 3],
         exponent: [1.0; 8],
         lobe_cos_min: [1.0; 8],
+        view: [[0.0; 8]; 3],
+        alpha: [1.0; 8],
         bits: 0,
         glossy_bits: 0,
+        ggx_bits: 0,
     };
 
-    fn set(&mut self, lane: usize, origin: Vec3, ns: Vec3, ng: Vec3, glossy: Option<(Vec3, f32)>) {
-        let (lobe_axis, exponent) = glossy.unwrap_or((ns, 1.0));
+    fn set(&mut self, lane: usize, origin: Vec3, ns: Vec3, ng: Vec3, glossy: Option<GlossyLobe>) {
+        let ((lobe_axis, exponent), (view, alpha)) = match glossy {
+            Some(GlossyLobe::Phong { axis, exponent }) => ((axis, exponent), (ns, 1.0)),
+            Some(GlossyLobe::Ggx { fixed, alpha }) => ((ns, 1.0), (fixed, alpha)),
+            None => ((ns, 1.0), (ns, 1.0)),
+        };
         for axis in 0..3 {
             self.origin[axis][lane] = origin[axis];
             self.ns[axis][lane] = ns[axis];
             self.ng[axis][lane] = ng[axis];
             self.lobe_axis[axis][lane] = lobe_axis[axis];
+            self.view[axis][lane] = view[axis];
         }
         self.exponent[lane] = exponent;
         self.lobe_cos_min[lane] = lobe_cutoff(exponent);
+        self.alpha[lane] = alpha;
         self.bits |= 1 << lane;
-        if glossy.is_some() {
-            self.glossy_bits |= 1 << lane;
+        self.glossy_bits &= !(1 << lane);
+        self.ggx_bits &= !(1 << lane);
+        match glossy {
+            Some(GlossyLobe::Phong { .. }) => self.glossy_bits |= 1 << lane,
+            Some(GlossyLobe::Ggx { .. }) => {
+                self.glossy_bits |= 1 << lane;
+                self.ggx_bits |= 1 << lane;
+            }
+            None => {}
         }
     }
 
@@ -91,14 +182,51 @@ impl Chunk {
     /// skipped where no lane is inside its lobe.
     #[inline(always)]
     fn glossy_factor(&self, wi: Vec3x8) -> F32x8 {
+        let phong_bits = self.glossy_bits & !self.ggx_bits;
         let cos_alpha = load(&self.lobe_axis).dot(wi);
-        let inside =
-            M32x8::from_bitmask(self.glossy_bits) & cos_alpha.gt(F32x8::from_array(self.lobe_cos_min));
+        let inside = M32x8::from_bitmask(phong_bits) & cos_alpha.gt(F32x8::from_array(self.lobe_cos_min));
         if inside.none() {
             return F32x8::ZERO;
         }
         let lobe = phong_lobe8(F32x8::from_array(self.exponent), cos_alpha);
         F32x8::select(inside, lobe * F32x8::splat(PI), F32x8::ZERO)
+    }
+
+    /// Adds the light `e` = E/π arriving from the unit directions `wi` to the lanes' D, G and
+    /// S (see the module documentation): Lambert and Phong lanes take e and e·π·lobe, GGX lanes
+    /// e(1 − s), e·π(1 − s)·D·V and e·π s·D·V. Lanes with nothing to add must hold e = 0.
+    #[inline(always)]
+    fn add(
+        &self,
+        e: Vec3x8,
+        wi: Vec3x8,
+        acc: &mut Vec3x8,
+        acc_glossy: &mut Vec3x8,
+        acc_schlick: &mut Vec3x8,
+    ) {
+        if self.ggx_bits == 0 {
+            *acc = *acc + e;
+            if self.glossy_bits != 0 {
+                *acc_glossy = *acc_glossy + e * self.glossy_factor(wi);
+            }
+            return;
+        }
+        let ns = load(&self.ns);
+        let (s, dv) = ggx_terms(
+            F32x8::from_array(self.alpha),
+            <[F32x8; 3]>::from(ns),
+            load_array(&self.view),
+            <[F32x8; 3]>::from(wi),
+        );
+        // Lanes without light may have directions on which the GGX terms are not finite.
+        let ggx = M32x8::from_bitmask(self.ggx_bits) & ns.dot(wi).gt(F32x8::ZERO);
+        let (zero, one) = (F32x8::ZERO, F32x8::splat(1.0));
+        let diffuse_weight = F32x8::select(ggx, one - s, one);
+        let glossy = F32x8::select(ggx, (one - s) * dv * F32x8::splat(PI), self.glossy_factor(wi));
+        let schlick = F32x8::select(ggx, s * dv * F32x8::splat(PI), zero);
+        *acc = *acc + e * diffuse_weight;
+        *acc_glossy = *acc_glossy + e * glossy;
+        *acc_schlick = *acc_schlick + e * schlick;
     }
 }
 
@@ -106,14 +234,19 @@ fn load(a: &[[f32; 8]; 3]) -> Vec3x8 {
     Vec3x8::new(F32x8::from_array(a[0]), F32x8::from_array(a[1]), F32x8::from_array(a[2]))
 }
 
-/// The shading points of one interleave group and their accumulated diffuse radiance D = E/π
-/// and glossy radiance G (see the module documentation), in chunks
+fn load_array(a: &[[f32; 8]; 3]) -> [F32x8; 3] {
+    a.map(F32x8::from_array)
+}
+
+/// The shading points of one interleave group and their accumulated diffuse radiance D = E/π,
+/// glossy radiance G and Schlick radiance S (see the module documentation), in chunks
 /// of eight. Keep one per thread and reuse it: [`Receivers::clear`] keeps the memory.
 #[derive(Clone, Debug, Default)]
 pub struct Receivers {
     chunks: Vec<Chunk>,
     diffuse_radiance: Vec<Vec3x8>,
     glossy_radiance: Vec<Vec3x8>,
+    schlick_radiance: Vec<Vec3x8>,
     len: usize,
 }
 
@@ -123,14 +256,15 @@ impl Receivers {
         self.chunks.clear();
         self.diffuse_radiance.clear();
         self.glossy_radiance.clear();
+        self.schlick_radiance.clear();
         self.len = 0;
     }
 
     /// Adds a point with its shadow-ray origin and unit shading and geometric normals, both
-    /// turned to the side being lit, and for a point with a glossy lobe the lobe's unit axis
-    /// and Phong exponent. Points are lit in the order they were added; neighbours in that
+    /// turned to the side being lit, and for a point with a glossy lobe that lobe toward the
+    /// viewer. Points are lit in the order they were added; neighbours in that
     /// order share packets, so add them in a coherent order.
-    pub fn push(&mut self, origin: Vec3, ns: Vec3, ng: Vec3, glossy: Option<(Vec3, f32)>) {
+    pub fn push(&mut self, origin: Vec3, ns: Vec3, ng: Vec3, glossy: Option<GlossyLobe>) {
         let lane = self.len % 8;
         if lane == 0 {
             // Unoccupied lanes repeat the first point, so every lane of a packet holds a valid
@@ -143,6 +277,7 @@ impl Receivers {
             self.chunks.push(chunk);
             self.diffuse_radiance.push(Vec3x8::splat([0.0; 3]));
             self.glossy_radiance.push(Vec3x8::splat([0.0; 3]));
+            self.schlick_radiance.push(Vec3x8::splat([0.0; 3]));
         }
         if let Some(chunk) = self.chunks.last_mut() {
             chunk.set(lane, origin, ns, ng, glossy);
@@ -150,19 +285,32 @@ impl Receivers {
         self.len += 1;
     }
 
+    /// Widens the GGX lobes of the points for the VPLs that light them next
+    /// ([`GlossyLobe::regularised`]).
+    pub fn regularise(&mut self) {
+        for chunk in self.chunks.iter_mut().filter(|c| c.ggx_bits != 0) {
+            for (lane, alpha) in chunk.alpha.iter_mut().enumerate() {
+                if chunk.ggx_bits & (1 << lane) != 0 {
+                    *alpha = alpha.max(MIN_VPL_ALPHA);
+                }
+            }
+        }
+    }
+
     /// Sets the accumulated D and G of every point back to zero (the points stay).
     pub fn reset_radiance(&mut self) {
         self.diffuse_radiance
             .iter_mut()
             .chain(&mut self.glossy_radiance)
+            .chain(&mut self.schlick_radiance)
             .for_each(|d| *d = Vec3x8::splat([0.0; 3]));
     }
 
-    /// The diffuse radiance D and glossy radiance G accumulated at point `i` (in the order of
-    /// [`Receivers::push`]).
-    pub fn radiance(&self, i: usize) -> (Vec3, Vec3) {
+    /// The diffuse radiance D, glossy radiance G and Schlick radiance S accumulated at point
+    /// `i` (in the order of [`Receivers::push`]).
+    pub fn radiance(&self, i: usize) -> (Vec3, Vec3, Vec3) {
         let lane = |v: &[Vec3x8]| Vec3::from(v[i / 8].lane(i % 8));
-        (lane(&self.diffuse_radiance), lane(&self.glossy_radiance))
+        (lane(&self.diffuse_radiance), lane(&self.glossy_radiance), lane(&self.schlick_radiance))
     }
 
     /// Adds the light of the surface VPLs `vpls`, each weighted by `weight`, with the clamp
@@ -182,15 +330,23 @@ impl Receivers {
             let target = offset_ray_origin(vpl.position, vpl.normal);
             let colour = vpl.power * (weight * FRAC_1_PI * FRAC_1_PI);
             let glossy_colour = vpl.glossy * (weight * FRAC_1_PI);
-            let vpl_glossy = vpl.is_glossy();
+            let schlick_colour = vpl.schlick * (weight * FRAC_1_PI);
+            let vpl_lobe = vpl.lobe;
             let y = Vec3x8::splat(target.to_array());
             let ny = Vec3x8::splat(vpl.normal.to_array());
-            let vpl_axis = Vec3x8::splat(vpl.axis.to_array());
-            let vpl_exponent = F32x8::splat(vpl.exponent);
-            let vpl_cos_min = F32x8::splat(lobe_cutoff(vpl.exponent));
-            let chunks =
-                self.chunks.iter().zip(self.diffuse_radiance.iter_mut().zip(self.glossy_radiance.iter_mut()));
-            for (chunk, (acc, acc_glossy)) in chunks {
+            let (vpl_axis, vpl_exponent) = match vpl.lobe {
+                Some(GlossyLobe::Phong { axis, exponent }) => (axis, exponent),
+                _ => (vpl.normal, 1.0),
+            };
+            let vpl_axis = Vec3x8::splat(vpl_axis.to_array());
+            let vpl_cos_min = F32x8::splat(lobe_cutoff(vpl_exponent));
+            let vpl_exponent = F32x8::splat(vpl_exponent);
+            let chunks = self.chunks.iter().zip(
+                self.diffuse_radiance
+                    .iter_mut()
+                    .zip(self.glossy_radiance.iter_mut().zip(self.schlick_radiance.iter_mut())),
+            );
+            for (chunk, (acc, (acc_glossy, acc_schlick))) in chunks {
                 let origin = load(&chunk.origin);
                 let d = y - origin;
                 let dist2 = d.dot(d);
@@ -211,24 +367,40 @@ impl Receivers {
                     RayPacket8 { origin, dir: wi, tnear: zero, tfar: dist * F32x8::splat(SHADOW_SHORTEN) };
                 let lit = unoccluded(accel, &packet, valid, counts);
                 let g = F32x8::select(lit, g, zero);
-                if !vpl_glossy && chunk.glossy_bits == 0 {
+                if vpl_lobe.is_none() && chunk.glossy_bits == 0 {
                     accumulate(acc, g, colour);
                     continue;
                 }
                 // D = E/π from the VPL's diffuse part and, for a glossy VPL, its lobe toward x.
                 let mut e = Vec3x8::splat(colour.to_array()) * g;
-                if vpl_glossy {
-                    let cos_alpha = -vpl_axis.dot(wi);
-                    let inside = cos_alpha.gt(vpl_cos_min);
-                    if inside.any() {
-                        let lobe_y = F32x8::select(inside, phong_lobe8(vpl_exponent, cos_alpha), zero);
-                        e = e + Vec3x8::splat(glossy_colour.to_array()) * (g * lobe_y);
+                match vpl_lobe {
+                    None => {}
+                    Some(GlossyLobe::Phong { .. }) => {
+                        let cos_alpha = -vpl_axis.dot(wi);
+                        let inside = cos_alpha.gt(vpl_cos_min);
+                        if inside.any() {
+                            let lobe_y = F32x8::select(inside, phong_lobe8(vpl_exponent, cos_alpha), zero);
+                            e = e + Vec3x8::splat(glossy_colour.to_array()) * (g * lobe_y);
+                        }
+                    }
+                    Some(GlossyLobe::Ggx { fixed, alpha }) => {
+                        // The VPL's BRDF between the light's direction and x: its diffuse part
+                        // weighted by 1 − s, its specular part by F₀(1 − s) + s.
+                        let fixed = Vec3x8::splat(fixed.to_array());
+                        let (s, dv) = ggx_terms(
+                            F32x8::splat(alpha),
+                            <[F32x8; 3]>::from(ny),
+                            fixed.into(),
+                            (-wi).into(),
+                        );
+                        let one = F32x8::splat(1.0);
+                        let (s, dv) = (F32x8::select(valid, s, zero), F32x8::select(valid, dv, zero));
+                        e = e * (one - s)
+                            + Vec3x8::splat(glossy_colour.to_array()) * (g * (one - s) * dv)
+                            + Vec3x8::splat(schlick_colour.to_array()) * (g * s * dv);
                     }
                 }
-                *acc = *acc + e;
-                if chunk.glossy_bits != 0 {
-                    *acc_glossy = *acc_glossy + e * chunk.glossy_factor(wi);
-                }
+                chunk.add(e, wi, acc, acc_glossy, acc_schlick);
             }
         }
     }
@@ -245,9 +417,12 @@ impl Receivers {
     ) {
         let zero = F32x8::ZERO;
         for light in lights {
-            let chunks =
-                self.chunks.iter().zip(self.diffuse_radiance.iter_mut().zip(self.glossy_radiance.iter_mut()));
-            for (chunk, (acc, acc_glossy)) in chunks {
+            let chunks = self.chunks.iter().zip(
+                self.diffuse_radiance
+                    .iter_mut()
+                    .zip(self.glossy_radiance.iter_mut().zip(self.schlick_radiance.iter_mut())),
+            );
+            for (chunk, (acc, (acc_glossy, acc_schlick))) in chunks {
                 let origin = load(&chunk.origin);
                 let active = M32x8::from_bitmask(chunk.bits);
                 let (wi, tfar, g, colour, mut valid) = match *light {
@@ -286,6 +461,10 @@ impl Receivers {
                     RayPacket8 { origin, dir: wi, tnear: zero, tfar: tfar * F32x8::splat(SHADOW_SHORTEN) };
                 let lit = unoccluded(accel, &packet, valid, counts);
                 let g = F32x8::select(lit, cos_x * g * F32x8::splat(weight), zero);
+                if chunk.ggx_bits != 0 {
+                    chunk.add(Vec3x8::splat(colour.to_array()) * g, wi, acc, acc_glossy, acc_schlick);
+                    continue;
+                }
                 accumulate(acc, g, colour);
                 if chunk.glossy_bits != 0 {
                     let e = Vec3x8::splat(colour.to_array()) * g;

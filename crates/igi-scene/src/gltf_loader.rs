@@ -9,11 +9,12 @@
 //!   a warning). Skinned and morphed meshes are loaded in their bind pose (the base positions),
 //!   with a warning.
 //! - The scene is the `scene` property, else `scenes[0]`, else every root node.
-//! - Materials (metallic-roughness mapped onto the Phong-style model simply):
-//!   `diffuse` = baseColor·(1 − metallic), `glossy` = mix(0.04, baseColor, metallic),
-//!   `exponent` = 2/α² − 2 with α = roughness² (the Blinn-Phong exponent matching a GGX lobe
-//!   of that width), `diffuse_texture` = baseColorTexture (sRGB); metallic ≥ 0.99 with
-//!   roughness ≤ 0.01 is a [`MaterialKind::Mirror`](crate::MaterialKind::Mirror), a
+//! - Materials are [`MaterialKind::MetallicRoughness`](crate::MaterialKind::MetallicRoughness)
+//!   (the glTF 2.0 BRDF of appendix B, GGX, which the renderer evaluates per texel):
+//!   `diffuse` = baseColorFactor, `diffuse_texture` = baseColorTexture (sRGB), `metallic` and
+//!   `roughness` = their factors, `metallic_roughness_texture` = metallicRoughnessTexture
+//!   (linear; B metalness, G roughness); metallic ≥ 0.99 with roughness ≤ 0.01 and no
+//!   metallic-roughness texture is a [`MaterialKind::Mirror`](crate::MaterialKind::Mirror), a
 //!   KHR_materials_transmission factor > 0 a [`MaterialKind::Glass`](crate::MaterialKind::Glass)
 //!   with the KHR_materials_ior index (default 1.5).
 //!   `emission` = emissiveFactor × KHR_materials_emissive_strength × the *average* of the
@@ -21,8 +22,7 @@
 //!   right, which is what instant radiosity's light sampling needs (an emissive map that
 //!   cannot be read gives no emission rather than a uniform glow). `normal_texture` and
 //!   `normal_scale` = normalTexture (linear) and its scale. Textures take the wrap modes of
-//!   their samplers (wrapS, wrapT). Metallic-roughness and occlusion
-//!   maps are not used (the factors are). Primitives without a material get the grey default
+//!   their samplers (wrapS, wrapT). Occlusion maps are not used. Primitives without a material get the grey default
 //!   of the other formats rather than glTF's white metal.
 //! - KHR_lights_punctual: colour × intensity, with candela read as W/sr and lux as W/m² (the
 //!   renderer works in unitless linear RGB, so no 683 lm/W factor); a spot's full cone angle

@@ -52,13 +52,15 @@ impl Mesh {
     }
 }
 
-/// How a surface scatters light. Parameters follow the OBJ/MTL reading of them; the renderer's
-/// BRDF shaders interpret them (Lambert plus an optional Phong lobe, mirror, glass).
+/// How a surface scatters light. Parameters follow the OBJ/MTL reading of them, except for
+/// glTF's [`MaterialKind::MetallicRoughness`]; the renderer's BRDF shaders interpret them
+/// (Lambert plus an optional Phong lobe, the glTF GGX BRDF, mirror, glass).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
     /// Name from the source file.
     pub name: String,
-    /// Diffuse reflectance ρ_d (linear RGB, each channel in [0, 1]).
+    /// Diffuse reflectance ρ_d (linear RGB, each channel in [0, 1]); the base colour of a
+    /// [`MaterialKind::MetallicRoughness`] material.
     pub diffuse: Vec3,
     /// Optional texture that multiplies `diffuse` (index into [`Scene::textures`]).
     pub diffuse_texture: Option<u32>,
@@ -68,6 +70,15 @@ pub struct Material {
     pub glossy: Vec3,
     /// Phong exponent of the glossy lobe.
     pub exponent: f32,
+    /// Metalness of a [`MaterialKind::MetallicRoughness`] material (glTF `metallicFactor`,
+    /// in [0, 1]).
+    pub metallic: f32,
+    /// Perceptual roughness of a [`MaterialKind::MetallicRoughness`] material (glTF
+    /// `roughnessFactor`, in [0, 1]; the GGX width α is its square).
+    pub roughness: f32,
+    /// Optional glTF `metallicRoughnessTexture` (index into [`Scene::textures`], linear): its
+    /// blue channel multiplies `metallic` and its green channel `roughness`, per texel.
+    pub metallic_roughness_texture: Option<u32>,
     /// Emitted radiance L_e in W/(sr m²) toward the front side (the winding normal).
     pub emission: Vec3,
     /// Optional bump or height map (index into [`Scene::textures`]).
@@ -95,6 +106,10 @@ pub enum MaterialKind {
     /// Lambertian diffuse plus an optional glossy Phong lobe.
     #[default]
     Plastic,
+    /// The glTF 2.0 metallic-roughness BRDF (specification appendix B): base colour
+    /// `diffuse` × `diffuse_texture`, `metallic` and `roughness` × `metallic_roughness_texture`,
+    /// a GGX lobe with Smith masking and Schlick Fresnel over a Fresnel-weighted diffuse lobe.
+    MetallicRoughness,
     /// Perfect mirror with reflectance `glossy` (white if zero).
     Mirror,
     /// Dielectric with index `ior`.
@@ -109,6 +124,9 @@ impl Default for Material {
             diffuse_texture: None,
             glossy: Vec3::ZERO,
             exponent: 1.0,
+            metallic: 0.0,
+            roughness: 1.0,
+            metallic_roughness_texture: None,
             emission: Vec3::ZERO,
             bump_texture: None,
             normal_texture: None,

@@ -213,8 +213,9 @@ fn gltf_samples() {
         sample("InterpolationTest/glTF/InterpolationTest.gltf", 110, 10, 10, 1),
         sample("Cameras/glTF-Embedded/Cameras.gltf", 2, 1, 1, 0),
         sample("DracoSphereLights/glTF/sphere_lights.gltf", 224, 1, 1, 2),
-        // Base colour, normal map, and the emissive map (whose mean colour is its emission).
-        sample("DamagedHelmet/glTF/DamagedHelmet.gltf", 15_452, 1, 1, 3),
+        // Base colour, metallic-roughness, normal map, and the emissive map (whose mean colour
+        // is its emission).
+        sample("DamagedHelmet/glTF/DamagedHelmet.gltf", 15_452, 1, 1, 4),
         Sample {
             warning: Some("skinned mesh loaded in its bind pose"),
             ..sample("Fox/glTF/Fox.gltf", 576, 1, 1, 1)
@@ -288,8 +289,16 @@ fn gltf_hierarchies_cameras_lights_and_emission() {
         "averaged emissive map: {emission}"
     );
     assert_eq!(helmet.emissive_triangle_count(), 15_452);
-    // Its normal map is loaded (linear, scale 1) beside the base colour.
+    // A glTF metallic-roughness material: factors 1 and 1, the linear metallic-roughness map
+    // carrying the per-texel values (metal panels and rough paint both).
     let m = &helmet.materials[0];
+    assert_eq!((m.kind, m.metallic, m.roughness), (igi_scene::MaterialKind::MetallicRoughness, 1.0, 1.0));
+    let mr = &helmet.textures[m.metallic_roughness_texture.expect("metallicRoughnessTexture") as usize];
+    let blue = |i: usize| mr.image.texels.linear(i)[2];
+    let metal = (0..mr.image.texels.len()).filter(|&i| blue(i) > 0.9).count();
+    let paint = (0..mr.image.texels.len()).filter(|&i| blue(i) < 0.1).count();
+    assert!(metal > 1000 && paint > 1000, "{metal} metal and {paint} dielectric texels");
+    // Its normal map is loaded (linear, scale 1) beside the base colour.
     let normal = m.normal_texture.expect("DamagedHelmet has a normalTexture") as usize;
     assert_ne!(Some(normal as u32), m.diffuse_texture);
     assert_eq!(m.normal_scale, 1.0);

@@ -6,8 +6,8 @@
 //!   exponent, mirror and glass weights, index of refraction, shading normal and emission.
 //!   They are arbitrary code (textures, procedural noise, bump mapping) and run once per hit,
 //!   eight hits at a time, over all hits of an interleave group before the VPL loop.
-//! - **BRDF shaders** ([`brdf`]) are a small fixed set (Lambert, modified Phong, perfect
-//!   mirror, smooth dielectric) that read those parameters inside the VPL loop, eight shading
+//! - **BRDF shaders** ([`brdf`]) are a small fixed set (Lambert, modified Phong, the glTF
+//!   GGX lobe, perfect mirror, smooth dielectric) that read those parameters inside the VPL loop, eight shading
 //!   points per packet, and that sample directions for the VPL random walk and the path
 //!   tracer.
 
@@ -24,7 +24,7 @@ pub mod texture;
 
 pub use hit::ShadingHit8;
 pub use material_shader::MaterialShader;
-pub use params::{BrdfParams, BrdfParams8};
+pub use params::{BrdfParams, BrdfParams8, GlossyModel, MIN_ALPHA};
 pub use procedural::ProceduralShader;
 pub use shader_table::ShaderTable;
 pub use surface_shader::SurfaceShader;

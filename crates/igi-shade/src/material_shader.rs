@@ -3,16 +3,16 @@
 //!
 //! | material | lobes |
 //! |---|---|
-//! | `Plastic` | diffuse = `diffuse` × diffuse texture (RGB); glossy = `glossy`, `exponent` (MTL `Ks`, `Ns`; glTF: see below) |
+//! | `Plastic` | diffuse = `diffuse` × diffuse texture (RGB); glossy = `glossy`, `exponent` (MTL `Ks`, `Ns`) |
+//! | `MetallicRoughness` | the GGX model ([`crate::brdf::ggx`]) per hit, from base = `diffuse` × base colour texture (RGB), metallic = `metallic` × texture B, roughness = `roughness` × texture G (glTF `metallicRoughnessTexture`): diffuse = base·(1 − metallic)·(1 − F₀), glossy = F₀ = mix(0.04, base, metallic), α = roughness² ([`metallic_roughness`]) |
 //! | `Mirror` | mirror = `glossy` (white if zero) |
 //! | `Glass` | glass = 1 with index `ior` (1.5 if unset or 1) |
 //!
 //! and emission = `emission` for all; a bump texture (MTL `bump`, `map_bump`) bends the
 //! shading normal ([`crate::bump`]), and so does a tangent-space normal map (glTF
-//! `normalTexture`, tangent frame from ∂p/∂u; see [`normal_mapped`]). glTF metallic-roughness materials arrive already mapped
-//! by the loader (`igi_scene::gltf_loader`): diffuse = base·(1 − metallic), glossy =
-//! mix(0.04, base, metallic), exponent = 2/α² − 2 with α = roughness², the Phong exponent
-//! whose lobe matches a microfacet lobe of that width.
+//! `normalTexture`, tangent frame from ∂p/∂u; see [`normal_mapped`]). The
+//! metallic-roughness mapping runs eight hits at a time after the texture lookups, so every
+//! texel of the base colour and metallic-roughness maps gives its own BRDF.
 //!
 //! Textures are filtered trilinearly: the mipmap level is the one whose texels are as wide as
 //! the camera ray's footprint at the hit ([`ShadingHit8::footprint`]), measured against the
@@ -21,7 +21,7 @@
 
 use crate::bump::bump_normal;
 use crate::texture::MipMap;
-use crate::{BrdfParams, BrdfParams8, ShadingHit8, SurfaceShader};
+use crate::{BrdfParams, BrdfParams8, GlossyModel, ShadingHit8, SurfaceShader};
 use glam::{Vec2, Vec3};
 use igi_scene::{Material, MaterialKind};
 use igi_simd::{F32x8, Vec3x8};
@@ -37,6 +37,10 @@ pub struct MaterialShader {
     normal_scale: f32,
     glossy: Vec3,
     exponent: f32,
+    model: GlossyModel,
+    metallic: f32,
+    roughness: f32,
+    metallic_roughness_texture: Option<Arc<MipMap>>,
     mirror: Vec3,
     glass: f32,
     ior: f32,
@@ -47,7 +51,8 @@ impl MaterialShader {
     /// The shader of `material`, whose texture indices refer to `maps` (`None`: a texture
     /// no material reads).
     pub fn new(material: &Material, maps: &[Option<Arc<MipMap>>]) -> Self {
-        let plastic = material.kind == MaterialKind::Plastic;
+        let ggx = material.kind == MaterialKind::MetallicRoughness;
+        let plastic = ggx || material.kind == MaterialKind::Plastic;
         let map = |t: Option<u32>| t.and_then(|t| maps.get(t as usize)).cloned().flatten();
         Self {
             diffuse: if plastic { material.diffuse } else { Vec3::ZERO },
@@ -55,8 +60,12 @@ impl MaterialShader {
             bump_texture: map(material.bump_texture),
             normal_texture: map(material.normal_texture),
             normal_scale: material.normal_scale,
-            glossy: if plastic { material.glossy } else { Vec3::ZERO },
+            glossy: if plastic && !ggx { material.glossy } else { Vec3::ZERO },
             exponent: material.exponent,
+            model: if ggx { GlossyModel::Ggx } else { GlossyModel::Phong },
+            metallic: material.metallic,
+            roughness: material.roughness,
+            metallic_roughness_texture: map(material.metallic_roughness_texture).filter(|_| ggx),
             mirror: match material.kind {
                 MaterialKind::Mirror if material.glossy.max_element() > 0.0 => material.glossy,
                 MaterialKind::Mirror => Vec3::ONE,
@@ -81,6 +90,19 @@ fn normal_mapped(rgb: Vec3, scale: f32, n: Vec3, dpdu: Vec3) -> Vec3 {
     if t == Vec3::ZERO || mapped == Vec3::ZERO || !mapped.is_finite() { n } else { mapped }
 }
 
+/// The glTF metallic-roughness mapping of eight hits (glTF 2.0 appendix B, as
+/// [`crate::brdf::ggx`] reads it): from the base colour, metallic and perceptual roughness
+/// (each in [0, 1]) the diffuse reflectance c_diff·(1 − F₀) with c_diff = base·(1 − metallic),
+/// the glossy reflectance F₀ = mix(0.04, base, metallic), and the GGX width α = roughness².
+pub fn metallic_roughness(base: Vec3x8, metallic: F32x8, roughness: F32x8) -> (Vec3x8, Vec3x8, F32x8) {
+    let one = F32x8::splat(1.0);
+    let dielectric = one - metallic;
+    let f0 = base * metallic + Vec3x8::splat([0.04; 3]) * dielectric;
+    let c_diff = base * dielectric;
+    let diffuse = Vec3x8::new(c_diff.x * (one - f0.x), c_diff.y * (one - f0.y), c_diff.z * (one - f0.z));
+    (diffuse, f0, roughness * roughness)
+}
+
 /// The level of detail of `map` for a footprint of `footprint` world units where the texture
 /// tile [0, 1]² covers `tile_area` world units².
 #[inline]
@@ -92,18 +114,32 @@ fn lod(map: &MipMap, footprint: f32, tile_area: f32) -> f32 {
 
 impl SurfaceShader for MaterialShader {
     fn uniform(&self) -> Option<BrdfParams> {
-        let textured =
-            self.diffuse_texture.is_some() || self.bump_texture.is_some() || self.normal_texture.is_some();
-        (!textured).then_some(BrdfParams {
+        let textured = self.diffuse_texture.is_some()
+            || self.bump_texture.is_some()
+            || self.normal_texture.is_some()
+            || self.metallic_roughness_texture.is_some();
+        let mut params = BrdfParams {
             diffuse: self.diffuse,
             glossy: self.glossy,
             exponent: self.exponent,
+            model: self.model,
+            alpha: 1.0,
             mirror: self.mirror,
             glass: self.glass,
             ior: self.ior,
             shading_normal: Vec3::Z,
             emission: self.emission,
-        })
+        };
+        if self.model == GlossyModel::Ggx {
+            let (diffuse, glossy, alpha) = metallic_roughness(
+                Vec3x8::splat(self.diffuse.to_array()),
+                F32x8::splat(self.metallic),
+                F32x8::splat(self.roughness),
+            );
+            (params.diffuse, params.glossy) = (Vec3::from(diffuse.lane(0)), Vec3::from(glossy.lane(0)));
+            params.alpha = alpha.lane(0);
+        }
+        (!textured).then_some(params)
     }
 
     fn shade(&self, hits: &ShadingHit8, out: &mut BrdfParams8) {
@@ -115,7 +151,16 @@ impl SurfaceShader for MaterialShader {
         out.ior = F32x8::splat(self.ior);
         out.emission = splat(self.emission);
         out.diffuse = splat(self.diffuse);
-        if self.diffuse_texture.is_none() && self.bump_texture.is_none() && self.normal_texture.is_none() {
+        out.model = self.model;
+        if self.diffuse_texture.is_none()
+            && self.bump_texture.is_none()
+            && self.normal_texture.is_none()
+            && self.metallic_roughness_texture.is_none()
+        {
+            if self.model == GlossyModel::Ggx {
+                let (metallic, roughness) = (F32x8::splat(self.metallic), F32x8::splat(self.roughness));
+                (out.diffuse, out.glossy, out.alpha) = metallic_roughness(out.diffuse, metallic, roughness);
+            }
             return;
         }
         let (u, v, footprint) = (hits.u.to_array(), hits.v.to_array(), hits.footprint.to_array());
@@ -142,6 +187,19 @@ impl SurfaceShader for MaterialShader {
                 normal_mapped(texel.truncate(), self.normal_scale, ns, Vec3::from(dpdu[i]))
             });
         }
+        if self.model == GlossyModel::Ggx {
+            let (mut metallic, mut roughness) = ([self.metallic; 8], [self.roughness; 8]);
+            if let Some(map) = &self.metallic_roughness_texture {
+                for i in (0..8).filter(|i| active & (1 << i) != 0) {
+                    let texel = map.trilinear(Vec2::new(u[i], v[i]), lod(map, footprint[i], tile_area[i]));
+                    // glTF: blue is metalness, green is roughness (linear).
+                    metallic[i] *= texel.z;
+                    roughness[i] *= texel.y;
+                }
+            }
+            let (metallic, roughness) = (F32x8::from_array(metallic), F32x8::from_array(roughness));
+            (out.diffuse, out.glossy, out.alpha) = metallic_roughness(out.diffuse, metallic, roughness);
+        }
     }
 }
 
@@ -157,6 +215,75 @@ fn map_active_lanes(v: Vec3x8, active: u32, mut f: impl FnMut(usize, Vec3) -> Ve
 #[cfg(test)]
 mod tests {
     use super::*;
+    use igi_scene::Texture;
+    use igi_simd::{I32x8, M32x8};
+
+    /// Eight hits on a flat +Z surface at texture coordinates `u` (v = 0.5), a unit texture
+    /// tile per unit of world space, footprint 0 (full resolution).
+    fn hits_at(u: [f32; 8]) -> ShadingHit8 {
+        let v3 = |v: Vec3| Vec3x8::splat(v.to_array());
+        ShadingHit8 {
+            position: v3(Vec3::ZERO),
+            object_position: v3(Vec3::ZERO),
+            geometric_normal: v3(Vec3::Z),
+            shading_normal: v3(Vec3::Z),
+            u: F32x8::from_array(u),
+            v: F32x8::splat(0.5),
+            dpdu: v3(Vec3::X),
+            dpdv: v3(Vec3::Y),
+            footprint: F32x8::ZERO,
+            object: I32x8::splat(0),
+            active: M32x8::ALL,
+            material: 0,
+            time: 0.0,
+        }
+    }
+
+    #[test]
+    fn metallic_roughness_texture_sets_f0_diffuse_and_alpha_per_texel() {
+        // Two texels: left metal (B = 1) with roughness 0.2 (G), right dielectric (B = 0) with
+        // roughness 1; R and A are ignored, as glTF says.
+        let texture = Texture::from_linear("mr", 2, 1, vec![[0.7, 0.2, 1.0, 0.3], [0.1, 1.0, 0.0, 0.9]]);
+        let maps = [Some(Arc::new(MipMap::new(&texture)))];
+        let base = Vec3::new(0.9, 0.5, 0.1);
+        let material = Material {
+            kind: MaterialKind::MetallicRoughness,
+            diffuse: base,
+            metallic: 1.0,
+            roughness: 1.0,
+            metallic_roughness_texture: Some(0),
+            ..Material::default()
+        };
+        let shader = MaterialShader::new(&material, &maps);
+        assert_eq!(shader.uniform(), None, "a textured material is shaded per hit");
+        let mut out = BrdfParams8::black(Vec3x8::splat([0.0, 0.0, 1.0]));
+        // Texel centres are at u = 0.25 and 0.75.
+        shader.shade(&hits_at([0.25, 0.75, 0.25, 0.75, 0.25, 0.75, 0.25, 0.75]), &mut out);
+        assert_eq!(out.model, GlossyModel::Ggx);
+        for (i, p) in out.to_lanes().iter().enumerate() {
+            let close = |a: Vec3, b: Vec3| (a - b).abs().max_element() < 1e-6;
+            if i % 2 == 0 {
+                // Metal: F₀ = base, no diffuse, α = 0.2².
+                assert!(close(p.glossy, base) && close(p.diffuse, Vec3::ZERO), "lane {i}: {p:?}");
+                assert!((p.alpha - 0.04).abs() < 1e-6, "lane {i}: {p:?}");
+            } else {
+                // Dielectric: F₀ = 0.04, diffuse = base·(1 − 0.04), α = 1.
+                assert!(
+                    close(p.glossy, Vec3::splat(0.04)) && close(p.diffuse, base * 0.96),
+                    "lane {i}: {p:?}"
+                );
+                assert!((p.alpha - 1.0).abs() < 1e-6, "lane {i}: {p:?}");
+            }
+        }
+        // Without the texture, the factors alone: the uniform parameters agree with `shade`.
+        let plain = MaterialShader::new(&Material { metallic_roughness_texture: None, ..material }, &maps);
+        let uniform = plain.uniform().expect("untextured");
+        let mut out = BrdfParams8::black(Vec3x8::splat([0.0, 0.0, 1.0]));
+        plain.shade(&hits_at([0.5; 8]), &mut out);
+        let lane = out.to_lanes()[0];
+        assert_eq!((uniform.diffuse, uniform.glossy, uniform.alpha), (lane.diffuse, lane.glossy, lane.alpha));
+        assert_eq!((uniform.glossy, uniform.alpha, uniform.model), (base, 1.0, GlossyModel::Ggx));
+    }
 
     #[test]
     fn a_flat_normal_map_keeps_the_normal_and_a_tilted_texel_tilts_it_along_u() {

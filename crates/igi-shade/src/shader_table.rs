@@ -21,7 +21,8 @@ impl ShaderTable {
         let used = |t: usize| {
             materials.iter().any(|m| {
                 m.shader.is_none()
-                    && [m.diffuse_texture, m.bump_texture, m.normal_texture].contains(&Some(t as u32))
+                    && [m.diffuse_texture, m.bump_texture, m.normal_texture, m.metallic_roughness_texture]
+                        .contains(&Some(t as u32))
             })
         };
         let maps: Vec<Option<Arc<MipMap>>> =

@@ -23,9 +23,9 @@
 //!    direction (below the shading hemisphere), so `pdf` is the density of what `sample` returns.
 
 use glam::{DVec3, Vec2, Vec3};
-use igi_shade::BrdfParams;
 use igi_shade::brdf::dielectric::{Interface, fresnel_dielectric, reflect, refract};
 use igi_shade::brdf::{Bsdf, BsdfSample, Lobe};
+use igi_shade::{BrdfParams, GlossyModel};
 use std::f64::consts::PI;
 
 // ---------------------------------------------------------------------------------------------
@@ -1033,6 +1033,8 @@ fn conserving_clamps_to_finite_lobes_summing_to_at_most_one() {
             diffuse: rgb(&mut rng),
             glossy: rgb(&mut rng),
             exponent: pick(&mut rng) * 1000.0,
+            model: GlossyModel::Phong,
+            alpha: pick(&mut rng),
             mirror: rgb(&mut rng),
             glass: pick(&mut rng),
             ior: pick(&mut rng) * 2.0,
@@ -1100,4 +1102,268 @@ fn conserving_clamps_to_finite_lobes_summing_to_at_most_one() {
         assert!(black.sample(Vec3::Z, u, Vec2::splat(0.5)).is_none());
     }
     assert_eq!(black.f(Vec3::Z, Vec3::Z), Vec3::ZERO);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 8. The glTF GGX lobe (`brdf::ggx`, glTF 2.0 appendix B).
+
+/// A glTF metallic-roughness surface: base colour, metalness and perceptual roughness mapped as
+/// `MaterialShader` maps them (diffuse = c_diff·(1 − F₀), glossy = F₀, α = roughness²).
+fn gltf_surface(base: Vec3, metallic: f32, roughness: f32, normal: Vec3) -> BrdfParams {
+    let f0 = Vec3::splat(0.04).lerp(base, metallic);
+    BrdfParams {
+        diffuse: base * (1.0 - metallic) * (Vec3::ONE - f0),
+        glossy: f0,
+        model: GlossyModel::Ggx,
+        alpha: roughness * roughness,
+        ..BrdfParams::black(normal)
+    }
+}
+
+/// The glTF 2.0 BRDF in f64, written from the specification's implementation sample (appendix
+/// B.3.5): f = (1 − F)·c_diff/π + F·D·V with F = F₀ + (1 − F₀)(1 − |V·H|)⁵, D the GGX
+/// distribution and V the height-correlated Smith term, 0 below either horizon.
+fn gltf_reference(base: DVec3, metallic: f64, roughness: f64, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
+    let (n_l, n_v) = (n.dot(l), n.dot(v));
+    if n_l <= 0.0 || n_v <= 0.0 {
+        return DVec3::ZERO;
+    }
+    let h = (v + l).normalize();
+    let (n_h, v_h) = (n.dot(h), v.dot(h));
+    let a2 = roughness.powi(4);
+    let c_diff = base * (1.0 - metallic);
+    let f0 = DVec3::splat(0.04).lerp(base, metallic);
+    let f = f0 + (DVec3::ONE - f0) * (1.0 - v_h.abs()).powi(5);
+    let d = a2 / (PI * (n_h * n_h * (a2 - 1.0) + 1.0).powi(2));
+    let vis = 0.5 / (n_l * (n_v * n_v * (1.0 - a2) + a2).sqrt() + n_v * (n_l * n_l * (1.0 - a2) + a2).sqrt());
+    (DVec3::ONE - f) * c_diff / PI + f * d * vis
+}
+
+/// ∫ g(ω) dω over the hemisphere of the unit `n`, for integrands shaped like a GGX lobe of
+/// width `alpha` seen from `v`, by deterministic quadrature: two `grid` × `grid` midpoint
+/// grids, one distributed like cos θ/π (θ = (π/2) t², as in [`integrate`]) and one over
+/// the half vectors h distributed like D(h)·cos θ_h (tan² θ_h = α² u/(1 − u), the direction
+/// v reflected about h), each point weighted by 1/(p_cos + p_h) (balance heuristic), where
+/// p_h(ω) = D(h) cos θ_h / (4 v·h) is the second grid's density over directions. The GGX
+/// lobe is thus integrated in its own variables at every width, its long tails included.
+fn ggx_integrate(n: DVec3, v: DVec3, alpha: f64, grid: usize, g: impl Fn(DVec3) -> DVec3) -> DVec3 {
+    let frame = Frame::new(n);
+    let a2 = alpha * alpha;
+    let d = |c: f64| a2 / (PI * (c * c * (a2 - 1.0) + 1.0).powi(2));
+    let p_cos = |w: DVec3| w.dot(n).max(0.0) / PI;
+    let p_h = |w: DVec3| {
+        let h = (v + w).normalize_or_zero();
+        let (v_h, n_h) = (v.dot(h), n.dot(h));
+        if v_h > 0.0 && n_h > 0.0 { d(n_h) * n_h / (4.0 * v_h) } else { 0.0 }
+    };
+    let h = 1.0 / grid as f64;
+    let azimuths: Vec<(f64, f64)> =
+        (0..grid).map(|j| (2.0 * PI * (j as f64 + 0.5) * h).sin_cos()).map(|(s, c)| (c, s)).collect();
+    let mut sum = DVec3::ZERO;
+    let mut add = |w: DVec3, mass: f64| {
+        let q = p_cos(w) + p_h(w);
+        if q > 0.0 && w.dot(n) > 0.0 {
+            sum += g(w) * (mass / q);
+        }
+    };
+    for i in 0..grid {
+        let t = (i as f64 + 0.5) * h;
+        let theta = 0.5 * PI * t * t;
+        let jacobian = theta.sin() * PI * t * h * 2.0 * PI * h;
+        let cos_h = ((1.0 - t) / (1.0 - t + a2 * t)).sqrt();
+        for &azimuth in &azimuths {
+            let w = frame.dir(theta.cos(), azimuth);
+            add(w, jacobian * p_cos(w));
+            let m = frame.dir(cos_h, azimuth);
+            add(2.0 * v.dot(m) * m - v, h * h);
+        }
+    }
+    sum
+}
+
+/// The directional albedo ∫ f cos θ_i dω_i of a GGX `bsdf` by [`ggx_integrate`].
+fn ggx_albedo(bsdf: &Bsdf, wo: DVec3, grid: usize) -> DVec3 {
+    let p = bsdf.params();
+    let n = f64v(p.shading_normal).normalize();
+    let wo32 = f32v(wo);
+    ggx_integrate(n, wo, f64::from(p.alpha), grid, |wi| f64v(bsdf.f(wo32, f32v(wi))) * wi.dot(n))
+}
+
+const ROUGHNESSES: [f32; 6] = [0.05, 0.1, 0.25, 0.5, 0.75, 1.0];
+
+#[test]
+fn ggx_f_is_the_gltf_appendix_b_brdf() {
+    let mut rng = Rng(0x6778);
+    for k in 0..4000 {
+        let n = if k % 2 == 0 { DVec3::Z } else { rng.sphere() };
+        let (v, l) = (rng.hemisphere(n), rng.hemisphere(n));
+        let base = f64v(rng.rgb(0.0, 1.0));
+        let (metallic, roughness) = (rng.uniform() as f32, rng.range(0.05, 1.0) as f32);
+        let bsdf = Bsdf::new(gltf_surface(f32v(base), metallic, roughness, f32v(n)), f32v(n));
+        let got = f64v(bsdf.f(f32v(v), f32v(l)));
+        let want = gltf_reference(base, f64::from(metallic), f64::from(roughness), n, v, l);
+        let err = (got - want).abs().max_element() / want.max_element().max(1e-3);
+        assert!(
+            err < 2e-4,
+            "#{k}: f = {got}, appendix B {want} (n {n}, v {v}, l {l}, roughness {roughness})"
+        );
+    }
+}
+
+#[test]
+fn ggx_reciprocity_with_bent_normals() {
+    let mut rng = Rng(0x7265);
+    for n in bent_normals() {
+        for roughness in ROUGHNESSES {
+            let params = gltf_surface(rng.rgb(0.0, 1.0), rng.uniform() as f32, roughness, f32v(n));
+            let bsdf = Bsdf::new(params, Vec3::Z);
+            for _ in 0..500 {
+                let (a, b) = (rng.hemisphere(DVec3::Z), rng.hemisphere(DVec3::Z));
+                let (ab, ba) = (f64v(bsdf.f(f32v(a), f32v(b))), f64v(bsdf.f(f32v(b), f32v(a))));
+                let err = (ab - ba).abs().max_element() / ab.max_element().max(1e-3);
+                assert!(err < 1e-4, "roughness {roughness}, n {n}: f(a, b) = {ab}, f(b, a) = {ba}");
+            }
+        }
+    }
+}
+
+/// The quadrature's own error on GGX albedos at `GRID` = 128: at most 1.1e-3 against a grid
+/// four times finer (measured; roughness 0.05 at 75° is the worst case).
+const GGX_QUADRATURE_TOLERANCE: f64 = 2e-3;
+
+#[test]
+fn ggx_white_furnace_albedo_never_exceeds_one_and_rough_metal_loses_energy() {
+    // The GGX lobe alone (a white metal, F₀ = 1, so F = 1) reflects at most what arrives, at
+    // every roughness and view. Sampling agrees: the mean weight F·G₂/G₁ estimates the same
+    // albedo by another route (visible-normal samples, no quadrature).
+    let z = Vec3::Z;
+    for roughness in ROUGHNESSES {
+        for deg in VIEW_ANGLES {
+            let wo = tilted(DVec3::Z, DVec3::X, deg.to_radians());
+            let tag = format!("roughness {roughness} at {deg}°");
+            let metal = Bsdf::new(gltf_surface(Vec3::ONE, 1.0, roughness, z), z);
+            let a = ggx_albedo(&metal, wo, GRID).x;
+            assert!(a <= 1.0 + GGX_QUADRATURE_TOLERANCE, "white metal {tag}: albedo {a}");
+            let (mean, _) = mean_weight(&metal, f32v(wo), 1 << 14);
+            assert!(mean.x <= 1.0 + 1e-6, "white metal {tag}: mean weight {}", mean.x);
+            assert!((mean.x - a).abs() < 0.005, "white metal {tag}: sampled {}, quadrature {a}", mean.x);
+        }
+    }
+    // The known single-scattering loss: light the microfacets mask after one bounce is
+    // dropped, so a white metal keeps 0.9999 at roughness 0.1 but only 0.916 at 0.5 and, at
+    // roughness 1 (α = 1: D = 1/π, V = 1/(2(N·ωi + N·ωo))), exactly ∫ μ/(1 + μ) dμ = 1 − ln 2
+    // = 0.307 head-on (measured 0.780 at 85°). glTF's BRDF is single-scattering by definition.
+    let albedo_at = |roughness: f32, deg: f64| {
+        let metal = Bsdf::new(gltf_surface(Vec3::ONE, 1.0, roughness, z), z);
+        ggx_albedo(&metal, tilted(DVec3::Z, DVec3::X, deg.to_radians()), GRID).x
+    };
+    assert!(albedo_at(0.1, 0.0) > 0.999, "roughness 0.1 head-on: {}", albedo_at(0.1, 0.0));
+    let head_on = albedo_at(1.0, 0.0);
+    assert!((head_on - (1.0 - 2f64.ln())).abs() < GGX_QUADRATURE_TOLERANCE, "roughness 1 head-on: {head_on}");
+    // The appendix-B layering of a white dielectric (Lambert weighted by 1 − F(ωo·h) under the
+    // 4 % GGX lobe) keeps within 1 up to 45° from the normal at every roughness. It is not
+    // energy-conserving beyond: the diffuse weight uses the half vector of each direction, not
+    // the specular lobe's albedo, so toward grazing the two lobes add up to more than 1
+    // (measured at roughness 0.05: 1.025 at 60°, 1.20 at 75°, 1.84 at 89°; at roughness 1:
+    // 1.010 at 89°). That is the specification's BRDF, which `ggx_f_is_the_gltf_appendix_b_brdf`
+    // checks term by term.
+    for roughness in ROUGHNESSES {
+        for deg in VIEW_ANGLES.into_iter().filter(|&d| d <= 45.0) {
+            let plastic = Bsdf::new(gltf_surface(Vec3::ONE, 0.0, roughness, z), z);
+            let a = ggx_albedo(&plastic, tilted(DVec3::Z, DVec3::X, deg.to_radians()), GRID).x;
+            assert!(
+                a <= 1.0 + GGX_QUADRATURE_TOLERANCE,
+                "white dielectric, roughness {roughness} at {deg}°: {a}"
+            );
+        }
+    }
+}
+
+#[test]
+fn ggx_sampled_directions_follow_pdf_chi_square() {
+    let z = Vec3::Z;
+    let cases = [
+        ("white metal, roughness 0.2", gltf_surface(Vec3::ONE, 1.0, 0.2, z)),
+        ("gold, roughness 0.5", gltf_surface(Vec3::new(1.0, 0.78, 0.34), 1.0, 0.5, z)),
+        ("metal, roughness 1", gltf_surface(Vec3::splat(0.7), 1.0, 1.0, z)),
+        ("red plastic, roughness 0.3", gltf_surface(Vec3::new(0.8, 0.1, 0.1), 0.0, 0.3, z)),
+        ("half metal, roughness 0.6", gltf_surface(Vec3::splat(0.5), 0.5, 0.6, z)),
+    ];
+    let views = [(DVec3::new(0.55, 0.35, 0.0), 30.0f64), (DVec3::new(-0.2, 0.9, 0.0), 75.0)];
+    for (name, params) in cases {
+        let bsdf = Bsdf::new(params, z);
+        for (k, (toward, deg)) in views.into_iter().enumerate() {
+            let wo = f32v(tilted(DVec3::Z, toward, deg.to_radians()));
+            let (chi2, dof) = chi_square(
+                |u_lobe, u| bsdf.sample(wo, u_lobe, u),
+                |wi| bsdf.pdf(wo, wi),
+                1 << 19,
+                0x6A7 + k as u64,
+            );
+            let limit = chi2_quantile_999(dof as f64);
+            assert!(dof >= 20, "{name}: only {dof} degrees of freedom");
+            assert!(
+                chi2 < limit,
+                "{name}, ωo = {wo}: χ² = {chi2:.1} with {dof} dof, 0.999 quantile {limit:.1}"
+            );
+        }
+    }
+}
+
+#[test]
+fn ggx_sample_weight_is_f_cos_over_pdf() {
+    let z = Vec3::Z;
+    let bsdf = Bsdf::new(gltf_surface(Vec3::new(0.9, 0.6, 0.3), 0.4, 0.35, z), z);
+    let wo = f32v(tilted(DVec3::Z, DVec3::Y, 50f64.to_radians()));
+    let mut rng = Rng(0x5713);
+    let mut seen = [0usize; 2];
+    for _ in 0..20_000 {
+        let Some(s) = bsdf.sample(wo, rng.uniform_f32(), Vec2::new(rng.uniform_f32(), rng.uniform_f32()))
+        else {
+            continue;
+        };
+        seen[lobe_index(s.lobe)] += 1;
+        let want = bsdf.f(wo, s.wi) * (s.wi.z / bsdf.pdf(wo, s.wi));
+        assert!((s.weight - want).abs().max_element() < 1e-5 * want.max_element().max(1.0), "{s:?}: {want}");
+    }
+    assert!(seen[0] > 1000 && seen[1] > 1000, "both lobes sampled: {seen:?}");
+}
+
+#[test]
+fn ggx_terms_of_eight_lanes_equal_the_scalar_ones_bit_for_bit() {
+    use igi_shade::brdf::ggx::ggx_terms;
+    use igi_simd::F32x8;
+    let mut rng = Rng(0x8888);
+    for _ in 0..2000 {
+        /// α, n, ω_o and ω_i of one lane.
+        type Lane = (f32, [f32; 3], [f32; 3], [f32; 3]);
+        let lanes: [Lane; 8] = std::array::from_fn(|_| {
+            let n = rng.sphere();
+            let alpha = rng.range(1e-3, 1.0) as f32;
+            (
+                alpha,
+                f32v(n).to_array(),
+                f32v(rng.hemisphere(n)).to_array(),
+                f32v(rng.hemisphere(n)).to_array(),
+            )
+        });
+        let pack = |f: &dyn Fn(usize) -> f32| F32x8::from_array(std::array::from_fn(f));
+        let v3 = |k: usize| -> [F32x8; 3] {
+            std::array::from_fn(|c| {
+                pack(&|i| {
+                    let (_, n, wo, wi) = lanes[i];
+                    [n, wo, wi][k][c]
+                })
+            })
+        };
+        let (s8, dv8) = ggx_terms(pack(&|i| lanes[i].0), v3(0), v3(1), v3(2));
+        for (i, (alpha, n, wo, wi)) in lanes.iter().enumerate() {
+            let (s, dv) = ggx_terms(*alpha, *n, *wo, *wi);
+            assert_eq!(
+                (s8.lane(i).to_bits(), dv8.lane(i).to_bits()),
+                (s.to_bits(), dv.to_bits()),
+                "lane {i}"
+            );
+        }
+    }
 }

@@ -4,8 +4,8 @@
 //! A kernel written once over [`Lanes`] runs as scalar code and as SIMD code with the same
 //! floating-point operations in the same order, so both forms give the same bits, lane for lane
 //! (every [`F32x8`] operation equals the scalar one, see the crate documentation). The
-//! watertight triangle test and the BVH walk (igi-bvh) and improved noise (igi-shade) are
-//! written this way, and their tests compare the two forms bit for bit.
+//! watertight triangle test and the BVH walk (igi-bvh), improved noise and the GGX lobe
+//! (igi-shade) are written this way, and their tests compare the two forms bit for bit.
 
 use crate::{F32x8, I32x8, M32x8};
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Not, Sub};
@@ -35,6 +35,8 @@ pub trait Lanes:
     fn mul_add(self, b: Self, c: Self) -> Self;
     /// Largest integer ≤ `self`, per lane.
     fn floor(self) -> Self;
+    /// Square root, per lane (correctly rounded in both forms, so the bits agree).
+    fn sqrt(self) -> Self;
     /// `self` with its sign flipped where `sign` is negative.
     fn xor_sign(self, sign: Self) -> Self;
     /// `self < o` per lane (false for NaN).
@@ -111,6 +113,10 @@ impl Lanes for f32 {
     #[inline(always)]
     fn floor(self) -> Self {
         f32::floor(self)
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        f32::sqrt(self)
     }
     #[inline(always)]
     fn xor_sign(self, sign: Self) -> Self {
@@ -195,6 +201,7 @@ impl Lanes for F32x8 {
         fn splat(v: f32) -> Self;
         fn mul_add(self: Self, b: Self, c: Self) -> Self;
         fn floor(self: Self) -> Self;
+        fn sqrt(self: Self) -> Self;
         fn xor_sign(self: Self, sign: Self) -> Self;
         fn lt(self: Self, o: Self) -> M32x8;
         fn gt(self: Self, o: Self) -> M32x8;

@@ -1,5 +1,6 @@
 //! glTF materials (metallic-roughness, emission, normal maps, transmission) mapped onto
-//! [`Material`], and their textures and images.
+//! [`Material`] (a [`MaterialKind::MetallicRoughness`] keeps glTF's base colour, metallic and
+//! roughness factors and textures for the renderer's GGX BRDF), and their textures and images.
 
 use std::path::PathBuf;
 
@@ -31,28 +32,22 @@ impl Loader<'_> {
         let base = Vec3::new(r, g, b).clamp(Vec3::ZERO, Vec3::ONE);
         let metallic = pbr.metallic_factor().clamp(0.0, 1.0);
         let roughness = pbr.roughness_factor().clamp(0.0, 1.0);
-        let alpha = (roughness * roughness).max(1e-3);
+        let diffuse_texture = pbr
+            .base_color_texture()
+            .and_then(|info| self.texture_info(index, "base colour", &info, ColorSpace::Srgb));
+        // Linear: blue is metalness, green roughness (read per texel by the surface shader).
+        let metallic_roughness_texture = pbr
+            .metallic_roughness_texture()
+            .and_then(|info| self.texture_info(index, "metallic-roughness", &info, ColorSpace::Linear));
         let transmission = material.transmission().map_or(0.0, |t| t.transmission_factor());
         let kind = if transmission > 0.0 {
             MaterialKind::Glass
-        } else if metallic >= 0.99 && roughness <= 0.01 {
+        } else if metallic >= 0.99 && roughness <= 0.01 && metallic_roughness_texture.is_none() {
+            // A polished metal: GGX this sharp is a mirror, which the renderer follows as a ray.
             MaterialKind::Mirror
         } else {
-            MaterialKind::Plastic
+            MaterialKind::MetallicRoughness
         };
-        let diffuse_texture = pbr.base_color_texture().and_then(|info| {
-            if info.tex_coord() != 0 {
-                self.report.warn(
-                    self.file,
-                    format!(
-                        "materials[{index}]: base colour texture uses TEXCOORD_{}; ignored",
-                        info.tex_coord()
-                    ),
-                );
-                return None;
-            }
-            self.texture(info.texture(), ColorSpace::Srgb)
-        });
         let (normal_texture, normal_scale) = match material.normal_texture() {
             Some(info) if info.tex_coord() == 0 => {
                 (self.texture(info.texture(), ColorSpace::Linear), info.scale())
@@ -75,10 +70,15 @@ impl Loader<'_> {
         }
         Material {
             name: material.name().map_or_else(|| format!("materials[{index}]"), str::to_owned),
-            diffuse: base * (1.0 - metallic),
+            diffuse: base,
             diffuse_texture,
-            glossy: Vec3::splat(0.04).lerp(base, metallic),
-            exponent: 2.0 / (alpha * alpha) - 2.0,
+            // A mirror's reflectance (glossy lobes of glTF materials are GGX, from the fields
+            // below).
+            glossy: if kind == MaterialKind::Mirror { base } else { Vec3::ZERO },
+            exponent: 1.0,
+            metallic,
+            roughness,
+            metallic_roughness_texture,
             emission: emission.max(Vec3::ZERO),
             bump_texture: None,
             normal_texture,
@@ -92,6 +92,26 @@ impl Loader<'_> {
             kind,
             shader: None,
         }
+    }
+
+    /// The texture index of the texture of material `index` that `info` refers to (`what`
+    /// names it in warnings), or `None` with a warning if it uses a second set of texture
+    /// coordinates, which the meshes do not load.
+    fn texture_info(
+        &mut self,
+        index: usize,
+        what: &str,
+        info: &gltf::texture::Info,
+        space: ColorSpace,
+    ) -> Option<u32> {
+        if info.tex_coord() != 0 {
+            self.report.warn(
+                self.file,
+                format!("materials[{index}]: {what} texture uses TEXCOORD_{}; ignored", info.tex_coord()),
+            );
+            return None;
+        }
+        self.texture(info.texture(), space)
     }
 
     /// The texture index of a glTF texture: its image, with the wrap modes of its sampler.

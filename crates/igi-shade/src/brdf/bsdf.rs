@@ -3,7 +3,9 @@
 //! non-delta lobes ([`Bsdf::f`], [`Bsdf::pdf`]) and sample the whole sum ([`Bsdf::sample`]).
 //!
 //! A sample first picks one lobe with probability proportional to its largest reflectance
-//! channel, then a direction from that lobe. Diffuse and glossy directions are weighted by the
+//! channel (for a [`GlossyModel::Ggx`] surface, the diffuse and glossy reflectances weighted
+//! by Schlick's weight of the view, [`ggx_lobe_weights`], so the choice depends on ω_o), then
+//! a direction from that lobe. Diffuse and glossy directions are weighted by the
 //! one-sample mixture density of both non-delta lobes (so the weight is f·cos/pdf of the sum,
 //! not of the lobe drawn); a mirror or glass choice is weighted by its reflectance over its
 //! probability. The weight of a sample is therefore close to 1 in the brightest channel for
@@ -14,9 +16,10 @@
 //! other side of the geometric surface has no reflection (only glass crosses it).
 
 use super::dielectric::{Interface, glass_exit_side, reflect, refract};
+use super::ggx::{ggx_brdf, ggx_lobe_weights, ggx_pdf, ggx_terms_vec3, sample_ggx};
 use super::lambert::{cosine_hemisphere, cosine_hemisphere_pdf, lambert};
 use super::phong::{mirror_direction, phong_lobe, phong_pdf, sample_phong};
-use crate::BrdfParams;
+use crate::{BrdfParams, GlossyModel};
 use glam::{Vec2, Vec3};
 
 /// Which lobe a [`BsdfSample`] came from.
@@ -24,7 +27,7 @@ use glam::{Vec2, Vec3};
 pub enum Lobe {
     /// The Lambertian lobe.
     Diffuse,
-    /// The modified Phong lobe.
+    /// The glossy lobe (modified Phong or GGX).
     Glossy,
     /// The perfect mirror.
     Mirror,
@@ -61,7 +64,8 @@ pub struct BsdfSample {
 pub struct Bsdf {
     params: BrdfParams,
     ng: Vec3,
-    /// Lobe choice probabilities: diffuse, glossy, mirror, glass (sum 1, or all 0).
+    /// Lobe choice probabilities: diffuse, glossy, mirror, glass (sum 1, or all 0); for a
+    /// GGX surface the mirror and glass weights before normalisation (see [`Bsdf::choice`]).
     choice: [f32; 4],
 }
 
@@ -76,9 +80,25 @@ impl Bsdf {
             params.mirror.max_element(),
             params.glass,
         ];
-        let total: f32 = w.iter().sum();
-        let choice = if total > 0.0 { w.map(|x| x / total) } else { [0.0; 4] };
+        let choice = match params.model {
+            GlossyModel::Phong => normalised(w),
+            GlossyModel::Ggx => w,
+        };
         Self { params, ng, choice }
+    }
+
+    /// The lobe choice probabilities (diffuse, glossy, mirror, glass) for the view `wo` with
+    /// the shading normal `n` on its side: fixed for Phong, view-dependent for GGX.
+    #[inline]
+    fn choice(&self, wo: Vec3, n: Vec3) -> [f32; 4] {
+        match self.params.model {
+            GlossyModel::Phong => self.choice,
+            GlossyModel::Ggx => {
+                let p = &self.params;
+                let (wd, wg) = ggx_lobe_weights(p.diffuse, p.glossy, wo.dot(n).clamp(0.0, 1.0));
+                normalised([wd, wg, self.choice[2], self.choice[3]])
+            }
+        }
     }
 
     /// The (energy-conserving) parameters.
@@ -102,10 +122,14 @@ impl Bsdf {
         if wi.dot(side) <= 0.0 || wi.dot(n) <= 0.0 || wo.dot(n) <= 0.0 {
             return Vec3::ZERO;
         }
-        let mut f = lambert(self.params.diffuse);
-        if self.params.glossy.max_element() > 0.0 {
+        let p = &self.params;
+        if p.model == GlossyModel::Ggx {
+            return ggx_brdf(p.diffuse, p.glossy, ggx_terms_vec3(p.alpha, n, wo, wi));
+        }
+        let mut f = lambert(p.diffuse);
+        if p.glossy.max_element() > 0.0 {
             let cos_alpha = mirror_direction(wo, n).dot(wi);
-            f += self.params.glossy * phong_lobe(self.params.exponent, cos_alpha);
+            f += p.glossy * phong_lobe(p.exponent, cos_alpha);
         }
         f
     }
@@ -119,10 +143,14 @@ impl Bsdf {
         if wi.dot(side) <= 0.0 || wi.dot(n) <= 0.0 || wo.dot(n) <= 0.0 {
             return 0.0;
         }
-        let [pd, ps, ..] = self.choice;
+        let [pd, ps, ..] = self.choice(wo, n);
         let mut pdf = pd * cosine_hemisphere_pdf(wi.dot(n));
         if ps > 0.0 {
-            pdf += ps * phong_pdf(self.params.exponent, mirror_direction(wo, n).dot(wi));
+            pdf += ps
+                * match self.params.model {
+                    GlossyModel::Phong => phong_pdf(self.params.exponent, mirror_direction(wo, n).dot(wi)),
+                    GlossyModel::Ggx => ggx_pdf(n, wo, wi, self.params.alpha),
+                };
         }
         pdf
     }
@@ -132,8 +160,8 @@ impl Bsdf {
     /// `wo`), with `u_lobe` choosing the lobe and `u` the direction. `None` if the surface is
     /// black or the direction drawn falls below the surface.
     pub fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
-        let [pd, ps, pm, _] = self.choice;
         let (side, n) = self.side(wo);
+        let [pd, ps, pm, pg] = self.choice(wo, n);
         if u_lobe < pd + ps {
             if wo.dot(n) <= 0.0 {
                 return None;
@@ -141,7 +169,11 @@ impl Bsdf {
             let (wi, lobe) = if u_lobe < pd {
                 (cosine_hemisphere(n, u), Lobe::Diffuse)
             } else {
-                (sample_phong(mirror_direction(wo, n), self.params.exponent, u), Lobe::Glossy)
+                let wi = match self.params.model {
+                    GlossyModel::Phong => sample_phong(mirror_direction(wo, n), self.params.exponent, u),
+                    GlossyModel::Ggx => sample_ggx(n, wo, self.params.alpha, u),
+                };
+                (wi, Lobe::Glossy)
             };
             let pdf = self.pdf(wo, wi);
             let f = self.f(wo, wi);
@@ -159,7 +191,6 @@ impl Bsdf {
                 lobe: Lobe::Mirror,
             });
         }
-        let pg = self.choice[3];
         if pg <= 0.0 {
             return None;
         }
@@ -180,4 +211,11 @@ impl Bsdf {
         glass_exit_side(d, wi, self.ng, lobe == Lobe::GlassReflection)?;
         Some(BsdfSample { wi, weight: Vec3::splat(self.params.glass / pg), pdf: pg, lobe })
     }
+}
+
+/// `w` scaled to sum 1 (all zero if the sum is not positive).
+#[inline]
+fn normalised(w: [f32; 4]) -> [f32; 4] {
+    let total: f32 = w.iter().sum();
+    if total > 0.0 { w.map(|x| x / total) } else { [0.0; 4] }
 }

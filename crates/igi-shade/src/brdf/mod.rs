@@ -4,12 +4,15 @@
 //! function says otherwise.
 //!
 //! - [`lambert`](mod@lambert): ρ/π, sampled by the cosine.
-//! - [`phong`]: the energy-conserving modified Phong lobe.
+//! - [`phong`]: the energy-conserving modified Phong lobe (MTL, scene files).
+//! - [`ggx`]: the GGX microfacet lobe of glTF metallic-roughness materials, with Smith
+//!   masking, Schlick Fresnel and its Fresnel-weighted diffuse lobe.
 //! - [`dielectric`]: the perfect mirror and the smooth dielectric with Fresnel.
 //! - [`bsdf`]: their weighted sum at one point, evaluated and sampled.
 
 pub mod bsdf;
 pub mod dielectric;
+pub mod ggx;
 pub mod lambert;
 pub mod phong;
 
