@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
 /// The version of this protocol; a node of another build refuses to take part.
-pub const PROTOCOL_VERSION: u32 = 2;
+pub const PROTOCOL_VERSION: u32 = 3;
 
 /// What rank 0 tells a node before the first frame: which scene to load.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -28,6 +28,10 @@ pub struct Setup {
     pub files: Vec<(PathBuf, Vec<u8>)>,
     /// Rank 0's [`igi_scene::Scene::digest`] of the loaded scene.
     pub digest: u64,
+    /// True if the nodes add the default light the scene needs
+    /// ([`igi_render::add_default_light`], the same decision on every node), false for
+    /// `--no-default-light`.
+    pub default_light: bool,
 }
 
 /// A node's answer to [`Setup`].

@@ -13,7 +13,7 @@ use crate::error::ClusterError;
 use crate::protocol::{FrameJob, Message, PROTOCOL_VERSION, Ready, Setup, TileResult};
 use crate::transport::Transport;
 use igi_render::tile_pipeline::{TileOutput, TileScratch};
-use igi_render::{CancelToken, FrameRenderer, PreparedScene};
+use igi_render::{CancelToken, FrameRenderer, PreparedScene, add_default_light};
 use igi_scene::Scene;
 use std::collections::VecDeque;
 use std::sync::mpsc::{RecvTimeoutError, channel};
@@ -63,7 +63,9 @@ pub fn run_worker<T: Transport>(
     let mut scene = match loaded {
         Ok(scene) => {
             let digest = scene.digest();
-            let prepared = PreparedScene::new(scene);
+            let mut prepared = PreparedScene::new(scene);
+            // Rank 0 says what this adds; the nodes add the same light silently.
+            add_default_light(&mut prepared, setup.default_light);
             let ready = Ready::Loaded { digest, threads: renderer.threads() as u32 };
             transport.send(0, &Message::Ready(ready).encode())?;
             prepared

@@ -9,7 +9,7 @@ use igi_cluster::transport::TransportError;
 use igi_cluster::{ClusterError, FrameJob, InProcess, Master, MasterConfig, Setup, Transport, WorkerSummary};
 use igi_render::{
     FrameRenderer, FrameState, IgiSettings, PixelFormat, PreparedScene, ScenePose, ToneMap, ToneMapper,
-    default_camera,
+    start_camera,
 };
 use std::sync::{Arc, Condvar, Mutex};
 use std::thread::JoinHandle;
@@ -25,6 +25,7 @@ fn setup(name: &str) -> Setup {
         scene: name.into(),
         files: vec![],
         digest: load(name).digest(),
+        default_light: true,
     }
 }
 
@@ -56,7 +57,7 @@ fn first_frame(scene: &PreparedScene) -> FrameState {
         clamp: IgiSettings::clamp_for(scene.bounds().diagonal()),
         ..IgiSettings::default()
     };
-    let camera = scene.camera().copied().unwrap_or_else(|| default_camera(&scene.bounds()));
+    let camera = start_camera(scene);
     FrameState {
         tone_map: ToneMapper::new(ToneMap::default(), &Default::default()),
         seed: 3,

@@ -42,6 +42,7 @@ fn cluster(nodes: usize) -> (ClusterSource<InProcess>, Vec<JoinHandle<Result<Wor
         scene: "cornell-box".into(),
         files: vec![],
         digest: igi_scene::builtin("cornell-box").unwrap().digest(),
+        default_light: true,
     };
     let master = Master::connect(root, &setup, MasterConfig::default()).unwrap();
     (ClusterSource::new(master, Box::new(|e| panic!("the cluster failed: {e}"))), nodes)

@@ -1,6 +1,6 @@
 //! The pinhole camera: primary ray directions for pixels, exactly as
 //! `../shared/tools/embree-bench/embree_bench.cpp` computes them (so igi and Embree can be
-//! compared ray for ray), and a default camera for scenes without one.
+//! compared ray for ray).
 //!
 //! ```text
 //! fwd = normalize(target - position); right = normalize(cross(fwd, up)); up' = cross(right, fwd)
@@ -12,7 +12,7 @@
 //! contraction), so the directions agree bit for bit.
 
 use glam::Vec3;
-use igi_bvh::{Aabb, Ray};
+use igi_bvh::Ray;
 use igi_scene::Camera;
 
 /// `a · (1 / |a|)` as the reference code normalises (zero stays zero).
@@ -100,18 +100,4 @@ impl PinholeCamera {
     pub fn ray_at(&self, x: u32, y: u32, dx: f32, dy: f32) -> Ray {
         Ray::new(self.origin, self.direction_at(x, y, dx, dy))
     }
-}
-
-/// A camera that shows all of `bounds`: looking along -Z at the centre of the box from in
-/// front of it (+Z side), far enough back that the box's bounding sphere fits the 45° vertical
-/// field of view (and the same horizontally for a square image), with +Y up.
-pub fn default_camera(bounds: &Aabb) -> Camera {
-    let fov_y_deg = 45.0f32;
-    if bounds.is_empty() {
-        return Camera { position: Vec3::new(0.0, 0.0, 1.0), target: Vec3::ZERO, up: Vec3::Y, fov_y_deg };
-    }
-    let centre = bounds.centroid();
-    let radius = (0.5 * bounds.diagonal()).max(1e-6);
-    let distance = radius / (0.5 * fov_y_deg.to_radians()).sin();
-    Camera { position: centre + Vec3::new(0.0, 0.0, distance), target: centre, up: Vec3::Y, fov_y_deg }
 }

@@ -9,7 +9,8 @@
 //! - [`progressive`]: [`Progressive`], the one owner of accumulation and tone-map feedback.
 //! - [`prepared`]: [`PreparedScene`], the scene plus its acceleration structure and shading
 //!   tables (materials per triangle, normals, texture coordinates, emissive triangles).
-//! - [`camera`]: the pinhole camera ([`PinholeCamera`]), identical to the Embree benchmark's.
+//! - [`camera`]: the pinhole camera ([`PinholeCamera`]), identical to the Embree benchmark's;
+//!   [`viewpoint`]: where a scene without a camera is seen from.
 //! - [`lights`], [`environment`] and [`sampling`]: light sources, the environment (sky)
 //!   light and deterministic sample sequences. How surfaces scatter light (surface shaders
 //!   feeding BRDF shaders) is the `igi-shade` crate's, shared by every estimator here.
@@ -32,9 +33,9 @@
 //! ```no_run
 //! # fn demo(scene: igi_scene::Scene) -> Result<(), Box<dyn std::error::Error>> {
 //! use igi_render::{FrameRenderer, FrameState, IgiSettings, PreparedScene, ToneMap, ToneMapper};
-//! use igi_render::{default_camera, write_image};
+//! use igi_render::{start_camera, write_image};
 //! let mut prepared = PreparedScene::new(scene);
-//! let camera = prepared.camera().copied().unwrap_or_else(|| default_camera(&prepared.bounds()));
+//! let camera = start_camera(&prepared);
 //! let settings = IgiSettings { clamp: IgiSettings::clamp_for(prepared.bounds().diagonal()), ..IgiSettings::default() };
 //! let out = FrameRenderer::new(0).render(&mut prepared, &FrameState::new(camera, settings), &|_, _| {})?;
 //! let mapper = ToneMapper::new(ToneMap::default(), &out.stats);
@@ -44,6 +45,7 @@
 
 pub mod camera;
 pub mod cancel;
+pub mod default_light;
 pub mod discontinuity;
 pub mod environment;
 pub mod film;
@@ -65,11 +67,13 @@ pub mod tile;
 pub mod tile_pipeline;
 pub mod tonemap;
 pub mod view_importance;
+pub mod viewpoint;
 pub mod vpl;
 pub mod vpl_lighting;
 
-pub use camera::{PinholeCamera, default_camera};
+pub use camera::PinholeCamera;
 pub use cancel::{CancelToken, Cancelled};
+pub use default_light::{DefaultLight, add_default_light};
 pub use film::Film;
 pub use frame::{FrameState, IgiSettings, ScenePose};
 pub use frame_image::{FrameImage, PixelFormat, Pixels};
@@ -81,3 +85,4 @@ pub use progressive::{Progressive, Shown};
 pub use stats::{Phase, PhaseTimes, RayCounts};
 pub use tile::{Tile, TileGrid};
 pub use tonemap::{ToneMap, ToneMapper};
+pub use viewpoint::{default_camera, start_camera};

@@ -12,6 +12,7 @@
 //! `[[shader]]`, or the textured material shader), and a user may replace it by their own
 //! [`SurfaceShader`] ([`PreparedScene::set_shader`]).
 
+use crate::default_light::DefaultLight;
 use crate::environment::EnvironmentLight;
 use crate::frame::ScenePose;
 use crate::lights::{AreaLights, EmissiveTriangle, eye_light};
@@ -93,6 +94,9 @@ pub struct PreparedScene {
     emitter_instances: Vec<u32>,
     /// True if the last placement moved some instance away from its animation's pose.
     is_displaced: bool,
+    /// True if the headlight [`eye_light`] lights the scene: as prepared, a scene without any
+    /// light source; after [`PreparedScene::set_default_light`], as that says.
+    headlight: bool,
 }
 
 /// The matrix taking object-space normals to world space (the inverse transpose), `None` for
@@ -104,8 +108,8 @@ fn normal_matrix(m: &Affine3A) -> Option<Mat3A> {
 impl PreparedScene {
     /// Builds the acceleration structure over `scene` and the shading tables. Material ids
     /// out of range (which a valid scene never has) fall back to a default grey material.
-    /// Logs a warning if the scene has no light at all (the renderer then lights it with a
-    /// headlight at the camera).
+    /// A scene without any light source is lit by the headlight at the camera until
+    /// [`PreparedScene::set_default_light`] says otherwise.
     pub fn new(scene: Scene) -> Self {
         let Scene { meshes, instances, mut materials, textures, lights, camera, environment, animation } =
             scene;
@@ -160,6 +164,7 @@ impl PreparedScene {
             rest_lights: lights_copy,
             emitter_instances: Vec::new(),
             is_displaced: false,
+            headlight: false,
         };
         prepared.shaders = ShaderTable::new(&prepared.materials, &prepared.textures).into_shaders();
         prepared.uniform = prepared.shaders.iter().map(|s| s.uniform().map(BrdfParams::conserving)).collect();
@@ -176,9 +181,7 @@ impl PreparedScene {
         prepared.environment = environment
             .map(|e| EnvironmentLight::new(&e, &prepared.textures))
             .filter(|e| e.integral().max_element() > 0.0);
-        if !prepared.has_lights() {
-            tracing::warn!("the scene has no light source; lighting it with a headlight at the camera");
-        }
+        prepared.headlight = !prepared.has_lights();
         prepared
     }
 
@@ -301,14 +304,41 @@ impl PreparedScene {
     }
 
     /// The point, spot and directional lights the renderers evaluate exactly: the scene's, or
-    /// for a scene without any light source the headlight [`eye_light`] of `camera`.
+    /// and the headlight [`eye_light`] of `camera` where it is on (see
+    /// [`PreparedScene::set_default_light`]).
     pub fn punctual_lights(&self, camera: &Camera) -> Vec<Light> {
-        if self.has_lights() { self.lights.clone() } else { vec![eye_light(&self.bounds(), camera)] }
+        let mut lights = self.lights.clone();
+        if self.headlight {
+            lights.push(eye_light(&self.bounds(), camera));
+        }
+        lights
     }
 
-    /// The scene's own camera, if it had one.
+    /// Lights the scene with `light` besides its own lights: a sun joins the punctual lights
+    /// (after the scene's, so its animation tracks keep their indices) and a sky becomes the
+    /// environment, replacing none (a scene with a sky has lights of its own); the headlight
+    /// is on for [`DefaultLight::Headlight`] and off otherwise, so `None` leaves a scene
+    /// without lights dark.
+    pub fn set_default_light(&mut self, light: Option<DefaultLight>) {
+        self.headlight = light == Some(DefaultLight::Headlight);
+        if let Some(sun) = light.and_then(|l| l.sun()) {
+            self.lights.push(sun.clone());
+            self.rest_lights.push(sun);
+        }
+        if let Some(sky) = light.and_then(|l| l.sky()) {
+            self.environment = Some(EnvironmentLight::new(&sky, &self.textures));
+        }
+    }
+
+    /// The scene's own camera, if it had one, or the one [`PreparedScene::set_camera`] fixed.
     pub fn camera(&self) -> Option<&Camera> {
         self.camera.as_ref()
+    }
+
+    /// Fixes the camera the scene starts with (for a scene without one, the default camera
+    /// chosen once, [`crate::viewpoint::default_camera`]).
+    pub fn set_camera(&mut self, camera: Camera) {
+        self.camera = Some(camera);
     }
 
     /// The emissive triangles and their sampling distribution.
@@ -328,7 +358,9 @@ impl PreparedScene {
         self.environment.as_ref().map_or(Vec3::ZERO, |e| e.radiance(dir))
     }
 
-    /// True if the scene has any light source (emissive triangle, punctual light or sky).
+    /// True if the scene has any light source of its own or added by
+    /// [`PreparedScene::set_default_light`] (emissive triangle, punctual light or sky; not the
+    /// headlight).
     pub fn has_lights(&self) -> bool {
         !self.lights.is_empty() || !self.area_lights.is_empty() || self.environment.is_some()
     }

@@ -3,8 +3,8 @@
 
 use anyhow::Result;
 use glam::Vec3;
-use igi_render::default_camera;
-use igi_scene::{Camera, Scene};
+use igi_render::{PreparedScene, start_camera};
+use igi_scene::Camera;
 
 /// Parses `x,y,z` into a vector (for `--camera-position` and friends).
 pub fn parse_vec3(s: &str) -> Result<Vec3, String> {
@@ -28,7 +28,8 @@ fn vec3_text(v: Vec3) -> String {
 /// camera (or of a default camera framing the scene).
 #[derive(Debug, Default, clap::Args)]
 pub struct CameraArgs {
-    /// Camera position x,y,z (default: the scene's camera, else one framing the scene).
+    /// Camera position x,y,z (default: the scene's camera, else inside an interior at eye
+    /// height, or a three-quarter view of an object).
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub camera_position: Option<Vec3>,
     /// Camera target x,y,z.
@@ -43,11 +44,11 @@ pub struct CameraArgs {
 }
 
 impl CameraArgs {
-    /// The scene's camera (or a default one framing its bounds) with the given fields
-    /// replaced; an error naming the flag for a camera that frames no image
-    /// ([`Camera::check`], the scene files' check).
-    pub fn resolve(&self, scene: &Scene) -> Result<Camera> {
-        let mut camera = scene.camera.unwrap_or_else(|| default_camera(&scene.bounds()));
+    /// The camera the scene starts with ([`start_camera`]: its own, else where a person would
+    /// stand) with the given fields replaced; an error naming the flag for a camera that
+    /// frames no image ([`Camera::check`], the scene files' check).
+    pub fn resolve(&self, scene: &PreparedScene) -> Result<Camera> {
+        let mut camera = start_camera(scene);
         camera.position = self.camera_position.unwrap_or(camera.position);
         camera.target = self.camera_target.unwrap_or(camera.target);
         camera.up = self.camera_up.unwrap_or(camera.up);
@@ -87,7 +88,7 @@ mod tests {
 
     fn camera_error(flags: &[&str]) -> String {
         let line = Line::try_parse_from(std::iter::once("igi").chain(flags.iter().copied()));
-        let scene = igi_scene::load_named("cornell-box").unwrap();
+        let scene = PreparedScene::new(igi_scene::load_named("cornell-box").unwrap());
         line.expect("valid command line").camera.resolve(&scene).unwrap_err().to_string()
     }
 

@@ -3,6 +3,7 @@
 //! [`igi_cluster::ClusterSource`] as its renderer; every other rank becomes a render node.
 //! Without the `mpi` feature the flags exist and say how to get a build that has them.
 
+use crate::frame_args::FrameArgs;
 use anyhow::Result;
 use clap::Args;
 use igi_cluster::protocol::PROTOCOL_VERSION;
@@ -43,7 +44,8 @@ pub struct Root {
 /// Starts this process's part of a cluster job on `spec` (a built-in name or a scene file):
 /// rank 0 loads it and waits until every node has loaded the same (by digest); any other rank
 /// renders tiles with `threads` threads until rank 0 is done.
-pub fn start(args: &ClusterArgs, spec: &str, threads: usize) -> Result<Rank> {
+pub fn start(args: &ClusterArgs, spec: &str, frame: &FrameArgs) -> Result<Rank> {
+    let threads = frame.threads;
     let transport = init()?;
     if transport.rank() != 0 {
         run_node(transport, threads);
@@ -58,7 +60,13 @@ pub fn start(args: &ClusterArgs, spec: &str, threads: usize) -> Result<Rank> {
     let broadcast = args.broadcast_scene && !report.files.is_empty();
     let files = if broadcast { read_files(&report.files) } else { Vec::new() };
     let name = if broadcast { canonical(Path::new(spec)).display().to_string() } else { spec.to_string() };
-    let setup = Setup { version: PROTOCOL_VERSION, scene: name, files, digest: scene.digest() };
+    let setup = Setup {
+        version: PROTOCOL_VERSION,
+        scene: name,
+        files,
+        digest: scene.digest(),
+        default_light: !frame.no_default_light,
+    };
     let master =
         Master::connect(transport, &setup, MasterConfig::default()).unwrap_or_else(|e| fail(&e.to_string()));
     Ok(Rank::Root(Box::new(Root { scene, master: Some(master) })))

@@ -1,9 +1,11 @@
 //! `igi info`: what a scene contains (geometry, materials, textures, lights, bounds, camera)
-//! and what its loading cost and repaired.
+//! and what its loading cost and repaired; the camera renders start with (the scene's, or the
+//! default one, as a scene-file snippet) and the default light they add, if any.
 
 use anyhow::{Context, Result};
 use clap::Args;
 use glam::Vec3;
+use igi_render::{PreparedScene, add_default_light, start_camera};
 use igi_scene::{Environment, Light, Scene};
 use std::time::Instant;
 
@@ -105,21 +107,27 @@ pub fn run(args: &InfoArgs) -> Result<()> {
     } else {
         outln!("bounds       {} .. {} (diagonal {})", v(bounds.min), v(bounds.max), bounds.diagonal());
     }
-    match &scene.camera {
-        Some(c) => outln!(
-            "camera       position {} target {} up {} fov {} deg",
-            v(c.position),
-            v(c.target),
-            v(c.up),
-            c.fov_y_deg
-        ),
-        None => outln!("camera       none (renders use a default camera framing the bounds)"),
-    }
     outln!("load time    {:.3} s", load.as_secs_f64());
     outln!("degenerate   {} triangles dropped", report.degenerate_dropped);
     outln!("warnings     {}", report.warnings.len());
     for w in &report.warnings {
         outln!("  {w}");
     }
+    let own_camera = scene.camera.is_some();
+    let mut prepared = PreparedScene::new(scene);
+    let default_light = add_default_light(&mut prepared, true);
+    let c = start_camera(&prepared);
+    if own_camera {
+        outln!("camera       the scene's:");
+    } else {
+        outln!("camera       none in the scene; renders start here (paste into a scene file to keep it):");
+    }
+    let toml = |p: Vec3| format!("[{:.3}, {:.3}, {:.3}]", p.x, p.y, p.z);
+    outln!("  [camera]");
+    outln!("  position = {}", toml(c.position));
+    outln!("  target = {}", toml(c.target));
+    outln!("  up = {}", toml(c.up));
+    outln!("  fov = {}", c.fov_y_deg);
+    outln!("default light {}", default_light.as_deref().unwrap_or("none (the scene's own lights show it)"));
     Ok(())
 }

@@ -95,7 +95,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
 
     let t_load = Instant::now();
     let (scene, source): (_, Option<Box<dyn FrameSource>>) = if args.cluster.cluster {
-        match crate::cluster::start(&args.cluster, &args.scene, args.frame.threads)? {
+        match crate::cluster::start(&args.cluster, &args.scene, &args.frame)? {
             Rank::Root(root) => {
                 check_writable(&args.output)?;
                 (root.scene, Some(crate::cluster::source(root.master, args.frame.threads)))
@@ -106,19 +106,20 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         (igi_scene::load_named(&args.scene).context("cannot load scene")?, None)
     };
     let load = t_load.elapsed();
-    let mut frame = args.frame.frame_state(&scene)?;
+
+    let t_build = Instant::now();
+    let mut prepared = args.frame.prepare(scene);
+    let build = t_build.elapsed();
+
+    let mut frame = args.frame.frame_state(&prepared)?;
     if args.frames > 1 && frame.settings.clamp > 0.0 {
         // Accumulation converges to what it averages: the clamp's bias is compensated, and
         // the larger default clamp keeps the VPLs' near-field noise low.
         frame.settings.compensate_clamp = true;
         if args.frame.clamp.is_none() {
-            frame.settings.clamp = IgiSettings::compensated_clamp_for(scene.bounds().diagonal());
+            frame.settings.clamp = IgiSettings::compensated_clamp_for(prepared.bounds().diagonal());
         }
     }
-
-    let t_build = Instant::now();
-    let mut prepared = PreparedScene::new(scene);
-    let build = t_build.elapsed();
 
     if source.is_some() || args.sequence > 1 {
         let mut source = source.unwrap_or_else(|| Box::new(FrameRenderer::new(args.frame.threads)));

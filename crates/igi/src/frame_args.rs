@@ -5,6 +5,7 @@
 use anyhow::Result;
 use clap::Args;
 use igi_render::frame::{FilterSettings, FrameState, IgiSettings, ScenePose};
+use igi_render::{PreparedScene, add_default_light};
 use igi_scene::Scene;
 
 /// Largest `--threads`.
@@ -72,6 +73,10 @@ pub struct FrameArgs {
     /// Scene clock in seconds: animated instances and lights take their pose at this time.
     #[arg(long, default_value_t = 0.0)]
     pub time: f32,
+    /// Do not add a light to a scene whose own lights show nothing of the view (by default a
+    /// sun and a sky where the camera stands in the open, else a light at the camera).
+    #[arg(long)]
+    pub no_default_light: bool,
     /// Camera overrides.
     #[command(flatten)]
     pub camera: crate::camera_args::CameraArgs,
@@ -87,8 +92,18 @@ pub fn parse_interleave(s: &str) -> Result<[u32; 2], String> {
 }
 
 impl FrameArgs {
+    /// `scene` prepared for rendering, with the default light it needs unless
+    /// `--no-default-light` (one warning says what was added).
+    pub fn prepare(&self, scene: Scene) -> PreparedScene {
+        let mut prepared = PreparedScene::new(scene);
+        if let Some(warning) = add_default_light(&mut prepared, !self.no_default_light) {
+            tracing::warn!("{warning}");
+        }
+        prepared
+    }
+
     /// The first frame of `scene` with these options, checked (errors name the flag).
-    pub fn frame_state(&self, scene: &Scene) -> Result<FrameState> {
+    pub fn frame_state(&self, scene: &PreparedScene) -> Result<FrameState> {
         if self.threads > MAX_THREADS {
             anyhow::bail!("--threads: {} is more than {MAX_THREADS}", self.threads);
         }

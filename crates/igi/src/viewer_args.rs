@@ -5,7 +5,6 @@ use crate::cluster::{ClusterArgs, Rank};
 use crate::frame_args::FrameArgs;
 use anyhow::{Context, Result};
 use clap::Args;
-use igi_render::PreparedScene;
 use igi_render::tonemap::DEFAULT_KEY;
 use igi_session::{Session, ViewSettings};
 
@@ -42,7 +41,7 @@ impl ViewerArgs {
     /// `None` on a render node of a cluster job, once the job is over.
     pub fn session(&self) -> Result<Option<Session>> {
         let (scene, source) = if self.cluster.cluster {
-            match crate::cluster::start(&self.cluster, &self.scene, self.frame.threads)? {
+            match crate::cluster::start(&self.cluster, &self.scene, &self.frame)? {
                 Rank::Root(root) => {
                     (root.scene, Some(crate::cluster::source(root.master, self.frame.threads)))
                 }
@@ -51,9 +50,9 @@ impl ViewerArgs {
         } else {
             (igi_scene::load_named(&self.scene).context("cannot load scene")?, None)
         };
-        let mut frame = self.frame.frame_state(&scene)?;
+        let prepared = self.frame.prepare(scene);
+        let mut frame = self.frame.frame_state(&prepared)?;
         frame.settings.aa = self.frame.aa.unwrap_or(VIEWER_AA);
-        let prepared = PreparedScene::new(scene);
         let s = &frame.settings;
         let filter = s.filter.unwrap_or_default();
         let settings = ViewSettings {

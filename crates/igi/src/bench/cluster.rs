@@ -92,13 +92,13 @@ pub fn run(args: &ClusterBenchArgs) -> Result<()> {
         bail!("--warmup must be at least 1: the end of the warm-up starts the clock");
     }
     let cluster = ClusterArgs { cluster: true, broadcast_scene: args.broadcast_scene };
-    let root = match crate::cluster::start(&cluster, &args.scene, args.frame.threads)? {
+    let root = match crate::cluster::start(&cluster, &args.scene, &args.frame)? {
         Rank::Root(root) => root,
         Rank::NodeDone => return Ok(()),
     };
     // Only rank 0 writes the report.
     super::json_report::check_json(args.json.as_deref())?;
-    let mut state = args.frame.frame_state(&root.scene)?;
+    let mut state = args.frame.frame_state(&args.frame.prepare(root.scene))?;
     let Some(mut master) = root.master else {
         bail!(
             "igi bench cluster needs rank 0 and at least one render node: mpirun -n 3 igi bench cluster SCENE"

@@ -88,9 +88,9 @@ pub fn run(args: &FrameBenchArgs) -> Result<()> {
     }
     super::json_report::check_json(args.json.as_deref())?;
     let scene = igi_scene::load_named(&args.scene).context("cannot load scene")?;
-    let mut frame = args.frame.frame_state(&scene)?;
+    let mut prepared = args.frame.prepare(scene);
+    let mut frame = args.frame.frame_state(&prepared)?;
     frame.settings.reseed_per_frame = args.reseed;
-    let mut prepared = PreparedScene::new(scene);
     let renderer = FrameRenderer::new(args.frame.threads);
     let threads = renderer.threads();
 

@@ -191,7 +191,6 @@ pub fn run(args: &RaysArgs) -> Result<()> {
         .map(|path| read_vpl_file(path, args.sets * args.sets, args.k))
         .transpose()?;
     let scene = igi_scene::load_named(&args.scene).context("cannot load scene")?;
-    let camera = args.camera.resolve(&scene)?;
 
     // Build time, as embree-bench times it: copying the vertex and index buffers plus building
     // the whole two-level structure (per-mesh BVHs and the top level), median of 5.
@@ -214,6 +213,7 @@ pub fn run(args: &RaysArgs) -> Result<()> {
     build_ms.sort_by(f64::total_cmp);
     let build_ms = build_ms[build_ms.len() / 2];
     let prepared = PreparedScene::new(scene);
+    let camera = args.camera.resolve(&prepared)?;
     let accel = prepared.accel();
     let triangles: usize = accel.meshes().iter().map(|m| m.indices.len()).sum();
     let bounds = accel.bounds();

@@ -1,0 +1,202 @@
+//! [`DefaultLight`]: the light igi adds so that a scene shows on the first command when its
+//! own lights cannot show it: a scene with no light at all, or one whose emitters light
+//! nothing the camera sees (Lost Empire's lava burns inside its hill, and the torches of its
+//! MTL file have their `Ke` commented out, so its outside is black in every pixel).
+//!
+//! Which light depends on where the camera stands. Where rays from the camera escape the
+//! scene (an object in the open, or Sponza's atrium under its roof opening), a sun over the
+//! camera's left shoulder and a sky, as an outdoor photograph would have; where geometry
+//! encloses the camera (the conference room), the headlight at the camera, which goes where
+//! the viewer goes. The caller says what was added in one warning
+//! ([`DefaultLight::warning`]) naming the flag that turns it off.
+//!
+//! Whether the scene's own lights show it is judged on the picture: a small pilot frame,
+//! tone-mapped as `igi render` does, must show at least [`READABLE_SHARE`] of its pixels of
+//! geometry readably. The pilot is deterministic (fixed probe rays, the frame's own VPL
+//! sequence, the same image at any thread count), so every node of a cluster comes to the
+//! same decision from the same scene.
+
+use crate::camera::PinholeCamera;
+use crate::frame::{FrameState, IgiSettings};
+use crate::frame_renderer::FrameRenderer;
+use crate::lights::luminance;
+use crate::prepared::PreparedScene;
+use crate::tonemap::{ToneMap, ToneMapper};
+use crate::viewpoint::start_camera;
+use glam::Vec3;
+use igi_bvh::Ray;
+use igi_scene::{Camera, Environment, Light};
+
+/// Width of the pilot frame that tests whether the scene's lights show the view (4:3).
+const PILOT_WIDTH: u32 = 96;
+/// A pixel is readable at this display-linear luminance (sRGB 40 of 255) or brighter.
+const READABLE: f32 = 0.02;
+/// The view counts as shown when at least this share of the pixels of geometry is readable.
+const READABLE_SHARE: f32 = 0.5;
+/// Rays from the camera in all directions that tell open scenes from enclosed ones.
+const OPENNESS_PROBES: u32 = 256;
+/// A camera from which at least this share of [`OPENNESS_PROBES`] escapes stands in the
+/// open (Sponza's roof opening passes about 3 % from its courtyard).
+const OPEN_SHARE: f32 = 0.01;
+/// The default sun's elevation above the horizon (degrees).
+const SUN_ELEVATION: f32 = 55.0;
+/// The sun's azimuth away from straight behind the camera, toward its left (degrees): light
+/// from the side shows shapes, light from behind the camera flattens them.
+const SUN_AZIMUTH: f32 = 55.0;
+/// The default sun's irradiance (slightly warm white).
+const SUN_IRRADIANCE: Vec3 = Vec3::new(3.5, 3.3, 3.0);
+/// The default sky's radiance (a pale blue): about a fifth of the light on an open
+/// horizontal surface comes from it, and an object seen against it is not underexposed.
+const SKY_RADIANCE: Vec3 = Vec3::new(0.24, 0.29, 0.37);
+
+/// A light igi adds to a scene that cannot show itself.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DefaultLight {
+    /// A directional sun and a constant sky, for a camera in the open.
+    SunAndSky {
+        /// The unit direction the sun's light travels in.
+        direction: Vec3,
+        /// The sun's irradiance on a surface facing it.
+        irradiance: Vec3,
+        /// The sky's radiance.
+        sky: Vec3,
+    },
+    /// The headlight at the camera ([`crate::lights::eye_light`]), for an enclosed camera.
+    Headlight,
+}
+
+impl DefaultLight {
+    /// The light to add to `scene` seen from `camera`, or `None` if the scene's own lights
+    /// show what the camera sees.
+    pub fn choose(scene: &mut PreparedScene, camera: &Camera) -> Option<Self> {
+        if scene.has_lights() && readable_share(scene, camera) >= READABLE_SHARE {
+            return None;
+        }
+        Some(if is_open(scene, camera.position) { Self::sun_and_sky(camera) } else { Self::Headlight })
+    }
+
+    /// A sun over the left shoulder of `camera` and the default sky.
+    fn sun_and_sky(camera: &Camera) -> Self {
+        let forward = camera.target - camera.position;
+        let back = Vec3::new(-forward.x, 0.0, -forward.z).try_normalize().unwrap_or(Vec3::Z);
+        let left = Vec3::Y.cross(back);
+        let (elevation, azimuth) = (SUN_ELEVATION.to_radians(), SUN_AZIMUTH.to_radians());
+        let horizontal = back * azimuth.cos() + left * azimuth.sin();
+        let toward_sun = horizontal * elevation.cos() + Vec3::Y * elevation.sin();
+        Self::SunAndSky { direction: -toward_sun, irradiance: SUN_IRRADIANCE, sky: SKY_RADIANCE }
+    }
+
+    /// The sun this light brings, if any.
+    pub fn sun(&self) -> Option<Light> {
+        match *self {
+            Self::SunAndSky { direction, irradiance, .. } => {
+                Some(Light::Directional { direction, irradiance })
+            }
+            Self::Headlight => None,
+        }
+    }
+
+    /// The sky this light brings, if any.
+    pub fn sky(&self) -> Option<Environment> {
+        match *self {
+            Self::SunAndSky { sky, .. } => Some(Environment::Constant { radiance: sky }),
+            Self::Headlight => None,
+        }
+    }
+
+    /// The one warning that says what was added, why, and how to turn it off; `had_lights`
+    /// tells whether the scene had lights of its own.
+    pub fn warning(&self, had_lights: bool) -> String {
+        let why = if had_lights {
+            "the scene's lights reach little of what the camera sees"
+        } else {
+            "the scene has no light source"
+        };
+        let what = match self {
+            Self::SunAndSky { .. } => "added a sun and a sky",
+            Self::Headlight => "added a light at the camera",
+        };
+        format!("{why}: {what} (--no-default-light turns this off)")
+    }
+}
+
+/// Fixes the camera `scene` starts with ([`start_camera`], so that it is chosen once),
+/// decides its default light seen from there and adds it; returns the warning to show, or
+/// `None` if the scene's own lights serve. With `enabled` false nothing is added, and a scene
+/// without lights stays dark (no headlight either), which the warning says.
+pub fn add_default_light(scene: &mut PreparedScene, enabled: bool) -> Option<String> {
+    let camera = start_camera(scene);
+    scene.set_camera(camera);
+    if !enabled {
+        scene.set_default_light(None);
+        return (!scene.has_lights())
+            .then(|| "the scene has no light source and --no-default-light leaves it dark".to_owned());
+    }
+    let had_lights = scene.has_lights();
+    let light = DefaultLight::choose(scene, &camera);
+    scene.set_default_light(light);
+    light.map(|l| l.warning(had_lights))
+}
+
+/// True if rays from `eye` leave the scene in at least [`OPEN_SHARE`] of all directions.
+fn is_open(scene: &PreparedScene, eye: Vec3) -> bool {
+    let golden = std::f32::consts::PI * (3.0 - 5f32.sqrt());
+    let escaped = (0..OPENNESS_PROBES)
+        .filter(|&i| {
+            let y = 1.0 - 2.0 * (i as f32 + 0.5) / OPENNESS_PROBES as f32;
+            let r = (1.0 - y * y).max(0.0).sqrt();
+            let phi = golden * i as f32;
+            let dir = Vec3::new(r * phi.cos(), y, r * phi.sin());
+            !scene.accel().intersect(&Ray::new(eye, dir)).is_hit()
+        })
+        .count();
+    tracing::debug!("{escaped} of {OPENNESS_PROBES} rays from the camera leave the scene");
+    escaped as f32 >= OPEN_SHARE * OPENNESS_PROBES as f32
+}
+
+/// The share of the pixels showing geometry that a small pilot frame of `scene` from
+/// `camera` shows readably ([`READABLE`] or brighter after igi render's tone map), or 1 if the
+/// camera sees no geometry (0 if it sees only emitters). It measures the picture the user would get: a scene lit by its own
+/// lights can still be unreadable, as Lost Empire's city by its lava (a few bright pixels,
+/// the rest near black), and an emitter seen directly is not lit by it (a glTF model whose
+/// emissive texture glows all over, DamagedHelmet, is a dim blob without other light).
+fn readable_share(scene: &mut PreparedScene, camera: &Camera) -> f32 {
+    let (width, height) = (PILOT_WIDTH, PILOT_WIDTH * 3 / 4);
+    let settings = IgiSettings {
+        width,
+        height,
+        aa: 1,
+        clamp: IgiSettings::clamp_for(scene.bounds().diagonal()),
+        ..IgiSettings::default()
+    };
+    let Ok(out) = FrameRenderer::new(0).render(scene, &FrameState::new(*camera, settings), &|_, _| {}) else {
+        return 1.0;
+    };
+    let Some(film) = out.image.film() else { return 1.0 };
+    let mapper = ToneMapper::for_film(ToneMap::default(), film);
+    let pinhole = PinholeCamera::new(camera, width, height);
+    let (mut seen, mut glowing, mut readable) = (0u32, 0u32, 0u32);
+    for y in 0..height {
+        for x in 0..width {
+            let hit = scene.accel().intersect(&pinhole.ray(x, y));
+            if !hit.is_hit() {
+                continue;
+            }
+            if scene.is_emissive(hit.instance, hit.prim) {
+                glowing += 1;
+                continue;
+            }
+            seen += 1;
+            readable += u32::from(luminance(mapper.map(film.get(x, y))) >= READABLE);
+        }
+    }
+    tracing::debug!(
+        "the scene's own lights show {readable} of {seen} pixels of geometry in a pilot frame ({glowing} emit)"
+    );
+    match (seen, glowing) {
+        (0, 0) => 1.0,
+        // Nothing but glowing surfaces: no shape shows.
+        (0, _) => 0.0,
+        _ => readable as f32 / seen as f32,
+    }
+}

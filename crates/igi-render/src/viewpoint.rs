@@ -1,0 +1,393 @@
+//! The camera a scene starts with when it brings none ([`default_camera`]): where a person
+//! would stand.
+//!
+//! Scenes are modelled +Y up (OBJ by custom, glTF by definition). Two kinds are told apart by
+//! probing the scene with rays:
+//!
+//! - **An interior** (Sponza's atrium, Sibenik's nave, the conference room): the model
+//!   encloses its centre, seen from inside. A point is enclosed when at least [`ENCLOSED`] of
+//!   the sideways [`PROBES`] hit geometry (rays upward may escape through a roof opening) and
+//!   at least [`FRONT_FACING`] of all hits see a surface's front side (inside a closed solid
+//!   the rays meet back faces, and a room's walls face into the room). The eye then stands
+//!   on a floor under one of a grid of points through the bounds, at [`EYE_HEIGHT`] of the
+//!   clearance above it (at most of the model's typical storey: in Sponza's courtyard, open
+//!   to the sky, as high as under its galleries), at an enclosed point whose space spans most
+//!   of the model ([`INTERIOR_SPAN`]), in the main space: the most room around the eye (the
+//!   median free distance along [`HORIZONTAL`] horizontal directions) times the height above
+//!   it. It steps back along the longest horizontal line through that point and looks down
+//!   the line, a little upwards: along the space's long axis.
+//! - **An object** (the armadillo, the glTF samples): a three-quarter view from above its
+//!   front, the front being the side toward +Z (glTF's convention) unless the other side
+//!   shows clearly more distinct triangles (a scan facing −Z); what the view sees of the
+//!   object fills the image with a margin.
+//!
+//! Every probe is deterministic, so every node of a cluster chooses the same camera.
+
+use crate::prepared::PreparedScene;
+use glam::Vec3;
+use igi_bvh::{Aabb, Ray, offset_ray_origin};
+use igi_scene::Camera;
+use std::collections::HashSet;
+
+/// Candidate points per horizontal axis of the bounds.
+const GRID: u32 = 12;
+/// Candidate heights through the bounds.
+const LEVELS: u32 = 6;
+/// Rays that test whether geometry encloses a point (a Fibonacci sphere).
+const PROBES: u32 = 256;
+/// The share of the sideways [`PROBES`] (within [`SIDEWAYS`] of the horizon) that must hit
+/// geometry for a point to count as enclosed. Rays upward may escape: a courtyard open to the
+/// sky (Sponza's) is still inside the building, a box open at its front (the Cornell box) is
+/// seen from outside.
+const ENCLOSED: f32 = 0.97;
+/// The sine of the elevation below which a probe ray counts as sideways (30°).
+const SIDEWAYS: f32 = 0.5;
+/// The share of the bounds' chord that an interior's long axis must span.
+const INTERIOR_SPAN: f32 = 0.6;
+/// The share of an enclosed point's hits that must see front faces.
+const FRONT_FACING: f32 = 0.6;
+/// Horizontal directions along which the open space around a point is measured.
+const HORIZONTAL: u32 = 16;
+/// The eye stands at this share of the clearance between floor and ceiling: in a room 2.7 m
+/// high a little under a person's eyes, in Sponza's 15 m courtyard the height of its first
+/// arcade's capitals, from where the whole atrium shows.
+const EYE_HEIGHT: f32 = 0.3;
+/// The points around the centre tested for enclosure lie this share of the bounds' size off
+/// it.
+const CENTRE_SPREAD: f32 = 0.1;
+/// A clearance below this share of the bounds' diagonal is a gap in the geometry (between a
+/// floor and the slab under it), not a room.
+const MIN_CLEARANCE: f32 = 0.02;
+/// How far back along its long axis the eye steps from the chosen point: this share of the
+/// free distance behind it.
+const STEP_BACK: f32 = 0.6;
+/// The upward tilt of an interior view (radians): rooms show more of interest above eye
+/// height than below.
+const INTERIOR_TILT: f32 = 0.12;
+/// Vertical field of view of an interior view (degrees), wide as in architectural photographs.
+const INTERIOR_FOV: f32 = 65.0;
+/// Vertical field of view of an object view (degrees).
+const OBJECT_FOV: f32 = 40.0;
+/// The image aspect ratio an object view is fitted for (the renderers' default 640 × 480).
+const OBJECT_ASPECT: f32 = 4.0 / 3.0;
+/// Share of the image an object's box, then what the view sees of it, fills along the
+/// tighter axis.
+const OBJECT_FILL: f32 = 0.8;
+/// The elevation of an object's three-quarter view above its centre (degrees).
+const OBJECT_ELEVATION: f32 = 30.0;
+/// The elevation of the view straight into an open box (degrees).
+const OPEN_SIDE_ELEVATION: f32 = 5.0;
+/// Rays per side of the grid that counts the triangles an object view sees.
+const VIEW_PROBE: u32 = 48;
+
+/// The camera for a scene without one: inside an interior at eye height looking along its
+/// long axis, or a three-quarter view of an object (see the module documentation).
+pub fn default_camera(scene: &PreparedScene) -> Camera {
+    let bounds = scene.bounds();
+    if bounds.is_empty() {
+        return Camera { position: Vec3::Z, target: Vec3::ZERO, up: Vec3::Y, fov_y_deg: OBJECT_FOV };
+    }
+    interior_camera(scene, &bounds).unwrap_or_else(|| object_camera(scene, &bounds))
+}
+
+/// The unit direction `i` of `n` spread evenly over the sphere (a Fibonacci lattice).
+fn sphere_direction(i: u32, n: u32) -> Vec3 {
+    let golden = std::f32::consts::PI * (3.0 - 5f32.sqrt());
+    let y = 1.0 - 2.0 * (i as f32 + 0.5) / n as f32;
+    let r = (1.0 - y * y).max(0.0).sqrt();
+    let phi = golden * i as f32;
+    Vec3::new(r * phi.cos(), y, r * phi.sin())
+}
+
+/// The unit horizontal direction `k` of [`HORIZONTAL`].
+fn horizontal_direction(k: u32) -> Vec3 {
+    let phi = std::f32::consts::TAU * k as f32 / HORIZONTAL as f32;
+    Vec3::new(phi.cos(), 0.0, phi.sin())
+}
+
+/// What a probe ray from a point meets: the distance and whether it sees a front face, or
+/// `None` if it leaves the scene.
+fn probe(scene: &PreparedScene, origin: Vec3, dir: Vec3) -> Option<(f32, bool)> {
+    let hit = scene.accel().intersect(&Ray::new(origin, dir));
+    hit.is_hit().then(|| (hit.t, scene.surface(&hit).geometric_normal.dot(dir) < 0.0))
+}
+
+/// A point where the eye could stand: enclosed, seen from inside, with the open space
+/// around it measured.
+struct Candidate {
+    eye: Vec3,
+    /// The median free distance along the horizontal directions: the room around the eye
+    /// (one long corridor does not make a space open).
+    openness: f32,
+    /// Free distance along each horizontal direction.
+    free: [f32; HORIZONTAL as usize],
+}
+
+/// A place to stand: a floor point and the clearance above it.
+#[derive(Clone, Copy)]
+struct Footing {
+    floor: Vec3,
+    /// The distance up to a ceiling, `None` under the open sky.
+    ceiling: Option<f32>,
+}
+
+/// The footing under `p`: the floor below it (a horizontal surface; the ray meets its upper
+/// side) and the clearance above it, if there is room to stand.
+fn footing(scene: &PreparedScene, bounds: &Aabb, p: Vec3) -> Option<Footing> {
+    let down = scene.accel().intersect(&Ray::new(p, -Vec3::Y));
+    if !down.is_hit() || scene.surface(&down).geometric_normal.y.abs() < 0.7 {
+        return None;
+    }
+    let floor = p - Vec3::Y * down.t;
+    let up = scene.accel().intersect(&Ray::new(offset_ray_origin(floor, Vec3::Y), Vec3::Y));
+    let ceiling = up.is_hit().then_some(up.t);
+    let clearance = ceiling.unwrap_or(bounds.max.y - floor.y);
+    (clearance > MIN_CLEARANCE * bounds.diagonal()).then_some(Footing { floor, ceiling })
+}
+
+/// True if the model encloses its centre (or a point near it, in case a column stands
+/// there), seen from inside: the mark of an interior. The Cornell box is open at its front,
+/// a statue or a helmet is seen from inside its solid, a hill (Lost Empire) is solid rock
+/// around its caves.
+fn encloses_centre(scene: &PreparedScene, bounds: &Aabb) -> bool {
+    let (centre, size) = (bounds.centroid(), bounds.max - bounds.min);
+    (-1..=1).any(|i| {
+        (-1..=1).any(|j| {
+            let offset = Vec3::new(i as f32 * size.x, 0.0, j as f32 * size.z) * CENTRE_SPREAD;
+            candidate(scene, centre + offset).is_some()
+        })
+    })
+}
+
+/// The candidate at `eye`, if geometry encloses it from the sides and it sees front faces.
+fn candidate(scene: &PreparedScene, eye: Vec3) -> Option<Candidate> {
+    let (mut sideways, mut escaped, mut hits, mut front) = (0u32, 0u32, 0u32, 0u32);
+    for i in 0..PROBES {
+        let dir = sphere_direction(i, PROBES);
+        let is_sideways = dir.y.abs() < SIDEWAYS;
+        sideways += u32::from(is_sideways);
+        match probe(scene, eye, dir) {
+            Some((_, is_front)) => {
+                hits += 1;
+                front += u32::from(is_front);
+            }
+            None if is_sideways => escaped += 1,
+            None => {}
+        }
+    }
+    if escaped as f32 > (1.0 - ENCLOSED) * sideways as f32 || (front as f32) < FRONT_FACING * hits as f32 {
+        return None;
+    }
+    let mut free = [0.0; HORIZONTAL as usize];
+    for (k, d) in free.iter_mut().enumerate() {
+        *d = probe(scene, eye, horizontal_direction(k as u32))?.0;
+    }
+    let mut sorted = free;
+    sorted.sort_by(f32::total_cmp);
+    let openness = sorted[HORIZONTAL as usize / 2];
+    Some(Candidate { eye, openness, free })
+}
+
+/// The length of the chord of `bounds` through `p` (inside it) along the unit `dir`.
+fn chord(bounds: &Aabb, p: Vec3, dir: Vec3) -> f32 {
+    let exit = |d: Vec3| {
+        let mut t = f32::INFINITY;
+        for axis in 0..3 {
+            if d[axis] > 0.0 {
+                t = t.min((bounds.max[axis] - p[axis]) / d[axis]);
+            } else if d[axis] < 0.0 {
+                t = t.min((bounds.min[axis] - p[axis]) / d[axis]);
+            }
+        }
+        t.max(0.0)
+    };
+    exit(dir) + exit(-dir)
+}
+
+/// The horizontal axis (an index below [`HORIZONTAL`] / 2 and its opposite) along which
+/// `c` sees the longest free span.
+fn long_axis(c: &Candidate) -> usize {
+    let half = HORIZONTAL as usize / 2;
+    let span = |k: usize| c.free[k] + c.free[k + half];
+    (0..half).max_by(|&a, &b| span(a).total_cmp(&span(b))).unwrap_or(0)
+}
+
+/// True if `c` stands in a space the model is built around: its long axis spans at least
+/// [`INTERIOR_SPAN`] of the bounds along that line (a truck's closed cargo box, a cave in a
+/// hill are spaces inside an object, not the scene's interior).
+fn spans_the_model(bounds: &Aabb, c: &Candidate) -> bool {
+    let axis = long_axis(c);
+    let span = c.free[axis] + c.free[axis + HORIZONTAL as usize / 2];
+    span >= INTERIOR_SPAN * chord(bounds, c.eye, horizontal_direction(axis as u32))
+}
+
+/// The camera inside an interior, or `None` if no point of the scene is enclosed.
+fn interior_camera(scene: &PreparedScene, bounds: &Aabb) -> Option<Camera> {
+    if !encloses_centre(scene, bounds) {
+        return None;
+    }
+    let size = bounds.max - bounds.min;
+    let footings: Vec<Footing> = (0..LEVELS * GRID * GRID)
+        .filter_map(|n| {
+            let (level, i, j) = (n / (GRID * GRID), n / GRID % GRID, n % GRID);
+            let f =
+                Vec3::new(i as f32 + 0.5, (level as f32 + 0.5) * GRID as f32 / LEVELS as f32, j as f32 + 0.5);
+            footing(scene, bounds, bounds.min + size * f / GRID as f32)
+        })
+        .collect();
+    // The model's storey: the median clearance under a ceiling. Under the open sky (Sponza's
+    // courtyard) the eye stands as high as under the galleries around it, not a third of the
+    // way up the walls.
+    let mut ceilings: Vec<f32> = footings.iter().filter_map(|f| f.ceiling).collect();
+    ceilings.sort_by(f32::total_cmp);
+    let storey = ceilings.get(ceilings.len() / 2).copied().unwrap_or(size.y);
+    let mut best: Option<(f32, Candidate)> = None;
+    for f in &footings {
+        let clearance = f.ceiling.unwrap_or(bounds.max.y - f.floor.y);
+        let eye = f.floor + Vec3::Y * (EYE_HEIGHT * clearance.min(storey));
+        let Some(c) = candidate(scene, eye).filter(|c| spans_the_model(bounds, c)) else { continue };
+        // The main space: room around the eye and height above it (a nave over an aisle).
+        let score = c.openness * clearance;
+        if best.as_ref().is_none_or(|(b, _)| score > *b) {
+            best = Some((score, c));
+        }
+    }
+    let (_, best) = best?;
+    let (axis, half) = (long_axis(&best), HORIZONTAL as usize / 2);
+    tracing::debug!(
+        "interior: the most open enclosed point is {} (median free distance {:.3}, span {:.3} of the model's {:.3})",
+        best.eye,
+        best.openness,
+        best.free[axis] + best.free[axis + half],
+        chord(bounds, best.eye, horizontal_direction(axis as u32)),
+    );
+    // Look toward the farther end, standing back toward the nearer one.
+    let (ahead, behind) =
+        if best.free[axis] >= best.free[axis + half] { (axis, axis + half) } else { (axis + half, axis) };
+    let forward = horizontal_direction(ahead as u32);
+    let back = best.eye - forward * (STEP_BACK * best.free[behind]);
+    // Stay at the point itself if stepping back leaves the enclosed space.
+    let eye = if candidate(scene, back).is_some() { back } else { best.eye };
+    let span = best.free[axis] + best.free[axis + half];
+    let look = (forward + Vec3::Y * INTERIOR_TILT.tan()).normalize();
+    Some(Camera { position: eye, target: eye + look * (0.5 * span), up: Vec3::Y, fov_y_deg: INTERIOR_FOV })
+}
+
+/// The three-quarter view from `dir` (unit, from the centre toward the eye) that fits
+/// `bounds` into the image.
+fn framing(bounds: &Aabb, dir: Vec3) -> Camera {
+    let centre = bounds.centroid();
+    let right = Vec3::Y.cross(dir).normalize();
+    let up = dir.cross(right);
+    let tan_y = (0.5 * OBJECT_FOV).to_radians().tan() * OBJECT_FILL;
+    let tan_x = tan_y * OBJECT_ASPECT;
+    // Every corner of the box within the view: at distance d along `dir`, a corner c (from
+    // the centre) lies d − c·dir in front of the eye and c·right, c·up across.
+    let mut distance: f32 = 0.0;
+    for corner in 0..8 {
+        let pick = |bit: u32, lo: f32, hi: f32| if corner & bit == 0 { lo } else { hi };
+        let c = Vec3::new(
+            pick(1, bounds.min.x, bounds.max.x),
+            pick(2, bounds.min.y, bounds.max.y),
+            pick(4, bounds.min.z, bounds.max.z),
+        ) - centre;
+        let needed = c.dot(dir) + (c.dot(right).abs() / tan_x).max(c.dot(up).abs() / tan_y);
+        distance = distance.max(needed);
+    }
+    let distance = distance.max(1e-3 * bounds.diagonal().max(1e-6));
+    Camera { position: centre + dir * distance, target: centre, up: Vec3::Y, fov_y_deg: OBJECT_FOV }
+}
+
+/// `camera` (framing the box) moved in so that what it sees of the object, not its box,
+/// fills [`OBJECT_FILL`] of the image: a grid of its rays finds the rectangle of the image the
+/// object covers; the camera shifts sideways to centre it and moves along its view to scale it
+/// (a duck's box seen from three quarters is three times the duck).
+fn fit_silhouette(scene: &PreparedScene, camera: Camera) -> Camera {
+    let (width, height) = (VIEW_PROBE, (VIEW_PROBE as f32 / OBJECT_ASPECT) as u32);
+    let pinhole = crate::PinholeCamera::new(&camera, width, height);
+    let (mut lo, mut hi) = (glam::Vec2::splat(f32::INFINITY), glam::Vec2::splat(f32::NEG_INFINITY));
+    for y in 0..height {
+        for x in 0..width {
+            if scene.accel().intersect(&pinhole.ray(x, y)).is_hit() {
+                // The pixel's extent in [-1, 1]² (y up).
+                let ndc = |px: u32, n: u32| 2.0 * px as f32 / n as f32 - 1.0;
+                let (x0, x1) = (ndc(x, width), ndc(x + 1, width));
+                let (y0, y1) = (-ndc(y + 1, height), -ndc(y, height));
+                lo = lo.min(glam::Vec2::new(x0, y0));
+                hi = hi.max(glam::Vec2::new(x1, y1));
+            }
+        }
+    }
+    if lo.x >= hi.x || lo.x.is_nan() {
+        return camera;
+    }
+    let (centre, half) = (0.5 * (lo + hi), 0.5 * (hi - lo));
+    let scale = (half.max_element() / OBJECT_FILL).clamp(0.1, 10.0);
+    let distance = (camera.target - camera.position).length();
+    let shift = (pinhole.right * (centre.x * pinhole.tan_half * pinhole.aspect)
+        + pinhole.up * (centre.y * pinhole.tan_half))
+        * distance;
+    let target = camera.target + shift;
+    Camera { position: target + (camera.position - camera.target) * scale, target, ..camera }
+}
+
+/// What a coarse grid of `camera`'s rays sees: the number of distinct triangles whose front
+/// faces it sees, and the share of the rays hitting geometry that meet a front face.
+fn front_faces_seen(scene: &PreparedScene, camera: &Camera) -> (usize, f32) {
+    let pinhole = crate::PinholeCamera::new(camera, VIEW_PROBE, VIEW_PROBE);
+    let (mut triangles, mut hits, mut front) = (HashSet::new(), 0u32, 0u32);
+    for y in 0..VIEW_PROBE {
+        for x in 0..VIEW_PROBE {
+            let ray = pinhole.ray(x, y);
+            let hit = scene.accel().intersect(&ray);
+            if !hit.is_hit() {
+                continue;
+            }
+            hits += 1;
+            if scene.surface(&hit).geometric_normal.dot(ray.dir) < 0.0 {
+                front += 1;
+                triangles.insert((hit.instance, hit.prim));
+            }
+        }
+    }
+    (triangles.len(), if hits == 0 { 0.0 } else { front as f32 / hits as f32 })
+}
+
+/// The view of an object: a three-quarter view from above its front-left or front-right
+/// (whichever shows more), on the +Z side unless the −Z side shows clearly more of the object
+/// (more than 1.25 times the distinct front-facing triangles), as a scan facing −Z does. An
+/// open box (the Cornell box) shows the backs of its walls from there: where less than half
+/// of what the three-quarter view sees are front faces, it is seen straight into its open side.
+fn object_camera(scene: &PreparedScene, bounds: &Aabb) -> Camera {
+    let view = |x: f32, y: f32, z: f32| framing(bounds, Vec3::new(x, y, z).normalize());
+    let elevation = OBJECT_ELEVATION.to_radians().tan() * std::f32::consts::SQRT_2;
+    let best = |z: f32| {
+        let (left, right) = (view(-1.0, elevation, z), view(1.0, elevation, z));
+        let (l, r) = (front_faces_seen(scene, &left), front_faces_seen(scene, &right));
+        if r.0 >= l.0 { (right, r) } else { (left, l) }
+    };
+    let (front, front_seen) = best(1.0);
+    let (back, back_seen) = best(-1.0);
+    tracing::debug!(
+        "object: the +Z side shows {} distinct triangles ({:.0} % front faces), the -Z side {} ({:.0} %)",
+        front_seen.0,
+        100.0 * front_seen.1,
+        back_seen.0,
+        100.0 * back_seen.1
+    );
+    let (side, (_, share)) =
+        if back_seen.0 as f32 > 1.25 * front_seen.0 as f32 { (-1.0, back_seen) } else { (1.0, front_seen) };
+    let three_quarter = if side > 0.0 { front } else { back };
+    if share >= 0.5 {
+        return fit_silhouette(scene, fit_silhouette(scene, three_quarter));
+    }
+    let straight = view(0.0, OPEN_SIDE_ELEVATION.to_radians().tan(), side);
+    let chosen = if front_faces_seen(scene, &straight).1 > share { straight } else { three_quarter };
+    // Twice: the first move changes the perspective, the second corrects for it.
+    fit_silhouette(scene, fit_silhouette(scene, chosen))
+}
+
+/// The camera a scene starts with: its own, else [`default_camera`].
+pub fn start_camera(scene: &PreparedScene) -> Camera {
+    scene.camera().copied().unwrap_or_else(|| default_camera(scene))
+}

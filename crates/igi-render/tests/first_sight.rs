@@ -1,0 +1,135 @@
+//! What a scene without a camera or without light shows on the first command (issue 14,
+//! items 1 and 2): the default camera (`igi_render::viewpoint`) stands inside an interior at
+//! eye height looking along its long axis, or frames an object from a three-quarter view
+//! above its front; the default light (`igi_render::default_light`) lights what its own
+//! lights do not, a sun and a sky in the open and a light at the camera when enclosed.
+
+mod common;
+
+use common::{box_faces, diffuse, emitter, horizontal_square, scene};
+use glam::{Vec2, Vec3};
+use igi_render::{
+    DefaultLight, FrameRenderer, FrameState, IgiSettings, PinholeCamera, PreparedScene, add_default_light,
+    default_camera,
+};
+use igi_scene::{Camera, Mesh, Scene};
+
+/// A room 12 × 3 × 6 (long along X), walls facing in, with a table in it.
+fn room(lights: Vec<Mesh>) -> Scene {
+    let mut meshes = box_faces(Vec3::new(0.0, 1.5, 0.0), Vec3::new(6.0, 1.5, 3.0), true, 0);
+    meshes.extend(box_faces(Vec3::new(2.0, 0.4, 1.0), Vec3::new(0.8, 0.4, 0.5), false, 0));
+    let materials = vec![diffuse("wall", 0.6), emitter("lamp", Vec3::splat(20.0))];
+    meshes.extend(lights);
+    scene(meshes, materials, Vec::new())
+}
+
+/// A closed box 2 × 1 × 1 standing on nothing: an object.
+fn object() -> Scene {
+    scene(box_faces(Vec3::ZERO, Vec3::new(1.0, 0.5, 0.5), false, 0), vec![diffuse("clay", 0.7)], Vec::new())
+}
+
+fn inside(bounds: &igi_bvh::Aabb, p: Vec3) -> bool {
+    p.cmpgt(bounds.min).all() && p.cmplt(bounds.max).all()
+}
+
+#[test]
+fn an_interior_is_seen_from_inside_at_eye_height_along_its_long_axis() {
+    let prepared = PreparedScene::new(room(Vec::new()));
+    let camera = default_camera(&prepared);
+    assert!(inside(&prepared.bounds(), camera.position), "{camera:?}");
+    let height = camera.position.y;
+    assert!((0.5..=1.5).contains(&height), "eye at {height} in a room 3 high: {camera:?}");
+    let forward = (camera.target - camera.position).normalize();
+    assert!(forward.x.abs() > 0.9, "looks along the room's long axis (X): {forward}");
+    assert!((0.0..0.3).contains(&forward.y), "level or a little upward: {forward}");
+    // It looks down the room, not into a near wall.
+    let ahead = prepared.accel().intersect(&igi_bvh::Ray::new(camera.position, forward));
+    assert!(ahead.t > 6.0, "{} units of room ahead", ahead.t);
+}
+
+#[test]
+fn an_object_is_framed_from_a_three_quarter_view_above_its_front() {
+    let prepared = PreparedScene::new(object());
+    let camera = default_camera(&prepared);
+    let bounds = prepared.bounds();
+    assert!(!inside(&bounds, camera.position));
+    let from = (camera.position - bounds.centroid()).normalize();
+    assert!(from.z > 0.3, "on the front (+Z) side: {from}");
+    assert!(from.x.abs() > 0.3, "three-quarter, not face-on: {from}");
+    assert!((0.2..0.8).contains(&from.y), "from above: {from}");
+    let pin = PinholeCamera::new(&camera, 640, 480);
+    for c in bounds.corners() {
+        let d = (c - camera.position).normalize();
+        let (x, y) = (d.dot(pin.right) / d.dot(pin.forward), d.dot(pin.up) / d.dot(pin.forward));
+        assert!(
+            x.abs() < pin.tan_half * pin.aspect && y.abs() < pin.tan_half,
+            "corner {c} outside the image"
+        );
+    }
+}
+
+#[test]
+fn an_open_box_is_seen_through_its_open_side() {
+    // The Cornell box's shape: five walls facing in, the +Z side open.
+    let mut meshes = box_faces(Vec3::new(0.0, 1.0, 0.0), Vec3::ONE, true, 0);
+    meshes.remove(5);
+    let prepared = PreparedScene::new(scene(meshes, vec![diffuse("wall", 0.7)], Vec::new()));
+    let camera = default_camera(&prepared);
+    assert!(camera.position.z > 1.0, "outside, in front of the opening: {camera:?}");
+    let forward = (camera.target - camera.position).normalize();
+    assert!(forward.z < -0.9, "looking in: {forward}");
+}
+
+/// Mean radiance of a small default frame of `prepared` from the camera it starts with.
+fn mean_radiance(prepared: &mut PreparedScene) -> f32 {
+    let camera = igi_render::start_camera(prepared);
+    let settings = IgiSettings { width: 64, height: 48, aa: 1, ..IgiSettings::default() };
+    let out = FrameRenderer::new(2).render(prepared, &FrameState::new(camera, settings), &|_, _| {}).unwrap();
+    let film = out.image.film().unwrap();
+    film.pixels().iter().map(|p| p.element_sum() / 3.0).sum::<f32>() / film.pixels().len() as f32
+}
+
+#[test]
+fn an_unlit_object_gets_a_sun_and_a_sky_and_says_so() {
+    let mut prepared = PreparedScene::new(object());
+    let warning = add_default_light(&mut prepared, true).expect("a warning");
+    assert!(warning.contains("sun and a sky") && warning.contains("--no-default-light"), "{warning}");
+    assert_eq!(prepared.lights().len(), 1);
+    assert!(prepared.environment().is_some());
+    assert!(mean_radiance(&mut prepared) > 0.05);
+}
+
+#[test]
+fn an_unlit_room_gets_a_light_at_the_camera() {
+    let mut prepared = PreparedScene::new(room(Vec::new()));
+    let camera = igi_render::start_camera(&prepared);
+    assert_eq!(DefaultLight::choose(&mut prepared, &camera), Some(DefaultLight::Headlight));
+    let warning = add_default_light(&mut prepared, true).unwrap();
+    assert!(warning.contains("light at the camera"), "{warning}");
+    assert!(mean_radiance(&mut prepared) > 0.01);
+}
+
+#[test]
+fn a_room_its_own_lamp_lights_gets_nothing() {
+    let lamp = horizontal_square("lamp", Vec3::new(0.0, 2.99, 0.0), Vec2::new(1.0, 0.5), false, 1);
+    let mut prepared = PreparedScene::new(room(vec![lamp]));
+    assert_eq!(add_default_light(&mut prepared, true), None);
+    assert!(prepared.lights().is_empty() && prepared.environment().is_none());
+}
+
+#[test]
+fn no_default_light_leaves_an_unlit_scene_dark() {
+    let mut prepared = PreparedScene::new(object());
+    let warning = add_default_light(&mut prepared, false).expect("a warning that it stays dark");
+    assert!(warning.contains("--no-default-light"), "{warning}");
+    assert_eq!(mean_radiance(&mut prepared), 0.0);
+}
+
+#[test]
+fn the_camera_is_chosen_once() {
+    let mut prepared = PreparedScene::new(room(Vec::new()));
+    assert!(prepared.camera().is_none());
+    add_default_light(&mut prepared, true);
+    let fixed: Camera = *prepared.camera().expect("fixed");
+    assert_eq!(fixed, default_camera(&prepared));
+}
