@@ -79,8 +79,13 @@ pub struct Material {
     /// Optional glTF `metallicRoughnessTexture` (index into [`Scene::textures`], linear): its
     /// blue channel multiplies `metallic` and its green channel `roughness`, per texel.
     pub metallic_roughness_texture: Option<u32>,
-    /// Emitted radiance L_e in W/(sr m²) toward the front side (the winding normal).
+    /// Emitted radiance L_e in W/(sr m²) toward the front side (the winding normal); with
+    /// `emission_texture`, the factor its texels multiply.
     pub emission: Vec3,
+    /// Optional emissive texture (glTF `emissiveTexture`, MTL `map_Ke`; index into
+    /// [`Scene::textures`], sRGB): the emitted radiance at a point is `emission` × the texel
+    /// there (glTF 2.0, section 3.9.3: "emissiveFactor … multiplied by the emissive texture").
+    pub emission_texture: Option<u32>,
     /// Optional bump or height map (index into [`Scene::textures`]).
     pub bump_texture: Option<u32>,
     /// Optional tangent-space normal map (glTF `normalTexture`; index into
@@ -128,6 +133,7 @@ impl Default for Material {
             roughness: 1.0,
             metallic_roughness_texture: None,
             emission: Vec3::ZERO,
+            emission_texture: None,
             bump_texture: None,
             normal_texture: None,
             normal_scale: 1.0,

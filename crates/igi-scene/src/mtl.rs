@@ -13,7 +13,7 @@
 //! |---|---|
 //! | `Kd`, `map_Kd` | `diffuse` (clamped to [0, 1]), `diffuse_texture` (sRGB) |
 //! | `Ks`, `Ns` | `glossy` (a mirror's reflectance for `illum` 3, 5), `exponent` |
-//! | `Ke` | `emission` (radiance) |
+//! | `Ke`, `map_Ke` | `emission` (radiance), `emission_texture` (sRGB, multiplies `Ke`; without `Ke` the texture alone gives the radiance, `Ke` 1) |
 //! | `bump`, `map_bump`, `map_Bump` | `bump_texture` (linear) |
 //! | `d`, else `Tr` | `transparency` = 1 − `d`, else `Tr`. `Tr` is *transparency*: files that write both (`d 1` and `Tr 0`) agree, and `d` wins when they don't |
 //! | `Ni` | `ior` (glass without `Ni` gets 1.5) |
@@ -190,6 +190,12 @@ fn material(
         let (dir, name) = (texture_dir?, name.as_deref()?);
         textures.file(dir, name, space, file, report)
     };
+    let emission_texture = load(&m.unknown_param.get("map_Ke").cloned(), ColorSpace::Srgb);
+    let emission = match (m.emissive, emission_texture) {
+        (Some(ke), _) => Vec3::from(ke).max(Vec3::ZERO),
+        (None, Some(_)) => Vec3::ONE,
+        (None, None) => defaults.emission,
+    };
     Material {
         name: m.name.clone(),
         diffuse: clamped,
@@ -199,7 +205,8 @@ fn material(
         metallic: defaults.metallic,
         roughness: defaults.roughness,
         metallic_roughness_texture: None,
-        emission: m.emissive.map_or(defaults.emission, Vec3::from).max(Vec3::ZERO),
+        emission,
+        emission_texture,
         bump_texture: load(&m.normal_texture, ColorSpace::Linear),
         normal_texture: None,
         normal_scale: 1.0,

@@ -20,7 +20,6 @@ use std::io::Cursor;
 use std::path::Path;
 use std::sync::Arc;
 
-use glam::{DVec3, Vec3};
 use image::{ColorType, ImageDecoder, ImageFormat, ImageReader, Limits};
 
 use crate::error::SceneError;
@@ -329,16 +328,6 @@ impl TextureSet {
         if let Some(texture) = self.textures.get_mut(index as usize) {
             texture.wrap = wrap;
         }
-    }
-
-    /// The average linear RGB of texture `index` (glTF emissive maps: see `gltf_loader`).
-    pub fn mean_rgb(&self, index: u32) -> Option<Vec3> {
-        let texels = &self.textures.get(index as usize)?.image.texels;
-        let sum = (0..texels.len()).fold(DVec3::ZERO, |sum, i| {
-            let [r, g, b, _] = texels.linear(i);
-            sum + DVec3::new(r.into(), g.into(), b.into())
-        });
-        Some((sum / texels.len().max(1) as f64).as_vec3())
     }
 
     /// The loaded textures, in the order their indices refer to.

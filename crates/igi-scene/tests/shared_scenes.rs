@@ -213,8 +213,7 @@ fn gltf_samples() {
         sample("InterpolationTest/glTF/InterpolationTest.gltf", 110, 10, 10, 1),
         sample("Cameras/glTF-Embedded/Cameras.gltf", 2, 1, 1, 0),
         sample("DracoSphereLights/glTF/sphere_lights.gltf", 224, 1, 1, 2),
-        // Base colour, metallic-roughness, normal map, and the emissive map (whose mean colour
-        // is its emission).
+        // Base colour, metallic-roughness, normal map and emissive map.
         sample("DamagedHelmet/glTF/DamagedHelmet.gltf", 15_452, 1, 1, 4),
         Sample {
             warning: Some("skinned mesh loaded in its bind pose"),
@@ -283,12 +282,21 @@ fn gltf_hierarchies_cameras_lights_and_emission() {
     assert!((spots[0].2.length() - 1.0).abs() < 1e-5);
 
     let (helmet, _) = load("gltf_details", "gltf-samples/DamagedHelmet/glTF/DamagedHelmet.gltf").unwrap();
-    let emission = helmet.materials[0].emission;
-    assert!(
-        emission.max_element() > 0.0 && emission.max_element() < 0.5,
-        "averaged emissive map: {emission}"
+    // emissiveFactor [1, 1, 1] and the emissive map, which multiplies it per texel (sRGB).
+    let m = &helmet.materials[0];
+    assert_eq!(m.emission, Vec3::ONE);
+    let emissive = &helmet.textures[m.emission_texture.expect("emissiveTexture") as usize];
+    assert!(matches!(
+        emissive.image.texels,
+        igi_scene::Texels::Rgba8 { space: igi_scene::ColorSpace::Srgb, .. }
+    ));
+    let lit = (0..emissive.image.texels.len()).filter(|&i| emissive.image.texels.linear(i)[0] > 0.1).count();
+    assert!(lit > 1000 && lit < emissive.image.texels.len() / 2, "{lit} glowing texels");
+    assert_eq!(
+        helmet.emissive_triangle_count(),
+        15_452,
+        "one emissive material; the renderer skips black texels"
     );
-    assert_eq!(helmet.emissive_triangle_count(), 15_452);
     // A glTF metallic-roughness material: factors 1 and 1, the linear metallic-roughness map
     // carrying the per-texel values (metal panels and rough paint both).
     let m = &helmet.materials[0];

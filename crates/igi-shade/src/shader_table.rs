@@ -1,7 +1,8 @@
 //! [`ShaderTable`]: the surface shader of every material of a scene, built once when the scene
 //! is prepared: a material's procedural `[[shader]]` ([`ProceduralShader`]) if it has one,
 //! else its [`MaterialShader`]. Each texture a material reads is turned into a [`MipMap`] once
-//! and shared between the materials that use it.
+//! and shared between the materials that use it; the renderer's light sampling reads the
+//! same pyramids of the emission textures ([`ShaderTable::maps`]).
 
 use crate::texture::MipMap;
 use crate::{MaterialShader, ProceduralShader, SurfaceShader};
@@ -12,6 +13,7 @@ use std::sync::Arc;
 #[derive(Debug)]
 pub struct ShaderTable {
     shaders: Vec<Arc<dyn SurfaceShader>>,
+    maps: Vec<Option<Arc<MipMap>>>,
 }
 
 impl ShaderTable {
@@ -21,8 +23,14 @@ impl ShaderTable {
         let used = |t: usize| {
             materials.iter().any(|m| {
                 m.shader.is_none()
-                    && [m.diffuse_texture, m.bump_texture, m.normal_texture, m.metallic_roughness_texture]
-                        .contains(&Some(t as u32))
+                    && [
+                        m.diffuse_texture,
+                        m.emission_texture,
+                        m.bump_texture,
+                        m.normal_texture,
+                        m.metallic_roughness_texture,
+                    ]
+                    .contains(&Some(t as u32))
             })
         };
         let maps: Vec<Option<Arc<MipMap>>> =
@@ -36,7 +44,13 @@ impl ShaderTable {
                 }
             })
             .collect();
-        Self { shaders }
+        Self { shaders, maps }
+    }
+
+    /// The pyramid of each texture, indexed as the scene's textures (`None` for a texture no
+    /// material shader reads).
+    pub fn maps(&self) -> &[Option<Arc<MipMap>>] {
+        &self.maps
     }
 
     /// The shaders, indexed by material.
