@@ -44,6 +44,7 @@
 
 pub mod camera;
 pub mod cancel;
+pub mod cutout;
 pub mod discontinuity;
 pub mod environment;
 pub mod film;

@@ -11,7 +11,12 @@
 //! BRDF parameters. Each material gets its shader from [`ShaderTable`] (its procedural
 //! `[[shader]]`, or the textured material shader), and a user may replace it by their own
 //! [`SurfaceShader`] ([`PreparedScene::set_shader`]).
+//!
+//! Materials with an alpha cut-out make the acceleration structure pass through their cut
+//! texels ([`AlphaCutouts`], given to [`Accel::set_cutouts`]), so no query of any renderer
+//! sees them.
 
+use crate::cutout::{AlphaCutouts, MeshMaterials};
 use crate::environment::EnvironmentLight;
 use crate::frame::ScenePose;
 use crate::lights::{AreaLights, EmissionMap, EmissiveTriangle, eye_light, footprint_mean};
@@ -169,6 +174,15 @@ impl PreparedScene {
         let table = ShaderTable::new(&prepared.materials, &prepared.textures);
         prepared.maps = table.maps().to_vec();
         prepared.shaders = table.into_shaders();
+        let meshes =
+            prepared.meshes.iter().zip(prepared.accel.meshes()).map(|(shading, mesh)| MeshMaterials {
+                material_ids: &shading.material_ids,
+                indices: &mesh.indices,
+                uvs: shading.uvs.as_deref(),
+            });
+        if let Some((cutouts, may_cut)) = AlphaCutouts::new(&prepared.materials, &prepared.maps, meshes) {
+            prepared.accel.set_cutouts(&may_cut, Arc::new(cutouts));
+        }
         prepared.uniform = prepared.shaders.iter().map(|s| s.uniform().map(BrdfParams::conserving)).collect();
         prepared.area_lights = AreaLights::new(
             prepared.collect_emissive(0..prepared.accel.instance_count() as u32),

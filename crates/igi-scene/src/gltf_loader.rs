@@ -22,7 +22,10 @@
 //!   shows the texture and the renderer's light sampling chooses emissive triangles by the
 //!   texture's integral over them (an emissive map that cannot be read gives no emission
 //!   rather than a uniform glow). `normal_texture` and
-//!   `normal_scale` = normalTexture (linear) and its scale. Textures take the wrap modes of
+//!   `normal_scale` = normalTexture (linear) and its scale. `alphaMode: MASK` becomes an
+//!   `alpha_mask` (coverage = baseColorFactor.a × the base colour texture's alpha, cut below
+//!   `alphaCutoff`, default 0.5; glTF 3.9.4), which every ray of the renderer passes through;
+//!   `BLEND` is kept only as `transparency` and renders opaque, as does `OPAQUE`. Textures take the wrap modes of
 //!   their samplers (wrapS, wrapT). Occlusion maps are not used. Primitives without a material get the grey default
 //!   of the other formats rather than glTF's white metal.
 //! - KHR_lights_punctual: colour × intensity, with candela read as W/sr and lux as W/m² (the

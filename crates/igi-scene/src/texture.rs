@@ -330,6 +330,15 @@ impl TextureSet {
         }
     }
 
+    /// True if every texel of texture `index` has alpha 1 (an image without an alpha channel,
+    /// or one that does not use it).
+    pub fn is_opaque(&self, index: u32) -> bool {
+        self.textures.get(index as usize).is_none_or(|t| {
+            let texels = &t.image.texels;
+            (0..texels.len()).all(|i| texels.linear(i)[3] >= 1.0)
+        })
+    }
+
     /// The loaded textures, in the order their indices refer to.
     pub fn into_textures(self) -> Vec<Texture> {
         self.textures

@@ -142,7 +142,13 @@ fn lost_empire() {
     assert_eq!(material(&scene, "Stationary_Lava").emission, Vec3::new(0.3, 0.05, 0.01));
     assert_eq!(material(&scene, "Torch").emission, Vec3::ZERO, "its Ke is commented out");
     assert_eq!(scene.emissive_triangle_count(), 162);
-    assert_eq!(scene.textures.len(), 2, "RGB and RGBA atlases (map_d is not used)");
+    assert_eq!(scene.textures.len(), 3, "RGB and RGBA atlases, and the alpha atlas of map_d");
+    // Leaves, water, rails and the like cut out by lost_empire-Alpha.png, an RGBA image whose
+    // alpha is opaque everywhere: the mask is its grey level.
+    let masked: Vec<&igi_scene::Material> =
+        scene.materials.iter().filter(|m| m.alpha_mask.is_some()).collect();
+    assert!(masked.iter().any(|m| m.name == "Leaves") && masked.len() > 5, "{} masked", masked.len());
+    assert!(masked.iter().all(|m| m.alpha_mask.unwrap().channel == igi_scene::CoverageChannel::Luminance));
     assert!(scene.meshes[0].normals.is_none(), "all normals are flat and are dropped");
     assert_bounds(scene.bounds(), [-37.0, 0.0, -82.0], [38.0, 49.0, 83.0], 1e-3);
 }

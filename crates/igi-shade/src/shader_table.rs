@@ -2,7 +2,8 @@
 //! is prepared: a material's procedural `[[shader]]` ([`ProceduralShader`]) if it has one,
 //! else its [`MaterialShader`]. Each texture a material reads is turned into a [`MipMap`] once
 //! and shared between the materials that use it; the renderer's light sampling reads the
-//! same pyramids of the emission textures ([`ShaderTable::maps`]).
+//! same pyramids of the emission textures and the alpha cut-outs' masks
+//! ([`ShaderTable::maps`]).
 
 use crate::texture::MipMap;
 use crate::{MaterialShader, ProceduralShader, SurfaceShader};
@@ -19,18 +20,20 @@ pub struct ShaderTable {
 impl ShaderTable {
     /// The shaders of `materials`, whose texture indices refer to `textures`.
     pub fn new(materials: &[Material], textures: &[Texture]) -> Self {
-        // Only the textures some material reads get a pyramid (the sky's image, say, does not).
+        // Only the textures some material reads get a pyramid (the sky's image, say, does not);
+        // the renderer reads a cut-out's mask whatever shades the surface.
         let used = |t: usize| {
             materials.iter().any(|m| {
-                m.shader.is_none()
-                    && [
-                        m.diffuse_texture,
-                        m.emission_texture,
-                        m.bump_texture,
-                        m.normal_texture,
-                        m.metallic_roughness_texture,
-                    ]
-                    .contains(&Some(t as u32))
+                m.alpha_mask.is_some_and(|mask| mask.texture == Some(t as u32))
+                    || (m.shader.is_none()
+                        && [
+                            m.diffuse_texture,
+                            m.emission_texture,
+                            m.bump_texture,
+                            m.normal_texture,
+                            m.metallic_roughness_texture,
+                        ]
+                        .contains(&Some(t as u32)))
             })
         };
         let maps: Vec<Option<Arc<MipMap>>> =

@@ -1,7 +1,7 @@
 //! glTF materials (metallic-roughness, emission with its texture per texel, normal maps,
-//! transmission) mapped onto [`Material`] (a [`MaterialKind::MetallicRoughness`] keeps glTF's
-//! base colour, metallic and roughness factors and textures for the renderer's GGX BRDF), and
-//! their textures and images.
+//! transmission, alpha cut-outs) mapped onto [`Material`] (a [`MaterialKind::MetallicRoughness`]
+//! keeps glTF's base colour, metallic and roughness factors and textures for the renderer's GGX
+//! BRDF), and their textures and images.
 
 use std::path::PathBuf;
 
@@ -9,7 +9,7 @@ use glam::Vec3;
 
 use super::buffers::{Uri, classify_uri};
 use super::loader::Loader;
-use crate::model::{Material, MaterialKind, Wrap};
+use crate::model::{AlphaMask, CoverageChannel, Material, MaterialKind, Wrap};
 use crate::texels::ColorSpace;
 
 impl Loader<'_> {
@@ -94,6 +94,15 @@ impl Loader<'_> {
             } else {
                 0.0
             },
+            // glTF 3.9.4: MASK cuts where baseColorFactor.a × the base colour texture's alpha
+            // is below alphaCutoff (default 0.5); OPAQUE ignores alpha, and BLEND, which the
+            // renderer does not blend, renders opaque too.
+            alpha_mask: (material.alpha_mode() == gltf::material::AlphaMode::Mask).then(|| AlphaMask {
+                factor: a,
+                texture: diffuse_texture,
+                channel: CoverageChannel::Alpha,
+                cutoff: material.alpha_cutoff().unwrap_or(0.5),
+            }),
             ior: material.ior().filter(|&ior| ior > 0.0).unwrap_or(1.5),
             kind,
             shader: None,
