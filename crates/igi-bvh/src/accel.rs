@@ -6,6 +6,12 @@
 //! Triangles are stored in BVH leaf order, so a leaf's triangles are contiguous and a hit's
 //! `prim` indexes the mesh directly; [`Accel::build`] returns the permutation so the caller can
 //! reorder its own per-triangle data (materials) to match.
+//!
+//! Alpha cut-outs ([`Accel::set_cutouts`]): triangles flagged as possibly cut hand their hits
+//! to a [`HitFilter`], and a hit it calls cut is no hit, so a closest-hit query goes on to
+//! what lies behind and an any-hit query passes. The flags are one bit per triangle, kept only
+//! for meshes that have a flagged triangle; every other mesh is walked by a kernel without the
+//! test (chosen once per instance visit), so opaque geometry pays nothing.
 
 use crate::aabb::Aabb;
 use crate::build::{BuildParams, build_binned_sah};
@@ -16,6 +22,24 @@ use crate::traverse::{BoxRay1, BoxRay8, BoxTest, Query, walk};
 use crate::triangle::{Shear, Shear8, ShearUniform, TriangleHit, intersect};
 use glam::{Affine3A, Vec3};
 use igi_simd::{F32x8, I32x8, LaneMask, Lanes, M32x8, Vec3x8};
+use std::sync::Arc;
+
+/// Decides whether a hit on a triangle that may be cut out is really there (alpha cut-outs:
+/// glTF `alphaMode: MASK`, MTL `map_d`; the renderer reads the texels).
+pub trait HitFilter: Send + Sync + std::fmt::Debug {
+    /// True if the surface is absent at barycentric weights (`u`, `v`) of the second and third
+    /// corner of stored triangle `prim` of mesh `mesh`. Must be a function of its arguments
+    /// alone: every query and every packet lane asks it the same question.
+    fn is_cut(&self, mesh: u32, prim: u32, u: f32, v: f32) -> bool;
+}
+
+/// The cut-outs of a structure: which triangles may be cut, and what decides.
+#[derive(Clone, Debug)]
+struct Cutouts {
+    /// Per mesh, one bit per stored triangle that may be cut; empty for a mesh with none.
+    may_cut: Vec<Vec<u64>>,
+    filter: Arc<dyn HitFilter>,
+}
 
 /// Triangle geometry as the acceleration structure stores it.
 #[derive(Clone, Debug, Default)]
@@ -70,6 +94,7 @@ pub struct Accel {
     placements: Vec<Placement>,
     tlas: Bvh,
     params: BuildParams,
+    cutouts: Option<Cutouts>,
 }
 
 /// A triangle's bounding box.
@@ -110,9 +135,30 @@ impl Accel {
             placements,
             tlas: Bvh { nodes: Vec::new(), prim_order: Vec::new() },
             params,
+            cutouts: None,
         };
         accel.build_tlas();
         (accel, orders)
+    }
+
+    /// Subjects the triangles flagged in `may_cut` (per mesh, per stored triangle; a missing or
+    /// short list flags none) to `filter`: a hit it calls cut is no hit for any query. Meshes
+    /// without a flagged triangle keep the walk without the test.
+    pub fn set_cutouts(&mut self, may_cut: &[Vec<bool>], filter: Arc<dyn HitFilter>) {
+        let bits: Vec<Vec<u64>> = (0..self.meshes.len())
+            .map(|mesh| {
+                let flags = may_cut.get(mesh).map_or(&[][..], Vec::as_slice);
+                if !flags.contains(&true) {
+                    return Vec::new();
+                }
+                let mut bits = vec![0u64; flags.len().div_ceil(64)];
+                for (prim, _) in flags.iter().enumerate().filter(|(_, f)| **f) {
+                    bits[prim / 64] |= 1 << (prim % 64);
+                }
+                bits
+            })
+            .collect();
+        self.cutouts = bits.iter().any(|b| !b.is_empty()).then_some(Cutouts { may_cut: bits, filter });
     }
 
     /// Moves the instances (same count and meshes as at build time) and rebuilds the top level.
@@ -277,7 +323,8 @@ impl Accel {
     }
 
     /// Walks the bottom-level BVH of `mesh`, placed as instance `inst`, with rays in its object
-    /// space, and tests the triangles of every leaf reached until the query has its answer.
+    /// space, and tests the triangles of every leaf reached until the query has its answer;
+    /// with the cut-out test only if the mesh has a triangle that may be cut.
     #[inline(always)]
     fn walk_mesh<L: Lanes, Q: TriangleQuery<L>, S: Shear<L>, B: BoxTest<L>>(
         &self,
@@ -287,16 +334,101 @@ impl Accel {
         shear: &S,
         boxes: &B,
         q: &mut Q,
+    ) where
+        for<'a> MayCut<'a>: Cut<L>,
+    {
+        let cut = self.cutouts.as_ref().and_then(|c| {
+            let bits = &c.may_cut[mesh as usize];
+            (!bits.is_empty()).then_some(MayCut { bits, filter: c.filter.as_ref(), mesh })
+        });
+        match cut {
+            None => self.walk_triangles(mesh, inst, start, shear, boxes, q, Opaque),
+            Some(cut) => self.walk_triangles(mesh, inst, start, shear, boxes, q, cut),
+        }
+    }
+
+    /// [`Accel::walk_mesh`] with the hits of each triangle test passed through `cut`.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn walk_triangles<L: Lanes, Q: TriangleQuery<L>, S: Shear<L>, B: BoxTest<L>, C: Cut<L>>(
+        &self,
+        mesh: u32,
+        inst: u32,
+        start: &RayStart<L>,
+        shear: &S,
+        boxes: &B,
+        q: &mut Q,
+        cut: C,
     ) {
         let triangles = &self.meshes[mesh as usize];
         walk(&self.blas[mesh as usize].nodes, boxes, q, |q, leaf| {
             for prim in leaf.offset..leaf.offset + leaf.count {
                 let [a, b, c] = triangles.triangle(prim);
-                if !q.take(intersect(start.org, shear, a, b, c, start.tnear, q.tfar()), inst, prim) {
+                let hit = cut.keep(prim, intersect(start.org, shear, a, b, c, start.tnear, q.tfar()));
+                if !q.take(hit, inst, prim) {
                     return;
                 }
             }
         });
+    }
+}
+
+/// What becomes of a triangle test's hits in a mesh's walk: kept as they are ([`Opaque`]), or
+/// filtered by the cut-outs ([`MayCut`]).
+trait Cut<L: Lanes>: Copy {
+    /// The hits of triangle `prim` that are there.
+    fn keep(&self, prim: u32, h: TriangleHit<L>) -> TriangleHit<L>;
+}
+
+/// A mesh without cut-outs: every hit counts, at no cost.
+#[derive(Clone, Copy)]
+struct Opaque;
+
+impl<L: Lanes> Cut<L> for Opaque {
+    #[inline(always)]
+    fn keep(&self, _prim: u32, h: TriangleHit<L>) -> TriangleHit<L> {
+        h
+    }
+}
+
+/// A mesh with cut-outs: the hits on a flagged triangle go through the filter.
+#[derive(Clone, Copy)]
+struct MayCut<'a> {
+    bits: &'a [u64],
+    filter: &'a dyn HitFilter,
+    mesh: u32,
+}
+
+impl MayCut<'_> {
+    #[inline(always)]
+    fn flagged(&self, prim: u32) -> bool {
+        (self.bits[prim as usize / 64] >> (prim % 64)) & 1 != 0
+    }
+}
+
+impl Cut<f32> for MayCut<'_> {
+    #[inline(always)]
+    fn keep(&self, prim: u32, mut h: TriangleHit<f32>) -> TriangleHit<f32> {
+        if h.mask && self.flagged(prim) && self.filter.is_cut(self.mesh, prim, h.u, h.v) {
+            h.mask = false;
+        }
+        h
+    }
+}
+
+impl Cut<F32x8> for MayCut<'_> {
+    #[inline(always)]
+    fn keep(&self, prim: u32, mut h: TriangleHit<F32x8>) -> TriangleHit<F32x8> {
+        let hits = h.mask.bitmask();
+        if hits != 0 && self.flagged(prim) {
+            // Lane by lane, the question a single ray asks: packets stay equal to single rays.
+            let (u, v) = (h.u.to_array(), h.v.to_array());
+            let cut = (0..8)
+                .filter(|&i| hits & (1 << i) != 0 && self.filter.is_cut(self.mesh, prim, u[i], v[i]))
+                .fold(0, |bits, i| bits | (1 << i));
+            h.mask = h.mask.and_not(M32x8::from_bitmask(cut));
+        }
+        h
     }
 }
 

@@ -1,12 +1,15 @@
 //! The traversal kernels against brute force and against each other: the BVH never misses what
 //! a loop over all triangles finds, packets equal single rays lane by lane, instancing equals
-//! baked geometry, and rays cannot slip through the shared edges of a closed mesh.
+//! baked geometry, rays cannot slip through the shared edges of a closed mesh, and cut-out
+//! hits are no hits for any query, packets included.
 
 use glam::{Affine3A, Quat, Vec3};
 use igi_bvh::{
-    Accel, Hit, HitPacket8, INVALID_ID, Ray, RayPacket8, TriangleMesh, intersect_triangle, offset_ray_origin,
+    Accel, Hit, HitFilter, HitPacket8, INVALID_ID, Ray, RayPacket8, TriangleMesh, intersect_triangle,
+    offset_ray_origin,
 };
 use igi_simd::M32x8;
+use std::sync::Arc;
 
 /// Small deterministic generator (SplitMix64) so failures reproduce.
 struct Rng(u64);
@@ -58,10 +61,15 @@ fn single(mesh: TriangleMesh) -> (Accel, TriangleMesh) {
 
 /// The closest hit by looping over every triangle, with the kernels' tie rule.
 fn brute_closest(mesh: &TriangleMesh, ray: &Ray) -> Hit {
+    brute_closest_kept(mesh, ray, |_, _, _| true)
+}
+
+/// [`brute_closest`] of the hits (triangle, u, v) that `kept` keeps.
+fn brute_closest_kept(mesh: &TriangleMesh, ray: &Ray, kept: impl Fn(u32, f32, f32) -> bool) -> Hit {
     let mut best = Hit::miss(ray.tfar);
     for p in 0..mesh.indices.len() as u32 {
         let r = Ray { tfar: best.t, ..*ray };
-        if let Some((t, u, v)) = intersect_triangle(&r, mesh.triangle(p)) {
+        if let Some((t, u, v)) = intersect_triangle(&r, mesh.triangle(p)).filter(|&(_, u, v)| kept(p, u, v)) {
             if t < best.t || (t == best.t && p < best.prim) {
                 best = Hit { t, u, v, instance: 0, prim: p };
             }
@@ -135,31 +143,66 @@ fn check_packet(accel: &Accel, rays: &[Ray; 8], active: M32x8) {
     }
 }
 
+/// The rays of packet `round`: incoherent packets (mixed permutations) alternate with
+/// coherent ones (a pinhole camera's 4x2 block, or shadow rays converging on one point).
+fn packet_rays(rng: &mut Rng, mesh: &TriangleMesh, round: u32) -> [Ray; 8] {
+    match round % 3 {
+        0 => std::array::from_fn(|_| random_ray(rng, mesh)),
+        1 => {
+            let o = rng.v(-15.0, 15.0);
+            let d = rng.dir();
+            std::array::from_fn(|i| Ray::new(o, d + 0.02 * Vec3::new((i % 4) as f32, (i / 4) as f32, 0.0)))
+        }
+        _ => {
+            let light = rng.v(-12.0, 12.0);
+            let c = rng.v(-10.0, 10.0);
+            std::array::from_fn(|_| {
+                let o = c + rng.v(-1.0, 1.0);
+                Ray { origin: o, dir: light - o, tnear: 1e-4, tfar: 1.0 - 1e-4 }
+            })
+        }
+    }
+}
+
 #[test]
 fn packets_equal_single_rays_lane_by_lane() {
     let mut rng = Rng(2);
     let (accel, mesh) = single(soup(&mut rng, 2000, 1.0));
     for round in 0..1500 {
-        // Alternate incoherent packets (mixed permutations) and coherent ones (a pinhole
-        // camera's 4x2 block, or shadow rays converging on one point).
-        let rays: [Ray; 8] = match round % 3 {
-            0 => std::array::from_fn(|_| random_ray(&mut rng, &mesh)),
-            1 => {
-                let o = rng.v(-15.0, 15.0);
-                let d = rng.dir();
-                std::array::from_fn(|i| {
-                    Ray::new(o, d + 0.02 * Vec3::new((i % 4) as f32, (i / 4) as f32, 0.0))
-                })
-            }
-            _ => {
-                let light = rng.v(-12.0, 12.0);
-                let c = rng.v(-10.0, 10.0);
-                std::array::from_fn(|_| {
-                    let o = c + rng.v(-1.0, 1.0);
-                    Ray { origin: o, dir: light - o, tnear: 1e-4, tfar: 1.0 - 1e-4 }
-                })
-            }
-        };
+        let rays = packet_rays(&mut rng, &mesh, round);
+        let active = M32x8::from_bitmask(if round % 5 == 0 { (rng.next() & 0xff) as u32 } else { 0xff });
+        check_packet(&accel, &rays, active);
+    }
+}
+
+/// A stand-in for an alpha texture: even triangles are cut where u > 0.3.
+#[derive(Debug)]
+struct CutEvenTriangles;
+
+impl HitFilter for CutEvenTriangles {
+    fn is_cut(&self, _mesh: u32, prim: u32, u: f32, _v: f32) -> bool {
+        prim.is_multiple_of(2) && u > 0.3
+    }
+}
+
+#[test]
+fn cut_out_hits_are_no_hits_and_packets_equal_single_rays_through_them() {
+    let mut rng = Rng(5);
+    let (mut accel, mesh) = single(soup(&mut rng, 2000, 1.0));
+    let flags: Vec<bool> = (0..mesh.indices.len()).map(|p| p.is_multiple_of(2)).collect();
+    accel.set_cutouts(&[flags], Arc::new(CutEvenTriangles));
+    let (mut passed, mut hits) = (0, 0);
+    for _ in 0..3000 {
+        let ray = random_ray(&mut rng, &mesh);
+        let want = brute_closest_kept(&mesh, &ray, |p, u, v| !CutEvenTriangles.is_cut(0, p, u, v));
+        assert_eq!(accel.intersect(&ray), want, "closest hit, ray {ray:?}");
+        assert_eq!(accel.occluded(&ray), want.is_hit(), "any hit, ray {ray:?}");
+        hits += u32::from(want.is_hit());
+        passed += u32::from(brute_closest(&mesh, &ray) != want);
+    }
+    assert!(hits > 500 && passed > 100, "{hits} hits, {passed} rays passed a cut");
+    for round in 0..1500 {
+        let rays = packet_rays(&mut rng, &mesh, round);
         let active = M32x8::from_bitmask(if round % 5 == 0 { (rng.next() & 0xff) as u32 } else { 0xff });
         check_packet(&accel, &rays, active);
     }

@@ -45,6 +45,7 @@
 
 pub mod camera;
 pub mod cancel;
+pub mod cutout;
 pub mod default_light;
 pub mod discontinuity;
 pub mod environment;

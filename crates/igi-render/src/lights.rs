@@ -3,7 +3,13 @@
 //!
 //! Area lights emit on one side only, toward the triangle's winding normal
 //! `(p1 - p0) × (p2 - p0)` (taken through the instance transform like any normal), with
-//! constant radiance `emission`. A triangle's power is then `π · area · emission`.
+//! radiance `emission`, times the emission texture's texel where the material has one
+//! (glTF `emissiveTexture`, MTL `map_Ke`). A triangle's power is `π · area · L̄` with L̄ its
+//! mean radiance: the texture's integral over the triangle's uv footprint, estimated once by
+//! [`footprint_mean`]. Triangles are chosen by that power and points on them uniformly by
+//! area; a point carries the texel's radiance there, so Φ = L_e(y)/p_A(y) stays an unbiased
+//! estimate wherever the chosen triangle has power (a triangle whose footprint is black is no
+//! light at all).
 //! The same table starts the light paths of instant radiosity ([`crate::vpl`], paper 2.1) and
 //! the path tracer's next-event estimation ([`crate::path_tracer`]).
 
@@ -11,6 +17,9 @@ use crate::sampling::{Cdf, uniform_triangle};
 use glam::{Vec2, Vec3};
 use igi_bvh::Aabb;
 use igi_scene::{Camera, Light};
+use igi_shade::texture::MipMap;
+use std::collections::HashMap;
+use std::sync::Arc;
 
 /// Relative luminance of linear RGB (Rec. 709 primaries).
 #[inline]
@@ -35,8 +44,32 @@ pub struct EmissiveTriangle {
     pub normal: Vec3,
     /// Area in world units squared.
     pub area: f32,
-    /// Emitted radiance toward the front side.
+    /// Emitted radiance toward the front side: the material's `emission`, which the texture
+    /// (if any) multiplies per texel.
     pub emission: Vec3,
+    /// The emission texture and where the triangle lies on it.
+    pub texture: Option<EmissionMap>,
+    /// Mean emitted radiance over the triangle: `emission`, times the texture's
+    /// [`footprint_mean`] for a textured one.
+    pub mean_emission: Vec3,
+}
+
+/// Where an emissive triangle lies on its emission texture.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EmissionMap {
+    /// Index of the texture among the scene's textures.
+    pub texture: u32,
+    /// Texture coordinates of the three corners.
+    pub uvs: [Vec2; 3],
+}
+
+impl EmissionMap {
+    /// The texture coordinates at barycentric weights `b` of the second and third corner.
+    #[inline]
+    pub fn uv(&self, b: Vec2) -> Vec2 {
+        let [t0, t1, t2] = self.uvs;
+        t0 + b.x * (t1 - t0) + b.y * (t2 - t0)
+    }
 }
 
 impl EmissiveTriangle {
@@ -46,10 +79,36 @@ impl EmissiveTriangle {
         self.p0 + b.x * self.e1 + b.y * self.e2
     }
 
-    /// Emitted power (flux) per channel: π · area · emission.
+    /// Emitted power (flux) per channel: π · area · mean radiance.
     pub fn power(&self) -> Vec3 {
-        std::f32::consts::PI * self.area * self.emission
+        std::f32::consts::PI * self.area * self.mean_emission
     }
+}
+
+/// Stratified points per triangle of [`footprint_mean`] (a 4 × 4 grid).
+const FOOTPRINT_STRATA: u32 = 4;
+
+/// The mean RGB of `map` over the triangle with corner texture coordinates `uvs`: the mean
+/// of 16 stratified points (a 4 × 4 grid of the unit square, carried onto the triangle by the
+/// area-preserving [`uniform_triangle`]), each read at the pyramid level whose texels are as
+/// large as the triangle's footprint per point, so that the box-filtered levels average the
+/// texels between the points too (Williams 1983) and a small texture feature inside the
+/// triangle is not missed.
+pub fn footprint_mean(map: &MipMap, uvs: [Vec2; 3]) -> Vec3 {
+    let (width, height) = map.size();
+    let [t0, t1, t2] = uvs;
+    let texels = 0.5 * (t1 - t0).perp_dot(t2 - t0).abs() * width as f32 * height as f32;
+    let n = FOOTPRINT_STRATA * FOOTPRINT_STRATA;
+    let lod = map.lod((texels / n as f32).sqrt());
+    let mut sum = Vec3::ZERO;
+    for j in 0..FOOTPRINT_STRATA {
+        for i in 0..FOOTPRINT_STRATA {
+            let cell = (Vec2::new(i as f32, j as f32) + 0.5) / FOOTPRINT_STRATA as f32;
+            let b = uniform_triangle(cell);
+            sum += map.trilinear(t0 + b.x * (t1 - t0) + b.y * (t2 - t0), lod).truncate();
+        }
+    }
+    sum / n as f32
 }
 
 /// The headlight for a scene without lights: a point light at the camera position whose
@@ -82,18 +141,24 @@ pub struct AreaSample {
 pub struct AreaLights {
     triangles: Vec<EmissiveTriangle>,
     cdf: Cdf,
+    /// The scene's texture pyramids, indexed by texture ([`EmissionMap::texture`]).
+    maps: Vec<Option<Arc<MipMap>>>,
+    /// (instance, stored triangle) → index in `triangles`.
+    index: HashMap<(u32, u32), u32>,
 }
 
 impl AreaLights {
     /// The table of `triangles`, chosen in proportion to their luminous power
-    /// (area × luminance of the emission). Triangles of zero area or emission are dropped.
-    pub fn new(triangles: Vec<EmissiveTriangle>) -> Self {
+    /// (area × luminance of the mean emission); their emission textures are among `maps`.
+    /// Triangles of zero area or mean emission are dropped: nothing could be sampled on them.
+    pub fn new(triangles: Vec<EmissiveTriangle>, maps: Vec<Option<Arc<MipMap>>>) -> Self {
         let triangles: Vec<EmissiveTriangle> = triangles
             .into_iter()
-            .filter(|t| t.area > 0.0 && t.area.is_finite() && luminance(t.emission) > 0.0)
+            .filter(|t| t.area > 0.0 && t.area.is_finite() && luminance(t.mean_emission) > 0.0)
             .collect();
-        let cdf = Cdf::new(triangles.iter().map(|t| t.area * luminance(t.emission)));
-        Self { triangles, cdf }
+        let cdf = Cdf::new(triangles.iter().map(|t| t.area * luminance(t.mean_emission)));
+        let index = triangles.iter().enumerate().map(|(i, t)| ((t.instance, t.prim), i as u32)).collect();
+        Self { triangles, cdf, maps, index }
     }
 
     /// The emissive triangles.
@@ -119,12 +184,33 @@ impl AreaLights {
         }
         let (index, pmf) = self.cdf.sample(select);
         let tri = &self.triangles[index];
+        let b = uniform_triangle(uv);
         Some(AreaSample {
-            point: tri.point(uniform_triangle(uv)),
+            point: tri.point(b),
             normal: tri.normal,
-            emission: tri.emission,
+            emission: self.emission_at(tri, b),
             pdf_area: pmf / tri.area,
             index,
+        })
+    }
+
+    /// The radiance `tri` emits at barycentric weights `b`: its emission times the texel of
+    /// its texture there (full resolution, as every lookup without a camera footprint).
+    #[inline]
+    pub fn emission_at(&self, tri: &EmissiveTriangle, b: Vec2) -> Vec3 {
+        match tri.texture.and_then(|t| Some((t, self.maps.get(t.texture as usize)?.as_ref()?))) {
+            Some((texture, map)) => tri.emission * map.bilinear(texture.uv(b), 0).truncate(),
+            None => tri.emission,
+        }
+    }
+
+    /// The density per unit area with which [`AreaLights::sample`] picks points of stored
+    /// triangle `prim` of `instance`: its selection probability over its area, 0 if it is no
+    /// light (the path tracer weighs emitters its BSDF samples hit against it).
+    pub fn pdf_area(&self, instance: u32, prim: u32) -> f32 {
+        self.index.get(&(instance, prim)).map_or(0.0, |&i| {
+            let i = i as usize;
+            self.cdf.pmf(i) / self.triangles[i].area
         })
     }
 }

@@ -96,7 +96,7 @@ use crate::camera::PinholeCamera;
 use crate::cancel::CancelToken;
 use crate::film::Film;
 use crate::frame::FrameState;
-use crate::lights::{self, SHADOW_SHORTEN, luminance};
+use crate::lights::{self, SHADOW_SHORTEN};
 use crate::prepared::{PreparedScene, SurfacePoint};
 use crate::sampling::{MAX_SAMPLES, hash_combine, pixel_seed, sobol4};
 use crate::scheduler::TileScheduler;
@@ -120,9 +120,6 @@ pub struct PathTracer<'a> {
     camera: PinholeCamera,
     /// The point, spot and directional lights ([`PreparedScene::punctual_lights`]).
     punctual: Vec<Light>,
-    /// Σ area × luminance(L_e) over the area lights: they are sampled with the density
-    /// p_A(y) = luminance(L_e(y)) / `area_light_weight` (power × uniform area).
-    area_light_weight: f32,
     spp: u32,
     seed: u32,
 }
@@ -136,12 +133,6 @@ impl<'a> PathTracer<'a> {
             scene,
             camera: PinholeCamera::new(&frame.camera, frame.settings.width, frame.settings.height),
             punctual: scene.punctual_lights(&frame.camera),
-            area_light_weight: scene
-                .area_lights()
-                .triangles()
-                .iter()
-                .map(|t| t.area * luminance(t.emission))
-                .sum(),
             spp: spp.clamp(1, MAX_SAMPLES),
             seed: frame.sample_seed(),
         }
@@ -205,7 +196,8 @@ impl<'a> PathTracer<'a> {
             let cos_l = -s.geometric_normal.dot(d);
             if cos_l > 0.0 && params.emission.max_element() > 0.0 {
                 let weight = bounce_pdf.map_or(1.0, |p_b| {
-                    power_heuristic(p_b, self.light_pdf(params.emission, hit.t * hit.t, cos_l))
+                    let pdf_area = scene.area_lights().pdf_area(hit.instance, hit.prim);
+                    power_heuristic(p_b, light_pdf(pdf_area, hit.t * hit.t, cos_l))
                 });
                 radiance += beta * params.emission * weight;
             }
@@ -260,7 +252,7 @@ impl<'a> PathTracer<'a> {
         if f == Vec3::ZERO {
             return Vec3::ZERO;
         }
-        let weight = power_heuristic(self.light_pdf(ls.emission, dist2, cos_l), bsdf.pdf(wo, wi));
+        let weight = power_heuristic(light_pdf(ls.pdf_area, dist2, cos_l), bsdf.pdf(wo, wi));
         let e = f * ls.emission * (weight * cos_x * cos_l / (dist2 * ls.pdf_area));
         if !(e.is_finite() && e.max_element() > 0.0) {
             return Vec3::ZERO;
@@ -313,17 +305,6 @@ impl<'a> PathTracer<'a> {
             }
         }
         sum
-    }
-
-    /// The solid-angle density p_l = p_A |x − y|² / cosθ_y with which next-event estimation
-    /// picks the direction toward an emitter point y of radiance `emission` at squared distance
-    /// `dist2`, seen at cosine `cos_l` from its normal.
-    fn light_pdf(&self, emission: Vec3, dist2: f32, cos_l: f32) -> f32 {
-        if self.area_light_weight > 0.0 {
-            luminance(emission) / self.area_light_weight * dist2 / cos_l
-        } else {
-            0.0
-        }
     }
 
     /// True if nothing blocks the segment from `origin` to just before `target`.
@@ -437,4 +418,12 @@ pub fn render_path_traced(
         rays += n;
     }
     (film, rays)
+}
+
+/// The solid-angle density p_l = p_A |x − y|² / cosθ_y with which next-event estimation picks
+/// the direction toward an emitter point y of area density `pdf_area`
+/// ([`AreaLights::pdf_area`](crate::lights::AreaLights::pdf_area)) at squared distance `dist2`,
+/// seen at cosine `cos_l` from its normal.
+fn light_pdf(pdf_area: f32, dist2: f32, cos_l: f32) -> f32 {
+    pdf_area * dist2 / cos_l
 }

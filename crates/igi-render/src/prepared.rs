@@ -11,14 +11,20 @@
 //! BRDF parameters. Each material gets its shader from [`ShaderTable`] (its procedural
 //! `[[shader]]`, or the textured material shader), and a user may replace it by their own
 //! [`SurfaceShader`] ([`PreparedScene::set_shader`]).
+//!
+//! Materials with an alpha cut-out make the acceleration structure pass through their cut
+//! texels ([`AlphaCutouts`], given to [`Accel::set_cutouts`]), so no query of any renderer
+//! sees them.
 
+use crate::cutout::{AlphaCutouts, MeshMaterials};
 use crate::default_light::DefaultLight;
 use crate::environment::EnvironmentLight;
 use crate::frame::ScenePose;
-use crate::lights::{AreaLights, EmissiveTriangle, eye_light};
+use crate::lights::{AreaLights, EmissionMap, EmissiveTriangle, eye_light, footprint_mean};
 use glam::{Affine3A, Mat3A, Vec2, Vec3};
 use igi_bvh::{Aabb, Accel, Hit, TriangleMesh};
 use igi_scene::{Animation, Camera, Light, Material, Pose, Scene, Texture};
+use igi_shade::texture::MipMap;
 use igi_shade::{BrdfParams, BrdfParams8, ShaderTable, ShadingHit8, SurfaceShader};
 use igi_simd::{F32x8, I32x8, M32x8, Vec3x8};
 use std::sync::Arc;
@@ -80,6 +86,9 @@ pub struct PreparedScene {
     normal_matrices: Vec<Option<Mat3A>>,
     /// The surface shader of each material.
     shaders: Vec<Arc<dyn SurfaceShader>>,
+    /// The pyramid of every texture a material shader reads, indexed by texture (the area
+    /// lights read the emission textures' too).
+    maps: Vec<Option<Arc<MipMap>>>,
     /// Per material, the energy-conserving parameters of a shader that gives every hit the
     /// same ([`SurfaceShader::uniform`]).
     uniform: Vec<Option<BrdfParams>>,
@@ -157,6 +166,7 @@ impl PreparedScene {
             environment: None,
             normal_matrices,
             shaders: Vec::new(),
+            maps: Vec::new(),
             uniform: Vec::new(),
             posed: None,
             animation,
@@ -166,10 +176,23 @@ impl PreparedScene {
             is_displaced: false,
             headlight: false,
         };
-        prepared.shaders = ShaderTable::new(&prepared.materials, &prepared.textures).into_shaders();
+        let table = ShaderTable::new(&prepared.materials, &prepared.textures);
+        prepared.maps = table.maps().to_vec();
+        prepared.shaders = table.into_shaders();
+        let meshes =
+            prepared.meshes.iter().zip(prepared.accel.meshes()).map(|(shading, mesh)| MeshMaterials {
+                material_ids: &shading.material_ids,
+                indices: &mesh.indices,
+                uvs: shading.uvs.as_deref(),
+            });
+        if let Some((cutouts, may_cut)) = AlphaCutouts::new(&prepared.materials, &prepared.maps, meshes) {
+            prepared.accel.set_cutouts(&may_cut, Arc::new(cutouts));
+        }
         prepared.uniform = prepared.shaders.iter().map(|s| s.uniform().map(BrdfParams::conserving)).collect();
-        prepared.area_lights =
-            AreaLights::new(prepared.collect_emissive(0..prepared.accel.instance_count() as u32));
+        prepared.area_lights = AreaLights::new(
+            prepared.collect_emissive(0..prepared.accel.instance_count() as u32),
+            prepared.maps.clone(),
+        );
         if let Err(e) =
             prepared.animation.validate(prepared.rest_transforms.len(), prepared.rest_lights.len())
         {
@@ -244,11 +267,15 @@ impl PreparedScene {
         self.normal_matrices = transforms.iter().map(normal_matrix).collect();
         if emitters_moved {
             // Only the instances that have emitters need a look (not every triangle).
-            self.area_lights = AreaLights::new(self.collect_emissive(self.emitter_instances.iter().copied()));
+            self.area_lights = AreaLights::new(
+                self.collect_emissive(self.emitter_instances.iter().copied()),
+                self.maps.clone(),
+            );
         }
     }
 
-    /// The emissive triangles of `instances`, in world space.
+    /// The emissive triangles of `instances`, in world space, each with its mean radiance
+    /// over its footprint on its emission texture.
     fn collect_emissive(&self, instances: impl Iterator<Item = u32>) -> Vec<EmissiveTriangle> {
         let mut out = Vec::new();
         for instance in instances {
@@ -263,6 +290,15 @@ impl PreparedScene {
                 }
                 let [a, b, c] = mesh.triangle(prim as u32).map(|p| m.transform_point3(p));
                 let (e1, e2) = (b - a, c - a);
+                // Texture coordinates as `surface` interpolates them (zero without any).
+                let map = material.emission_texture.and_then(|t| {
+                    let pyramid = self.maps.get(t as usize)?.as_ref()?;
+                    let corners = mesh.indices[prim];
+                    let uvs =
+                        shading.uvs.as_ref().map_or([Vec2::ZERO; 3], |uv| corners.map(|i| uv[i as usize]));
+                    Some((EmissionMap { texture: t, uvs }, footprint_mean(pyramid, uvs)))
+                });
+                let mean_emission = map.map_or(material.emission, |(_, mean)| material.emission * mean);
                 out.push(EmissiveTriangle {
                     instance,
                     prim: prim as u32,
@@ -272,6 +308,8 @@ impl PreparedScene {
                     normal: self.accel.geometric_normal(instance, prim as u32),
                     area: 0.5 * e1.cross(e2).length(),
                     emission: material.emission,
+                    texture: map.map(|(texture, _)| texture),
+                    mean_emission,
                 });
             }
         }

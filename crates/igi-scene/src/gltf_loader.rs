@@ -17,11 +17,15 @@
 //!   metallic-roughness texture is a [`MaterialKind::Mirror`](crate::MaterialKind::Mirror), a
 //!   KHR_materials_transmission factor > 0 a [`MaterialKind::Glass`](crate::MaterialKind::Glass)
 //!   with the KHR_materials_ior index (default 1.5).
-//!   `emission` = emissiveFactor × KHR_materials_emissive_strength × the *average* of the
-//!   emissiveTexture: the model has no emission maps, and the average keeps the emitted power
-//!   right, which is what instant radiosity's light sampling needs (an emissive map that
-//!   cannot be read gives no emission rather than a uniform glow). `normal_texture` and
-//!   `normal_scale` = normalTexture (linear) and its scale. Textures take the wrap modes of
+//!   `emission` = emissiveFactor × KHR_materials_emissive_strength and `emission_texture` =
+//!   emissiveTexture (sRGB), which multiplies it per texel (glTF 3.9.3): the surface shader
+//!   shows the texture and the renderer's light sampling chooses emissive triangles by the
+//!   texture's integral over them (an emissive map that cannot be read gives no emission
+//!   rather than a uniform glow). `normal_texture` and
+//!   `normal_scale` = normalTexture (linear) and its scale. `alphaMode: MASK` becomes an
+//!   `alpha_mask` (coverage = baseColorFactor.a × the base colour texture's alpha, cut below
+//!   `alphaCutoff`, default 0.5; glTF 3.9.4), which every ray of the renderer passes through;
+//!   `BLEND` is kept only as `transparency` and renders opaque, as does `OPAQUE`. Textures take the wrap modes of
 //!   their samplers (wrapS, wrapT). Occlusion maps are not used. Primitives without a material get the grey default
 //!   of the other formats rather than glTF's white metal.
 //! - KHR_lights_punctual: colour × intensity, with candela read as W/sr and lux as W/m² (the

@@ -51,7 +51,9 @@ pub use error::{Location, SceneError};
 use format::{Format, format_of};
 pub use light::Light;
 pub use model::CameraDefect;
-pub use model::{Camera, Instance, Material, MaterialKind, Mesh, Scene, Texture, Wrap};
+pub use model::{
+    AlphaMask, Camera, CoverageChannel, Instance, Material, MaterialKind, Mesh, Scene, Texture, Wrap,
+};
 pub use report::LoadReport;
 pub use resources::read_regular_file;
 pub use shader::{Pattern, ShaderDesc};

@@ -79,8 +79,13 @@ pub struct Material {
     /// Optional glTF `metallicRoughnessTexture` (index into [`Scene::textures`], linear): its
     /// blue channel multiplies `metallic` and its green channel `roughness`, per texel.
     pub metallic_roughness_texture: Option<u32>,
-    /// Emitted radiance L_e in W/(sr m²) toward the front side (the winding normal).
+    /// Emitted radiance L_e in W/(sr m²) toward the front side (the winding normal); with
+    /// `emission_texture`, the factor its texels multiply.
     pub emission: Vec3,
+    /// Optional emissive texture (glTF `emissiveTexture`, MTL `map_Ke`; index into
+    /// [`Scene::textures`], sRGB): the emitted radiance at a point is `emission` × the texel
+    /// there (glTF 2.0, section 3.9.3: "emissiveFactor … multiplied by the emissive texture").
+    pub emission_texture: Option<u32>,
     /// Optional bump or height map (index into [`Scene::textures`]).
     pub bump_texture: Option<u32>,
     /// Optional tangent-space normal map (glTF `normalTexture`; index into
@@ -89,8 +94,12 @@ pub struct Material {
     /// Scale of the normal map's X and Y (glTF `normalTexture.scale`).
     pub normal_scale: f32,
     /// Fraction of light transmitted (1 - opacity), as the source gives it; the renderer's glass
-    /// comes from `kind` (alpha blending and cut-outs are not rendered).
+    /// comes from `kind`, and alpha blending (glTF `BLEND`, MTL `d` < 1) is not rendered: such
+    /// surfaces are opaque. Cut-outs are `alpha_mask`.
     pub transparency: f32,
+    /// An alpha cut-out (glTF `alphaMode: MASK`, MTL `map_d`): where the coverage falls below
+    /// its cutoff the surface is not there for any ray.
+    pub alpha_mask: Option<AlphaMask>,
     /// Index of refraction of a [`MaterialKind::Glass`] material.
     pub ior: f32,
     /// Perfect-mirror or glass behaviour requested by the source (MTL `illum` 3-7).
@@ -98,6 +107,33 @@ pub struct Material {
     /// A procedural shader that replaces the constant and textured parameters above (scene
     /// file `[[shader]]`); `emission` still makes the material an area light.
     pub shader: Option<ShaderDesc>,
+}
+
+/// An alpha cut-out: the coverage at a point is `factor` × the texel's `channel`, and the
+/// surface is absent where it is below `cutoff` (glTF 2.0, 3.9.4: "the rendered output is
+/// either fully opaque or fully transparent depending on the alpha value and the specified
+/// alpha cutoff value").
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AlphaMask {
+    /// Constant coverage (glTF `baseColorFactor` alpha; 1 for MTL).
+    pub factor: f32,
+    /// The texture whose texels multiply `factor` (index into [`Scene::textures`]; glTF's base
+    /// colour texture, MTL's `map_d`).
+    pub texture: Option<u32>,
+    /// Which value of a texel is its coverage.
+    pub channel: CoverageChannel,
+    /// Coverage below this cuts (glTF `alphaCutoff`, default 0.5; 0.5 for MTL).
+    pub cutoff: f32,
+}
+
+/// Which value of a texel an [`AlphaMask`] reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CoverageChannel {
+    /// The alpha channel (glTF; an MTL `map_d` image with an alpha channel that is not opaque
+    /// everywhere).
+    Alpha,
+    /// The luminance of the colour (an MTL `map_d` grey image, whose value is the dissolve).
+    Luminance,
 }
 
 /// The BRDF family a material asks for.
@@ -128,10 +164,12 @@ impl Default for Material {
             roughness: 1.0,
             metallic_roughness_texture: None,
             emission: Vec3::ZERO,
+            emission_texture: None,
             bump_texture: None,
             normal_texture: None,
             normal_scale: 1.0,
             transparency: 0.0,
+            alpha_mask: None,
             ior: 1.0,
             kind: MaterialKind::Plastic,
             shader: None,

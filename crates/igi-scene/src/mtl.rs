@@ -13,14 +13,15 @@
 //! |---|---|
 //! | `Kd`, `map_Kd` | `diffuse` (clamped to [0, 1]), `diffuse_texture` (sRGB) |
 //! | `Ks`, `Ns` | `glossy` (a mirror's reflectance for `illum` 3, 5), `exponent` |
-//! | `Ke` | `emission` (radiance) |
+//! | `Ke`, `map_Ke` | `emission` (radiance), `emission_texture` (sRGB, multiplies `Ke`; without `Ke` the texture alone gives the radiance, `Ke` 1) |
 //! | `bump`, `map_bump`, `map_Bump` | `bump_texture` (linear) |
+//! | `map_d` | `alpha_mask` (cutoff 0.5): the image's alpha, or for an image opaque everywhere (a grey dissolve map) its luminance |
 //! | `d`, else `Tr` | `transparency` = 1 − `d`, else `Tr`. `Tr` is *transparency*: files that write both (`d 1` and `Tr 0`) agree, and `d` wins when they don't |
 //! | `Ni` | `ior` (glass without `Ni` gets 1.5) |
 //! | `illum` 3, 5 / 4, 6, 7 | `kind` Mirror / Glass, otherwise Plastic |
 //!
-//! `Ka`, `Tf`, `map_Ka`, `map_d` (alpha) and the other maps have no place in the model and are
-//! ignored.
+//! `Ka`, `Tf`, `map_Ka` and the other maps have no place in the model and are ignored; so is
+//! `d` < 1 as blending (the surface renders opaque).
 
 use std::collections::HashMap;
 use std::fmt::Write as _;
@@ -29,7 +30,7 @@ use std::path::Path;
 use glam::Vec3;
 
 use crate::error::{Location, SceneError};
-use crate::model::{Material, MaterialKind};
+use crate::model::{AlphaMask, CoverageChannel, Material, MaterialKind};
 use crate::report::LoadReport;
 use crate::statements::{Statement, statements};
 use crate::texels::ColorSpace;
@@ -190,20 +191,43 @@ fn material(
         let (dir, name) = (texture_dir?, name.as_deref()?);
         textures.file(dir, name, space, file, report)
     };
+    let emission_texture = load(&m.unknown_param.get("map_Ke").cloned(), ColorSpace::Srgb);
+    let emission = match (m.emissive, emission_texture) {
+        (Some(ke), _) => Vec3::from(ke).max(Vec3::ZERO),
+        (None, Some(_)) => Vec3::ONE,
+        (None, None) => defaults.emission,
+    };
+    let diffuse_texture = load(&m.diffuse_texture, ColorSpace::Srgb);
+    let bump_texture = load(&m.normal_texture, ColorSpace::Linear);
+    let dissolve_texture = load(&m.dissolve_texture, ColorSpace::Linear);
+    // A dissolve map cuts where its value is below one half; its value is the alpha channel
+    // if the image has one in use, else the grey level.
+    let alpha_mask = dissolve_texture.map(|texture| AlphaMask {
+        factor: 1.0,
+        texture: Some(texture),
+        channel: if textures.is_opaque(texture) {
+            CoverageChannel::Luminance
+        } else {
+            CoverageChannel::Alpha
+        },
+        cutoff: 0.5,
+    });
     Material {
         name: m.name.clone(),
         diffuse: clamped,
-        diffuse_texture: load(&m.diffuse_texture, ColorSpace::Srgb),
+        diffuse_texture,
         glossy: m.specular.map_or(defaults.glossy, Vec3::from).max(Vec3::ZERO),
         exponent: m.shininess.unwrap_or(defaults.exponent).max(0.0),
         metallic: defaults.metallic,
         roughness: defaults.roughness,
         metallic_roughness_texture: None,
-        emission: m.emissive.map_or(defaults.emission, Vec3::from).max(Vec3::ZERO),
-        bump_texture: load(&m.normal_texture, ColorSpace::Linear),
+        emission,
+        emission_texture,
+        bump_texture,
         normal_texture: None,
         normal_scale: 1.0,
         transparency: transparency.clamp(0.0, 1.0),
+        alpha_mask,
         ior: m.optical_density.filter(|&ni| ni > 0.0).unwrap_or(if kind == MaterialKind::Glass {
             1.5
         } else {

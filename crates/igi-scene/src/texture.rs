@@ -20,7 +20,6 @@ use std::io::Cursor;
 use std::path::Path;
 use std::sync::Arc;
 
-use glam::{DVec3, Vec3};
 use image::{ColorType, ImageDecoder, ImageFormat, ImageReader, Limits};
 
 use crate::error::SceneError;
@@ -331,14 +330,13 @@ impl TextureSet {
         }
     }
 
-    /// The average linear RGB of texture `index` (glTF emissive maps: see `gltf_loader`).
-    pub fn mean_rgb(&self, index: u32) -> Option<Vec3> {
-        let texels = &self.textures.get(index as usize)?.image.texels;
-        let sum = (0..texels.len()).fold(DVec3::ZERO, |sum, i| {
-            let [r, g, b, _] = texels.linear(i);
-            sum + DVec3::new(r.into(), g.into(), b.into())
-        });
-        Some((sum / texels.len().max(1) as f64).as_vec3())
+    /// True if every texel of texture `index` has alpha 1 (an image without an alpha channel,
+    /// or one that does not use it).
+    pub fn is_opaque(&self, index: u32) -> bool {
+        self.textures.get(index as usize).is_none_or(|t| {
+            let texels = &t.image.texels;
+            (0..texels.len()).all(|i| texels.linear(i)[3] >= 1.0)
+        })
     }
 
     /// The loaded textures, in the order their indices refer to.

@@ -142,7 +142,13 @@ fn lost_empire() {
     assert_eq!(material(&scene, "Stationary_Lava").emission, Vec3::new(0.3, 0.05, 0.01));
     assert_eq!(material(&scene, "Torch").emission, Vec3::ZERO, "its Ke is commented out");
     assert_eq!(scene.emissive_triangle_count(), 162);
-    assert_eq!(scene.textures.len(), 2, "RGB and RGBA atlases (map_d is not used)");
+    assert_eq!(scene.textures.len(), 3, "RGB and RGBA atlases, and the alpha atlas of map_d");
+    // Leaves, water, rails and the like cut out by lost_empire-Alpha.png, an RGBA image whose
+    // alpha is opaque everywhere: the mask is its grey level.
+    let masked: Vec<&igi_scene::Material> =
+        scene.materials.iter().filter(|m| m.alpha_mask.is_some()).collect();
+    assert!(masked.iter().any(|m| m.name == "Leaves") && masked.len() > 5, "{} masked", masked.len());
+    assert!(masked.iter().all(|m| m.alpha_mask.unwrap().channel == igi_scene::CoverageChannel::Luminance));
     assert!(scene.meshes[0].normals.is_none(), "all normals are flat and are dropped");
     assert_bounds(scene.bounds(), [-37.0, 0.0, -82.0], [38.0, 49.0, 83.0], 1e-3);
 }
@@ -213,8 +219,7 @@ fn gltf_samples() {
         sample("InterpolationTest/glTF/InterpolationTest.gltf", 110, 10, 10, 1),
         sample("Cameras/glTF-Embedded/Cameras.gltf", 2, 1, 1, 0),
         sample("DracoSphereLights/glTF/sphere_lights.gltf", 224, 1, 1, 2),
-        // Base colour, metallic-roughness, normal map, and the emissive map (whose mean colour
-        // is its emission).
+        // Base colour, metallic-roughness, normal map and emissive map.
         sample("DamagedHelmet/glTF/DamagedHelmet.gltf", 15_452, 1, 1, 4),
         Sample {
             warning: Some("skinned mesh loaded in its bind pose"),
@@ -283,12 +288,21 @@ fn gltf_hierarchies_cameras_lights_and_emission() {
     assert!((spots[0].2.length() - 1.0).abs() < 1e-5);
 
     let (helmet, _) = load("gltf_details", "gltf-samples/DamagedHelmet/glTF/DamagedHelmet.gltf").unwrap();
-    let emission = helmet.materials[0].emission;
-    assert!(
-        emission.max_element() > 0.0 && emission.max_element() < 0.5,
-        "averaged emissive map: {emission}"
+    // emissiveFactor [1, 1, 1] and the emissive map, which multiplies it per texel (sRGB).
+    let m = &helmet.materials[0];
+    assert_eq!(m.emission, Vec3::ONE);
+    let emissive = &helmet.textures[m.emission_texture.expect("emissiveTexture") as usize];
+    assert!(matches!(
+        emissive.image.texels,
+        igi_scene::Texels::Rgba8 { space: igi_scene::ColorSpace::Srgb, .. }
+    ));
+    let lit = (0..emissive.image.texels.len()).filter(|&i| emissive.image.texels.linear(i)[0] > 0.1).count();
+    assert!(lit > 1000 && lit < emissive.image.texels.len() / 2, "{lit} glowing texels");
+    assert_eq!(
+        helmet.emissive_triangle_count(),
+        15_452,
+        "one emissive material; the renderer skips black texels"
     );
-    assert_eq!(helmet.emissive_triangle_count(), 15_452);
     // A glTF metallic-roughness material: factors 1 and 1, the linear metallic-roughness map
     // carrying the per-texel values (metal panels and rough paint both).
     let m = &helmet.materials[0];

@@ -8,7 +8,8 @@
 //! | `Mirror` | mirror = `glossy` (white if zero) |
 //! | `Glass` | glass = 1 with index `ior` (1.5 if unset or 1) |
 //!
-//! and emission = `emission` for all; a bump texture (MTL `bump`, `map_bump`) bends the
+//! and emission = `emission` × the emission texture (RGB, glTF `emissiveTexture`, MTL `map_Ke`)
+//! for all, so the camera sees an emissive map texel by texel; a bump texture (MTL `bump`, `map_bump`) bends the
 //! shading normal ([`crate::bump`]), and so does a tangent-space normal map (glTF
 //! `normalTexture`, tangent frame from ∂p/∂u; see [`normal_mapped`]). The
 //! metallic-roughness mapping runs eight hits at a time after the texture lookups, so every
@@ -45,6 +46,7 @@ pub struct MaterialShader {
     glass: f32,
     ior: f32,
     emission: Vec3,
+    emission_texture: Option<Arc<MipMap>>,
 }
 
 impl MaterialShader {
@@ -74,6 +76,7 @@ impl MaterialShader {
             glass: if material.kind == MaterialKind::Glass { 1.0 } else { 0.0 },
             ior: if material.ior > 0.0 && material.ior != 1.0 { material.ior } else { 1.5 },
             emission: material.emission,
+            emission_texture: map(material.emission_texture),
         }
     }
 }
@@ -115,6 +118,7 @@ fn lod(map: &MipMap, footprint: f32, tile_area: f32) -> f32 {
 impl SurfaceShader for MaterialShader {
     fn uniform(&self) -> Option<BrdfParams> {
         let textured = self.diffuse_texture.is_some()
+            || self.emission_texture.is_some()
             || self.bump_texture.is_some()
             || self.normal_texture.is_some()
             || self.metallic_roughness_texture.is_some();
@@ -153,6 +157,7 @@ impl SurfaceShader for MaterialShader {
         out.diffuse = splat(self.diffuse);
         out.model = self.model;
         if self.diffuse_texture.is_none()
+            && self.emission_texture.is_none()
             && self.bump_texture.is_none()
             && self.normal_texture.is_none()
             && self.metallic_roughness_texture.is_none()
@@ -174,6 +179,14 @@ impl SurfaceShader for MaterialShader {
                 *c = (self.diffuse * texel.truncate()).to_array();
             }
             out.diffuse = Vec3x8::from_lanes(rgb);
+        }
+        if let Some(map) = &self.emission_texture {
+            let mut rgb = [[0.0f32; 3]; 8];
+            for (i, c) in rgb.iter_mut().enumerate().filter(|(i, _)| active & (1 << i) != 0) {
+                let texel = map.trilinear(Vec2::new(u[i], v[i]), lod(map, footprint[i], tile_area[i]));
+                *c = (self.emission * texel.truncate()).to_array();
+            }
+            out.emission = Vec3x8::from_lanes(rgb);
         }
         if let Some(map) = &self.bump_texture {
             out.shading_normal = map_active_lanes(hits.shading_normal, active, |i, ns| {
@@ -283,6 +296,23 @@ mod tests {
         let lane = out.to_lanes()[0];
         assert_eq!((uniform.diffuse, uniform.glossy, uniform.alpha), (lane.diffuse, lane.glossy, lane.alpha));
         assert_eq!((uniform.glossy, uniform.alpha, uniform.model), (base, 1.0, GlossyModel::Ggx));
+    }
+
+    #[test]
+    fn emission_is_the_factor_times_the_texel_at_each_hit() {
+        // Left texel black, right texel orange; factor (2, 3, 4).
+        let texture = Texture::from_linear("glow", 2, 1, vec![[0.0, 0.0, 0.0, 1.0], [1.0, 0.5, 0.25, 1.0]]);
+        let maps = [Some(Arc::new(MipMap::new(&texture)))];
+        let factor = Vec3::new(2.0, 3.0, 4.0);
+        let material = Material { emission: factor, emission_texture: Some(0), ..Material::default() };
+        let shader = MaterialShader::new(&material, &maps);
+        assert_eq!(shader.uniform(), None, "an emission map is read per hit");
+        let mut out = BrdfParams8::black(Vec3x8::splat([0.0, 0.0, 1.0]));
+        shader.shade(&hits_at([0.25, 0.75, 0.25, 0.75, 0.25, 0.75, 0.25, 0.75]), &mut out);
+        for (i, p) in out.to_lanes().iter().enumerate() {
+            let want = if i % 2 == 0 { Vec3::ZERO } else { Vec3::new(2.0, 1.5, 1.0) };
+            assert!((p.emission - want).abs().max_element() < 1e-6, "lane {i}: {p:?}");
+        }
     }
 
     #[test]

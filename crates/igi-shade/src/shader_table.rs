@@ -1,7 +1,9 @@
 //! [`ShaderTable`]: the surface shader of every material of a scene, built once when the scene
 //! is prepared: a material's procedural `[[shader]]` ([`ProceduralShader`]) if it has one,
 //! else its [`MaterialShader`]. Each texture a material reads is turned into a [`MipMap`] once
-//! and shared between the materials that use it.
+//! and shared between the materials that use it; the renderer's light sampling reads the
+//! same pyramids of the emission textures and the alpha cut-outs' masks
+//! ([`ShaderTable::maps`]).
 
 use crate::texture::MipMap;
 use crate::{MaterialShader, ProceduralShader, SurfaceShader};
@@ -12,17 +14,26 @@ use std::sync::Arc;
 #[derive(Debug)]
 pub struct ShaderTable {
     shaders: Vec<Arc<dyn SurfaceShader>>,
+    maps: Vec<Option<Arc<MipMap>>>,
 }
 
 impl ShaderTable {
     /// The shaders of `materials`, whose texture indices refer to `textures`.
     pub fn new(materials: &[Material], textures: &[Texture]) -> Self {
-        // Only the textures some material reads get a pyramid (the sky's image, say, does not).
+        // Only the textures some material reads get a pyramid (the sky's image, say, does not);
+        // the renderer reads a cut-out's mask whatever shades the surface.
         let used = |t: usize| {
             materials.iter().any(|m| {
-                m.shader.is_none()
-                    && [m.diffuse_texture, m.bump_texture, m.normal_texture, m.metallic_roughness_texture]
-                        .contains(&Some(t as u32))
+                m.alpha_mask.is_some_and(|mask| mask.texture == Some(t as u32))
+                    || (m.shader.is_none()
+                        && [
+                            m.diffuse_texture,
+                            m.emission_texture,
+                            m.bump_texture,
+                            m.normal_texture,
+                            m.metallic_roughness_texture,
+                        ]
+                        .contains(&Some(t as u32)))
             })
         };
         let maps: Vec<Option<Arc<MipMap>>> =
@@ -36,7 +47,13 @@ impl ShaderTable {
                 }
             })
             .collect();
-        Self { shaders }
+        Self { shaders, maps }
+    }
+
+    /// The pyramid of each texture, indexed as the scene's textures (`None` for a texture no
+    /// material shader reads).
+    pub fn maps(&self) -> &[Option<Arc<MipMap>>] {
+        &self.maps
     }
 
     /// The shaders, indexed by material.

@@ -4,8 +4,6 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use glam::Vec3;
-
 use super::channels::NodeTracks;
 use crate::model::Scene;
 use crate::report::LoadReport;
@@ -23,8 +21,6 @@ pub(super) struct Loader<'a> {
     pub(super) meshes: HashMap<usize, Option<u32>>,
     /// glTF material index (`None`: the default material) → scene material index.
     pub(super) materials: HashMap<Option<usize>, u32>,
-    /// glTF image index → average linear colour.
-    pub(super) emissive_means: HashMap<usize, Option<Vec3>>,
     /// glTF node index → its animation tracks (taken when the node is visited).
     pub(super) tracks: HashMap<usize, NodeTracks>,
 }
@@ -48,7 +44,6 @@ impl<'a> Loader<'a> {
             textures,
             meshes: HashMap::new(),
             materials: HashMap::new(),
-            emissive_means: HashMap::new(),
             tracks,
         }
     }

@@ -1,6 +1,7 @@
-//! glTF materials (metallic-roughness, emission, normal maps, transmission) mapped onto
-//! [`Material`] (a [`MaterialKind::MetallicRoughness`] keeps glTF's base colour, metallic and
-//! roughness factors and textures for the renderer's GGX BRDF), and their textures and images.
+//! glTF materials (metallic-roughness, emission with its texture per texel, normal maps,
+//! transmission, alpha cut-outs) mapped onto [`Material`] (a [`MaterialKind::MetallicRoughness`]
+//! keeps glTF's base colour, metallic and roughness factors and textures for the renderer's GGX
+//! BRDF), and their textures and images.
 
 use std::path::PathBuf;
 
@@ -8,7 +9,7 @@ use glam::Vec3;
 
 use super::buffers::{Uri, classify_uri};
 use super::loader::Loader;
-use crate::model::{Material, MaterialKind, Wrap};
+use crate::model::{AlphaMask, CoverageChannel, Material, MaterialKind, Wrap};
 use crate::texels::ColorSpace;
 
 impl Loader<'_> {
@@ -61,13 +62,17 @@ impl Loader<'_> {
             }
             None => (None, 1.0),
         };
-        let mut emission =
-            Vec3::from(material.emissive_factor()) * material.emissive_strength().unwrap_or(1.0);
-        if let Some(info) = material.emissive_texture() {
-            // An emissive map that cannot be read gives no emission rather than turning the
-            // whole surface into a uniform emitter of `emissiveFactor`.
-            emission *= self.emissive_mean(info.texture().source()).unwrap_or(Vec3::ZERO);
-        }
+        let emission = Vec3::from(material.emissive_factor()) * material.emissive_strength().unwrap_or(1.0);
+        // glTF 2.0, 3.9.3: the emissive texture (sRGB) multiplies emissiveFactor per texel.
+        let emission_texture = material
+            .emissive_texture()
+            .and_then(|info| self.texture_info(index, "emissive", &info, ColorSpace::Srgb));
+        // An emissive map that cannot be read gives no emission rather than turning the whole
+        // surface into a uniform emitter of `emissiveFactor`.
+        let emission = match (material.emissive_texture(), emission_texture) {
+            (Some(_), None) => Vec3::ZERO,
+            _ => emission,
+        };
         Material {
             name: material.name().map_or_else(|| format!("materials[{index}]"), str::to_owned),
             diffuse: base,
@@ -80,6 +85,7 @@ impl Loader<'_> {
             roughness,
             metallic_roughness_texture,
             emission: emission.max(Vec3::ZERO),
+            emission_texture,
             bump_texture: None,
             normal_texture,
             normal_scale,
@@ -88,6 +94,15 @@ impl Loader<'_> {
             } else {
                 0.0
             },
+            // glTF 3.9.4: MASK cuts where baseColorFactor.a × the base colour texture's alpha
+            // is below alphaCutoff (default 0.5); OPAQUE ignores alpha, and BLEND, which the
+            // renderer does not blend, renders opaque too.
+            alpha_mask: (material.alpha_mode() == gltf::material::AlphaMode::Mask).then(|| AlphaMask {
+                factor: a,
+                texture: diffuse_texture,
+                channel: CoverageChannel::Alpha,
+                cutoff: material.alpha_cutoff().unwrap_or(0.5),
+            }),
             ior: material.ior().filter(|&ior| ior > 0.0).unwrap_or(1.5),
             kind,
             shader: None,
@@ -167,15 +182,5 @@ impl Loader<'_> {
                 self.textures.file(dir, &relative.to_string_lossy(), space, self.file, self.report)
             }
         }
-    }
-
-    fn emissive_mean(&mut self, image: gltf::Image) -> Option<Vec3> {
-        if let Some(&mean) = self.emissive_means.get(&image.index()) {
-            return mean;
-        }
-        let image_index = image.index();
-        let mean = self.image(image, ColorSpace::Srgb).and_then(|texture| self.textures.mean_rgb(texture));
-        self.emissive_means.insert(image_index, mean);
-        mean
     }
 }
