@@ -48,10 +48,11 @@ const INTERIOR_SPAN: f32 = 0.6;
 const FRONT_FACING: f32 = 0.6;
 /// Horizontal directions along which the open space around a point is measured.
 const HORIZONTAL: u32 = 16;
-/// The eye stands at this share of the clearance between floor and ceiling: in a room 2.7 m
-/// high a little under a person's eyes, in Sponza's 15 m courtyard the height of its first
-/// arcade's capitals, from where the whole atrium shows.
-const EYE_HEIGHT: f32 = 0.3;
+/// The eye stands at this share of the clearance between floor and ceiling (at most of the
+/// model's storey): 1.2 m in a room 2.7 m high, 1.9 m in Sponza (its galleries are 4.2 m
+/// high; its courtyard, open to the sky, counts as one storey). Scene units are unknown, so
+/// the height follows the architecture, not a person.
+const EYE_HEIGHT: f32 = 0.45;
 /// The points around the centre tested for enclosure lie this share of the bounds' size off
 /// it.
 const CENTRE_SPREAD: f32 = 0.1;
