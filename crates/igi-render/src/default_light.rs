@@ -21,6 +21,7 @@ use crate::frame::{FrameState, IgiSettings};
 use crate::frame_renderer::FrameRenderer;
 use crate::lights::luminance;
 use crate::prepared::PreparedScene;
+use crate::sampling::fibonacci_sphere;
 use crate::tonemap::{ToneMap, ToneMapper};
 use crate::viewpoint::start_camera;
 use glam::Vec3;
@@ -140,15 +141,8 @@ pub fn add_default_light(scene: &mut PreparedScene, enabled: bool) -> Option<Str
 
 /// True if rays from `eye` leave the scene in at least [`OPEN_SHARE`] of all directions.
 fn is_open(scene: &PreparedScene, eye: Vec3) -> bool {
-    let golden = std::f32::consts::PI * (3.0 - 5f32.sqrt());
     let escaped = (0..OPENNESS_PROBES)
-        .filter(|&i| {
-            let y = 1.0 - 2.0 * (i as f32 + 0.5) / OPENNESS_PROBES as f32;
-            let r = (1.0 - y * y).max(0.0).sqrt();
-            let phi = golden * i as f32;
-            let dir = Vec3::new(r * phi.cos(), y, r * phi.sin());
-            !scene.accel().intersect(&Ray::new(eye, dir)).is_hit()
-        })
+        .filter(|&i| !scene.accel().intersect(&Ray::new(eye, fibonacci_sphere(i, OPENNESS_PROBES))).is_hit())
         .count();
     tracing::debug!("{escaped} of {OPENNESS_PROBES} rays from the camera leave the scene");
     escaped as f32 >= OPEN_SHARE * OPENNESS_PROBES as f32

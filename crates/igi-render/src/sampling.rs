@@ -156,6 +156,17 @@ pub fn uniform_sphere(u: Vec2) -> Vec3 {
     Vec3::new(r * phi.cos(), r * phi.sin(), z)
 }
 
+/// Direction `i` of `n` spread evenly over the unit sphere, +Y the pole (a Fibonacci lattice:
+/// equal-area bands in y, successive points a golden angle apart): the fixed probe directions
+/// of the default camera and light.
+pub fn fibonacci_sphere(i: u32, n: u32) -> Vec3 {
+    let golden = PI * (3.0 - 5f32.sqrt());
+    let y = 1.0 - 2.0 * (i as f32 + 0.5) / n as f32;
+    let r = (1.0 - y * y).max(0.0).sqrt();
+    let phi = golden * i as f32;
+    Vec3::new(r * phi.cos(), y, r * phi.sin())
+}
+
 /// A unit vector uniformly distributed in the cone of directions within angle acos(`cos_max`)
 /// of the unit axis `axis` (density 1 / (2π (1 − cos_max))).
 pub fn uniform_cone(axis: Vec3, cos_max: f32, u: Vec2) -> Vec3 {

@@ -24,6 +24,7 @@
 //! Every probe is deterministic, so every node of a cluster chooses the same camera.
 
 use crate::prepared::PreparedScene;
+use crate::sampling::fibonacci_sphere;
 use glam::Vec3;
 use igi_bvh::{Aabb, Ray, offset_ray_origin};
 use igi_scene::Camera;
@@ -91,15 +92,6 @@ pub fn default_camera(scene: &PreparedScene) -> Camera {
     interior_camera(scene, &bounds).unwrap_or_else(|| object_camera(scene, &bounds))
 }
 
-/// The unit direction `i` of `n` spread evenly over the sphere (a Fibonacci lattice).
-fn sphere_direction(i: u32, n: u32) -> Vec3 {
-    let golden = std::f32::consts::PI * (3.0 - 5f32.sqrt());
-    let y = 1.0 - 2.0 * (i as f32 + 0.5) / n as f32;
-    let r = (1.0 - y * y).max(0.0).sqrt();
-    let phi = golden * i as f32;
-    Vec3::new(r * phi.cos(), y, r * phi.sin())
-}
-
 /// The unit horizontal direction `k` of [`HORIZONTAL`].
 fn horizontal_direction(k: u32) -> Vec3 {
     let phi = std::f32::consts::TAU * k as f32 / HORIZONTAL as f32;
@@ -164,7 +156,7 @@ fn encloses_centre(scene: &PreparedScene, bounds: &Aabb) -> bool {
 fn candidate(scene: &PreparedScene, eye: Vec3) -> Option<Candidate> {
     let (mut sideways, mut escaped, mut hits, mut front) = (0u32, 0u32, 0u32, 0u32);
     for i in 0..PROBES {
-        let dir = sphere_direction(i, PROBES);
+        let dir = fibonacci_sphere(i, PROBES);
         let is_sideways = dir.y.abs() < SIDEWAYS;
         sideways += u32::from(is_sideways);
         match probe(scene, eye, dir) {
