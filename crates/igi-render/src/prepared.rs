@@ -78,6 +78,7 @@ pub struct PreparedScene {
     textures: Vec<Texture>,
     lights: Vec<Light>,
     camera: Option<Camera>,
+    front: Option<Vec3>,
     area_lights: AreaLights,
     /// The sky, if the scene has one that emits anything.
     environment: Option<EnvironmentLight>,
@@ -120,8 +121,17 @@ impl PreparedScene {
     /// A scene without any light source is lit by the headlight at the camera until
     /// [`PreparedScene::set_default_light`] says otherwise.
     pub fn new(scene: Scene) -> Self {
-        let Scene { meshes, instances, mut materials, textures, lights, camera, environment, animation } =
-            scene;
+        let Scene {
+            meshes,
+            instances,
+            mut materials,
+            textures,
+            lights,
+            camera,
+            front,
+            environment,
+            animation,
+        } = scene;
 
         let valid = materials.len();
         let mut fallback = None;
@@ -162,6 +172,7 @@ impl PreparedScene {
             textures,
             lights,
             camera,
+            front,
             area_lights: AreaLights::default(),
             environment: None,
             normal_matrices,
@@ -371,6 +382,11 @@ impl PreparedScene {
     /// The scene's own camera, if it had one, or the one [`PreparedScene::set_camera`] fixed.
     pub fn camera(&self) -> Option<&Camera> {
         self.camera.as_ref()
+    }
+
+    /// The unit direction the model faces, where its format defines one (glTF: +Z).
+    pub fn front(&self) -> Option<Vec3> {
+        self.front
     }
 
     /// Fixes the camera the scene starts with (for a scene without one, the default camera

@@ -17,9 +17,9 @@
 //!   it. It steps back along the longest horizontal line through that point and looks down
 //!   the line, a little upwards: along the space's long axis.
 //! - **An object** (the armadillo, the glTF samples): a three-quarter view from above its
-//!   front, the front being the side toward +Z (glTF's convention) unless the other side
-//!   shows clearly more distinct triangles (a scan facing −Z); what the view sees of the
-//!   object fills the image with a margin.
+//!   front, +Z for glTF (the specification's front), else the side its shape reaches toward
+//!   (a figure's arms and head: the armadillo faces −Z); what the view sees of the object
+//!   fills the image with a margin.
 //!
 //! Every probe is deterministic, so every node of a cluster chooses the same camera.
 
@@ -77,6 +77,9 @@ const OBJECT_ASPECT: f32 = 4.0 / 3.0;
 const OBJECT_FILL: f32 = 0.8;
 /// The elevation of an object's three-quarter view above its centre (degrees).
 const OBJECT_ELEVATION: f32 = 30.0;
+/// The share of its depth by which an object's surface centroid must lie off the centre of its
+/// box for its shape to tell its front ([`object_front`]).
+const SHAPE_FRONT_MARGIN: f32 = 0.005;
 /// The elevation of the view straight into an open box (degrees).
 const OPEN_SIDE_ELEVATION: f32 = 5.0;
 /// Rays per side of the grid that counts the triangles an object view sees.
@@ -346,36 +349,62 @@ fn front_faces_seen(scene: &PreparedScene, camera: &Camera) -> (usize, f32) {
     (triangles.len(), if hits == 0 { 0.0 } else { front as f32 / hits as f32 })
 }
 
-/// The view of an object: a three-quarter view from above its front-left or front-right
-/// (whichever shows more), on the +Z side unless the −Z side shows clearly more of the object
-/// (more than 1.25 times the distinct front-facing triangles), as a scan facing −Z does. An
-/// open box (the Cornell box) shows the backs of its walls from there: where less than half
-/// of what the three-quarter view sees are front faces, it is seen straight into its open side.
-fn object_camera(scene: &PreparedScene, bounds: &Aabb) -> Camera {
-    let view = |x: f32, y: f32, z: f32| framing(bounds, Vec3::new(x, y, z).normalize());
-    let elevation = OBJECT_ELEVATION.to_radians().tan() * std::f32::consts::SQRT_2;
-    let best = |z: f32| {
-        let (left, right) = (view(-1.0, elevation, z), view(1.0, elevation, z));
-        let (l, r) = (front_faces_seen(scene, &left), front_faces_seen(scene, &right));
-        if r.0 >= l.0 { (right, r) } else { (left, l) }
-    };
-    let (front, front_seen) = best(1.0);
-    let (back, back_seen) = best(-1.0);
-    tracing::debug!(
-        "object: the +Z side shows {} distinct triangles ({:.0} % front faces), the -Z side {} ({:.0} %)",
-        front_seen.0,
-        100.0 * front_seen.1,
-        back_seen.0,
-        100.0 * back_seen.1
-    );
-    let (side, (_, share)) =
-        if back_seen.0 as f32 > 1.25 * front_seen.0 as f32 { (-1.0, back_seen) } else { (1.0, front_seen) };
-    let three_quarter = if side > 0.0 { front } else { back };
-    if share >= 0.5 {
-        return fit_silhouette(scene, fit_silhouette(scene, three_quarter));
+/// The area-weighted centroid of the scene's surface minus the centre of its bounds, in units
+/// of the bounds' size along each axis.
+fn surface_centroid_offset(scene: &PreparedScene, bounds: &Aabb) -> Vec3 {
+    let accel = scene.accel();
+    let (mut sum, mut area) = (glam::DVec3::ZERO, 0.0f64);
+    for i in 0..accel.instance_count() as u32 {
+        let m = accel.instance_transform(i);
+        let mesh = &accel.meshes()[accel.instance_mesh(i) as usize];
+        for tri in &mesh.indices {
+            let [a, b, c] = tri.map(|k| m.transform_point3(mesh.positions[k as usize]).as_dvec3());
+            let w = 0.5 * (b - a).cross(c - a).length();
+            sum += w * (a + b + c) / 3.0;
+            area += w;
+        }
     }
-    let straight = view(0.0, OPEN_SIDE_ELEVATION.to_radians().tan(), side);
-    let chosen = if front_faces_seen(scene, &straight).1 > share { straight } else { three_quarter };
+    if area <= 0.0 {
+        return Vec3::ZERO;
+    }
+    ((sum / area).as_vec3() - bounds.centroid())
+        / (bounds.max - bounds.min).max(Vec3::splat(f32::MIN_POSITIVE))
+}
+
+/// The horizontal direction an object faces: its format's ([`PreparedScene::front`], glTF's
+/// +Z), else ±Z by its shape. A figure reaches forward with its arms, head and hands while
+/// the bulk of its body stays behind, so its surface's centroid lies behind the centre of its
+/// box (the Stanford armadillo, which faces −Z: 1.9 % of its depth); within
+/// [`SHAPE_FRONT_MARGIN`] of the centre, +Z.
+fn object_front(scene: &PreparedScene, bounds: &Aabb) -> Vec3 {
+    if let Some(front) = scene.front().map(|f| Vec3::new(f.x, 0.0, f.z)).and_then(Vec3::try_normalize) {
+        return front;
+    }
+    let offset = surface_centroid_offset(scene, bounds).z;
+    tracing::debug!("object: surface centroid {offset:.4} of its depth off the box centre along Z");
+    if offset > SHAPE_FRONT_MARGIN { -Vec3::Z } else { Vec3::Z }
+}
+
+/// The view of an object: a three-quarter view from above its front-left or front-right
+/// (whichever shows more distinct front-facing triangles), the front as [`object_front`]
+/// finds it. An open box (the Cornell box) shows the backs of its walls from there: where
+/// less than half of what the three-quarter view sees are front faces, it is seen straight
+/// into its front.
+fn object_camera(scene: &PreparedScene, bounds: &Aabb) -> Camera {
+    let front = object_front(scene, bounds);
+    let side = Vec3::Y.cross(front);
+    let up = Vec3::Y * OBJECT_ELEVATION.to_radians().tan() * std::f32::consts::SQRT_2;
+    let (left, right) =
+        (framing(bounds, (front - side + up).normalize()), framing(bounds, (front + side + up).normalize()));
+    let (l, r) = (front_faces_seen(scene, &left), front_faces_seen(scene, &right));
+    let (three_quarter, (_, share)) = if r.0 >= l.0 { (right, r) } else { (left, l) };
+    let chosen = if share >= 0.5 {
+        three_quarter
+    } else {
+        let straight =
+            framing(bounds, (front + Vec3::Y * OPEN_SIDE_ELEVATION.to_radians().tan()).normalize());
+        if front_faces_seen(scene, &straight).1 > share { straight } else { three_quarter }
+    };
     // Twice: the first move changes the perspective, the second corrects for it.
     fit_silhouette(scene, fit_silhouette(scene, chosen))
 }

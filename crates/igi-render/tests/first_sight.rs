@@ -133,3 +133,25 @@ fn the_camera_is_chosen_once() {
     let fixed: Camera = *prepared.camera().expect("fixed");
     assert_eq!(fixed, default_camera(&prepared));
 }
+
+/// A figure: a body with a thin arm reaching toward `reach` (±Z), the centroid of its surface
+/// behind the centre of its box.
+fn figure(reach: f32, front: Option<Vec3>) -> Scene {
+    let mut meshes = box_faces(Vec3::ZERO, Vec3::new(0.5, 1.0, 0.5), false, 0);
+    meshes.extend(box_faces(Vec3::new(0.3, 0.5, reach * 1.0), Vec3::new(0.05, 0.05, 0.5), false, 0));
+    Scene { front, ..scene(meshes, vec![diffuse("clay", 0.7)], Vec::new()) }
+}
+
+#[test]
+fn an_object_without_a_defined_front_is_seen_from_the_side_it_reaches_toward() {
+    for reach in [-1.0, 1.0] {
+        let prepared = PreparedScene::new(figure(reach, None));
+        let camera = default_camera(&prepared);
+        let from = camera.position - prepared.bounds().centroid();
+        assert!(from.z * reach > 0.0, "a figure reaching toward {reach} Z is seen from {from}");
+    }
+    // A glTF asset's front is +Z whatever its shape.
+    let prepared = PreparedScene::new(figure(-1.0, Some(Vec3::Z)));
+    let from = default_camera(&prepared).position - prepared.bounds().centroid();
+    assert!(from.z > 0.0, "{from}");
+}

@@ -296,6 +296,10 @@ pub struct Scene {
     pub environment: Option<Environment>,
     /// The scene's own camera, if its file has one.
     pub camera: Option<Camera>,
+    /// The unit direction the model faces, where its format defines one (glTF 2.0: +Z);
+    /// `None` for OBJ, PLY, built-in scenes and scene files. The default camera looks at an
+    /// object's front.
+    pub front: Option<Vec3>,
     /// How instances and lights move with the scene clock (empty for a still scene).
     pub animation: Animation,
 }

@@ -169,6 +169,7 @@ pub(super) fn scene() -> Scene {
             up: Vec3::Y,
             fov_y_deg: 60.0,
         }),
+        front: None,
         animation,
     }
 }

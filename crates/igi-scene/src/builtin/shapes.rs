@@ -97,6 +97,7 @@ pub(super) fn assemble(name: &str, parts: Vec<Part>, materials: Vec<Material>, c
         lights: Vec::new(),
         environment: None,
         camera: Some(camera),
+        front: None,
         animation: Animation::default(),
     }
 }

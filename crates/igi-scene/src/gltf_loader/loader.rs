@@ -40,7 +40,8 @@ impl<'a> Loader<'a> {
             base_dir,
             buffers,
             report,
-            scene: Scene::default(),
+            // glTF 2.0: "the front of a glTF asset faces +Z".
+            scene: Scene { front: Some(glam::Vec3::Z), ..Scene::default() },
             textures,
             meshes: HashMap::new(),
             materials: HashMap::new(),
