@@ -146,7 +146,7 @@ fn footing(scene: &PreparedScene, bounds: &Aabb, p: Vec3) -> Option<Footing> {
 /// a statue or a helmet is seen from inside its solid, a hill (Lost Empire) is solid rock
 /// around its caves.
 fn encloses_centre(scene: &PreparedScene, bounds: &Aabb) -> bool {
-    let (centre, size) = (bounds.centroid(), bounds.max - bounds.min);
+    let (centre, size) = (bounds.centroid(), bounds.extent());
     (-1..=1).any(|i| {
         (-1..=1).any(|j| {
             let offset = Vec3::new(i as f32 * size.x, 0.0, j as f32 * size.z) * CENTRE_SPREAD;
@@ -222,7 +222,7 @@ fn interior_camera(scene: &PreparedScene, bounds: &Aabb) -> Option<Camera> {
     if !encloses_centre(scene, bounds) {
         return None;
     }
-    let size = bounds.max - bounds.min;
+    let size = bounds.extent();
     let footings: Vec<Footing> = (0..LEVELS * GRID * GRID)
         .filter_map(|n| {
             let (level, i, j) = (n / (GRID * GRID), n / GRID % GRID, n % GRID);
@@ -280,13 +280,8 @@ fn framing(bounds: &Aabb, dir: Vec3) -> Camera {
     // Every corner of the box within the view: at distance d along `dir`, a corner c (from
     // the centre) lies d − c·dir in front of the eye and c·right, c·up across.
     let mut distance: f32 = 0.0;
-    for corner in 0..8 {
-        let pick = |bit: u32, lo: f32, hi: f32| if corner & bit == 0 { lo } else { hi };
-        let c = Vec3::new(
-            pick(1, bounds.min.x, bounds.max.x),
-            pick(2, bounds.min.y, bounds.max.y),
-            pick(4, bounds.min.z, bounds.max.z),
-        ) - centre;
+    for corner in bounds.corners() {
+        let c = corner - centre;
         let needed = c.dot(dir) + (c.dot(right).abs() / tan_x).max(c.dot(up).abs() / tan_y);
         distance = distance.max(needed);
     }
@@ -314,7 +309,7 @@ fn fit_silhouette(scene: &PreparedScene, camera: Camera) -> Camera {
             }
         }
     }
-    if lo.x >= hi.x || lo.x.is_nan() {
+    if lo.x >= hi.x {
         return camera;
     }
     let (centre, half) = (0.5 * (lo + hi), 0.5 * (hi - lo));
@@ -367,8 +362,7 @@ fn surface_centroid_offset(scene: &PreparedScene, bounds: &Aabb) -> Vec3 {
     if area <= 0.0 {
         return Vec3::ZERO;
     }
-    ((sum / area).as_vec3() - bounds.centroid())
-        / (bounds.max - bounds.min).max(Vec3::splat(f32::MIN_POSITIVE))
+    ((sum / area).as_vec3() - bounds.centroid()) / bounds.extent().max(Vec3::splat(f32::MIN_POSITIVE))
 }
 
 /// The horizontal direction an object faces: its format's ([`PreparedScene::front`], glTF's

@@ -106,14 +106,18 @@ fn a_vpl_on_a_glossy_surface_carries_its_lobe_around_the_mirror_direction() {
 /// The built-in Cornell box with glossy white walls, floor and boxes: half their reflectance
 /// moved into a Phong lobe of exponent 20.
 fn glossy_cornell() -> (PreparedScene, igi_scene::Camera) {
+    cornell_with(|m| {
+        m.glossy = 0.5 * m.diffuse;
+        m.diffuse *= 0.5;
+        m.exponent = 20.0;
+    })
+}
+
+/// The built-in Cornell box, prepared, with `change` applied to every material that does not
+/// emit, and its camera.
+fn cornell_with(change: impl Fn(&mut Material)) -> (PreparedScene, igi_scene::Camera) {
     let mut scene = igi_scene::builtin("cornell-box").expect("built-in cornell-box");
-    for m in &mut scene.materials {
-        if !m.is_emissive() {
-            m.glossy = 0.5 * m.diffuse;
-            m.diffuse *= 0.5;
-            m.exponent = 20.0;
-        }
-    }
+    scene.materials.iter_mut().filter(|m| !m.is_emissive()).for_each(change);
     let camera = scene.camera.expect("the Cornell box has its camera");
     (PreparedScene::new(scene), camera)
 }
@@ -193,16 +197,11 @@ fn point_light_highlight_on_a_ggx_plane_matches_the_appendix_b_brdf() {
 /// The built-in Cornell box with glTF materials: walls and floor dielectrics of their colour
 /// (roughness 0.5), the boxes brushed metal (metallic 1, roughness 0.45).
 fn ggx_cornell() -> (PreparedScene, igi_scene::Camera) {
-    let mut scene = igi_scene::builtin("cornell-box").expect("built-in cornell-box");
-    for m in &mut scene.materials {
-        if !m.is_emissive() {
-            let boxes = m.name.ends_with("Box");
-            let (metallic, roughness) = if boxes { (1.0, 0.45) } else { (0.0, 0.5) };
-            *m = Material { emission: m.emission, ..gltf(&m.name, m.diffuse, metallic, roughness) };
-        }
-    }
-    let camera = scene.camera.expect("the Cornell box has its camera");
-    (PreparedScene::new(scene), camera)
+    cornell_with(|m| {
+        let boxes = m.name.ends_with("Box");
+        let (metallic, roughness) = if boxes { (1.0, 0.45) } else { (0.0, 0.5) };
+        *m = Material { emission: m.emission, ..gltf(&m.name, m.diffuse, metallic, roughness) };
+    })
 }
 
 #[test]
