@@ -352,7 +352,7 @@ impl PreparedScene {
         &self.lights
     }
 
-    /// The point, spot and directional lights the renderers evaluate exactly: the scene's, or
+    /// The point, spot and directional lights the renderers evaluate exactly: the scene's,
     /// and the headlight [`eye_light`] of `camera` where it is on (see
     /// [`PreparedScene::set_default_light`]).
     pub fn punctual_lights(&self, camera: &Camera) -> Vec<Light> {
