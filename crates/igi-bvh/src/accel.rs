@@ -240,6 +240,15 @@ impl Accel {
         p.world_to_object.matrix3.transpose().mul_vec3a(n.into()).normalize().into()
     }
 
+    /// World-space position of `hit`, interpolated from its triangle's corners (exact to the
+    /// rounding of the interpolation, which origin + t·direction is not).
+    pub fn hit_position(&self, hit: &Hit) -> Vec3 {
+        let p = &self.placements[hit.instance as usize];
+        let [a, b, c] = self.meshes[p.mesh as usize].triangle(hit.prim);
+        let local = a + hit.u * (b - a) + hit.v * (c - a);
+        if p.identity { local } else { p.object_to_world.transform_point3(local) }
+    }
+
     /// The closest hit of `ray` within `[tnear, tfar]` (ties in distance go to the lowest
     /// instance, then triangle, index, so the answer does not depend on traversal order).
     pub fn intersect(&self, ray: &Ray) -> Hit {

@@ -9,8 +9,9 @@
 //!
 //! Shading points are matched by (sample index, camera path): sample j of a pixel is filtered
 //! with sample j of its neighbours, and a point seen through a mirror or glass with the point
-//! seen through the same chain of reflections and refractions. A pixel without a similar
-//! neighbour keeps its own value, so a constant irradiance stays constant.
+//! seen through the same chain of reflections and refractions. A point that stands for all
+//! samples of its pixel (they saw one surface) counts as every sample's neighbour. A pixel
+//! without a similar neighbour keeps its own value, so a constant irradiance stays constant.
 
 use crate::frame::FilterSettings;
 use crate::interleave::Interleave;
@@ -25,6 +26,9 @@ pub struct FilterSample {
     pub pixel: u32,
     /// Anti-aliasing sample index within the pixel.
     pub sample: u32,
+    /// The point stands for every sample of its pixel (they all saw one surface), so each
+    /// sample's neighbours are filtered with it.
+    pub whole_pixel: bool,
     /// Code of the specular chain that led to the point (1 for the camera ray's own hit).
     pub path: u32,
     /// Unit shading normal, on the side facing the camera path.
@@ -96,7 +100,7 @@ impl DiscontinuityBuffer {
     ) {
         let Filtered { diffuse_radiance: out, glossy_radiance: glossy_out } = out;
         let glossy = !glossy_in.is_empty();
-        self.index(region, points, glossy_in);
+        self.index(region, interleave.aa, points, glossy_in);
         out.clear();
         out.extend(points.iter().map(|p| p.diffuse_radiance));
         glossy_out.clear();
@@ -135,48 +139,60 @@ impl DiscontinuityBuffer {
         }
     }
 
-    /// Builds one pixel grid per (sample, path) layer holding the points.
-    fn index(&mut self, region: &PixelRect, points: &[FilterSample], glossy: &[[Vec3; 2]]) {
+    /// Builds one pixel grid per (sample, path) layer holding the points; a whole-pixel point
+    /// goes into the layer of every sample of its path.
+    fn index(&mut self, region: &PixelRect, samples: u32, points: &[FilterSample], glossy: &[[Vec3; 2]]) {
         self.keys.clear();
         self.layers.clear();
         let mut last: Option<((u32, u32), u32)> = None;
-        for p in points {
+        for (i, p) in points.iter().enumerate() {
             let key = (p.sample, p.path);
             // Points come in runs of one layer: look the key up only when it changes.
             let layer = match last {
                 Some((k, layer)) if k == key => layer,
-                _ => match self.keys.iter().position(|&k| k == key) {
-                    Some(layer) => layer as u32,
-                    None => {
-                        self.keys.push(key);
-                        if self.grids.len() < self.keys.len() {
-                            self.grids.push(Vec::new());
-                            self.glossy_grids.push(Vec::new());
-                        }
-                        let grid = &mut self.grids[self.keys.len() - 1];
-                        grid.clear();
-                        grid.resize(region.pixel_count(), EMPTY_CELL);
-                        let glossy_grid = &mut self.glossy_grids[self.keys.len() - 1];
-                        glossy_grid.clear();
-                        if !glossy.is_empty() {
-                            glossy_grid.resize(region.pixel_count(), [Vec3::ZERO; 2]);
-                        }
-                        (self.keys.len() - 1) as u32
-                    }
-                },
+                _ => self.layer(key, region, !glossy.is_empty()),
             };
             last = Some((key, layer));
             self.layers.push(layer);
-            self.grids[layer as usize][p.pixel as usize] = Cell {
+            let cell = Cell {
                 normal: p.normal,
                 depth: p.depth,
                 diffuse_radiance: p.diffuse_radiance,
                 material: p.material,
             };
-            if let Some(g) = glossy.get(self.layers.len() - 1) {
-                self.glossy_grids[layer as usize][p.pixel as usize] = *g;
+            for j in 0..samples {
+                let l = match j == p.sample {
+                    true => layer,
+                    false if p.whole_pixel => self.layer((j, p.path), region, !glossy.is_empty()),
+                    false => continue,
+                };
+                self.grids[l as usize][p.pixel as usize] = cell;
+                if let Some(g) = glossy.get(i) {
+                    self.glossy_grids[l as usize][p.pixel as usize] = *g;
+                }
             }
         }
+    }
+
+    /// The layer of `key`, a fresh empty one the first time a key is seen in a tile.
+    fn layer(&mut self, key: (u32, u32), region: &PixelRect, glossy: bool) -> u32 {
+        if let Some(layer) = self.keys.iter().position(|&k| k == key) {
+            return layer as u32;
+        }
+        self.keys.push(key);
+        if self.grids.len() < self.keys.len() {
+            self.grids.push(Vec::new());
+            self.glossy_grids.push(Vec::new());
+        }
+        let grid = &mut self.grids[self.keys.len() - 1];
+        grid.clear();
+        grid.resize(region.pixel_count(), EMPTY_CELL);
+        let glossy_grid = &mut self.glossy_grids[self.keys.len() - 1];
+        glossy_grid.clear();
+        if glossy {
+            glossy_grid.resize(region.pixel_count(), [Vec3::ZERO; 2]);
+        }
+        (self.keys.len() - 1) as u32
     }
 }
 
@@ -201,6 +217,7 @@ mod tests {
                 points.push(FilterSample {
                     pixel: region.index(x, y) as u32,
                     sample: 0,
+                    whole_pixel: false,
                     path: 1,
                     normal,
                     depth,

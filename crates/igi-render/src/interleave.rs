@@ -5,9 +5,10 @@
 //!
 //! Pixel (x, y) belongs to set (x mod n) + n·(y mod m), so every n×m window of the image holds
 //! one pixel of every set, which is what the discontinuity filter averages over. With N
-//! samples per pixel, sample j is lit by the VPLs j, j + N, j + 2N, … of the pixel's set,
-//! weighted by N: the N samples together use each VPL once, so anti-aliasing costs extra
-//! primary rays only.
+//! samples per pixel, a pixel whose samples all see one surface is shaded once and lit by its
+//! whole set; in a pixel across an edge, sample j is lit by the VPLs j, j + N, j + 2N, … of
+//! the pixel's set, weighted by N. Either way each pixel uses each VPL of its set once, so
+//! anti-aliasing costs extra primary rays only ([`crate::tile_pipeline`]).
 
 use crate::frame::IgiSettings;
 use crate::pixel_rect::PixelRect;

@@ -1,23 +1,27 @@
 //! The streaming tile pipeline of instant global illumination (paper 3.1.2; ARCHITECTURE.md,
-//! "Data flow"): one tile, breadth first. For each interleave group (VPL set s, sample j):
+//! "Data flow"): one tile, breadth first. For each VPL set s:
 //!
-//! 1. **primary**: the camera rays of the set's pixels in the tile and its apron, as 8-ray
-//!    packets of neighbouring set pixels (paper Figure 2);
-//! 2. **shading**: the surface shaders of all hits (paper 3.2: eight consecutive hits of one
+//! 1. **primary**: the camera rays of all N samples of the set's pixels in the tile and its
+//!    apron, as 8-ray packets of neighbouring set pixels (paper Figure 2);
+//! 2. **shading**: the surface shaders of the hits (paper 3.2: eight consecutive hits of one
 //!    material per call; constant materials skip the call), the sky behind misses, emission
-//!    seen directly, and a shading point for every hit with a diffuse or glossy lobe;
+//!    seen directly, and a shading point for every hit with a diffuse or glossy lobe. A pixel
+//!    whose samples all see one surface is shaded once, as one point that stands for all N
+//!    samples ([`PathState::coverage`]; ARCHITECTURE.md, "Anti-aliasing costs primary rays");
+//!    the other pixels are shaded per sample;
 //! 3. **specular**: mirror and glass lobes continue as reflection and refraction rays, traced
 //!    as streams of packets bounce by bounce up to `specular_bounces`; their hits are shaded the
-//!    same way and become shading points of the same group, weighted by the chain's throughput;
-//! 4. **shadow**: for each light, sky VPL and VPL of the group, the shadow packets of all
-//!    shading points, and the BRDF shaders accumulating the diffuse radiance D = E/π and the
+//!    same way and become shading points of the same set, weighted by the chain's throughput;
+//! 4. **shadow**: for each light, sky VPL and VPL of the set, the shadow packets of its
+//!    shading points (a whole pixel's point by every VPL, sample j's own point by VPLs j,
+//!    j + N, …), and the BRDF shaders accumulating the diffuse radiance D = E/π and the
 //!    glossy radiance G ([`crate::vpl_lighting`]).
 //!
 //! Specular rays run before the shadow phase (not after it, as in a Whitted tracer) so that
-//! every shading point of the group, seen directly or through glass, is lit in one pass over
+//! every shading point of the set, seen directly or through glass, is lit in one pass over
 //! the VPLs while their data is hot. Then the tile is filtered ([`crate::discontinuity`]) and
-//! composed: pixel = 1/N Σ_samples (emission and sky seen + Σ_points throughput · (ρ_d · D̃ +
-//! ρ_s · G̃ + L_l)), where D̃ and G̃ are the filtered VPL terms and L_l the light reflected from
+//! composed: pixel = 1/N Σ_samples (emission and sky seen + Σ_points coverage · throughput ·
+//! (ρ_d · D̃ + ρ_s · G̃ + L_l)), where D̃ and G̃ are the filtered VPL terms and L_l the light reflected from
 //! point, spot and directional lights, which the filter leaves alone so their shadow edges stay
 //! sharp.
 //!
@@ -32,7 +36,7 @@ use crate::interleave::Interleave;
 use crate::packet::Packet8;
 use crate::pixel_rect::PixelRect;
 use crate::prepared::{PreparedScene, SurfacePoint};
-use crate::sampling::{pixel_seed, sobol4};
+use crate::sampling::{hash_combine, pixel_seed, sobol4};
 use crate::stats::{Phase, PhaseTimes, RayCounts};
 use crate::tile::Tile;
 use crate::tonemap::{LuminanceStats, ToneMapper};
@@ -50,7 +54,7 @@ use std::time::Instant;
 /// would grow as 2^bounces. Two glass reflections (0.04² at normal incidence) still pass.
 const MIN_SPECULAR_THROUGHPUT: f32 = 1e-3;
 
-/// Largest number of rays in one bounce of a group's specular stream (a memory bound for
+/// Largest number of rays in one bounce of a set's specular stream (a memory bound for
 /// pathological scenes; ordinary mirrors and glass stay far below it).
 const MAX_SPECULAR_STREAM: usize = 1 << 18;
 
@@ -87,6 +91,10 @@ struct PathState {
     pixel: u32,
     /// Anti-aliasing sample.
     sample: u32,
+    /// Anti-aliasing samples the path stands for: all N of its pixel where they all saw one
+    /// surface (the pixel is shaded once, lit by its whole VPL set), else 1 (the sample is
+    /// lit by its share of the set; [`crate::interleave`]).
+    coverage: u32,
     /// Specular chain code: 1 for the camera ray, then one bit per bounce (0 reflection,
     /// 1 refraction) below a leading 1.
     path: u32,
@@ -123,6 +131,11 @@ struct ShadingPoint {
     /// Radiance reflected from point, spot and directional lights: exact, so never filtered
     /// (their shadow edges stay sharp).
     exact: Vec3,
+    /// Where a camera ray's point stands for its whole pixel in a scene with exact lights:
+    /// the first of the N shadow-ray origins at the positions its samples hit, in
+    /// [`TileScratch::sample_origins`], from which the exact lights are seen, so their
+    /// shadow edges stay anti-aliased.
+    sample_origins: Option<u32>,
 }
 
 /// A hit waiting for its surface shader: the hits of one step are shaded together, grouped
@@ -133,15 +146,37 @@ struct PendingHit {
     dir: Vec3,
     t: f32,
     surface: SurfacePoint,
+    /// For a camera ray's hit that stands for its whole pixel: where the pixel's samples are.
+    whole_pixel: Option<WholePixel>,
 }
 
-/// A traced primary packet: directions, hits and pixels per lane, occupied lanes.
+/// The samples of a pixel shaded once ([`PathState::coverage`]).
+#[derive(Clone, Copy, Debug)]
+struct WholePixel {
+    /// Index of the pixel's first packet in [`TileScratch::packets`] (one per sample).
+    packets: u32,
+    /// The pixel's lane in them.
+    lane: u32,
+    /// See [`ShadingPoint::sample_origins`] (the positions are lifted off the surface once its
+    /// side is known).
+    sample_origins: Option<u32>,
+}
+
+/// A traced primary packet of one anti-aliasing sample: directions, hits and pixels per lane,
+/// occupied lanes.
 #[derive(Clone, Copy, Debug)]
 struct PrimaryPacket {
     dirs: [Vec3; 8],
     hits: [Hit; 8],
     pixels: [u32; 8],
     bits: u32,
+}
+
+impl PrimaryPacket {
+    /// The hit of `lane`, if its ray hit something.
+    fn hit(&self, lane: usize) -> Option<&Hit> {
+        (self.bits & (1 << lane) != 0).then(|| &self.hits[lane])
+    }
 }
 
 /// A ray of the specular stream.
@@ -161,6 +196,12 @@ pub struct TileScratch {
     stream: Vec<SpecularRay>,
     next_stream: Vec<SpecularRay>,
     receivers: Receivers,
+    /// Shadow-ray origins of the samples of whole pixels ([`ShadingPoint::sample_origins`]).
+    sample_origins: Vec<Vec3>,
+    /// Whole pixels that turned out to have a mirror or glass lobe: shaded again per sample.
+    split: Vec<WholePixel>,
+    /// A set's shading points (lighting group, index) in the order they are lit.
+    order: Vec<(u32, u32)>,
     filter_samples: Vec<FilterSample>,
     glossy_radiance: Vec<[Vec3; 2]>,
     filtered: Filtered,
@@ -219,26 +260,25 @@ impl<'a> TilePipeline<'a> {
         scratch.emitted.clear();
         scratch.emitted.resize(region.pixel_count() * aa as usize, Vec3::ZERO);
         scratch.points.clear();
+        scratch.sample_origins.clear();
         let mut rays = RayCounts::default();
         let mut times = PhaseTimes::default();
         let mut clock = Instant::now();
 
         for set in 0..il.sets() {
-            for sample in 0..aa {
-                let first = scratch.points.len();
-                self.trace_primary(&region, set, sample, scratch, &mut rays);
-                times.lap(Phase::Primary, &mut clock);
-                self.shade_primary(sample, scratch);
-                times.lap(Phase::Shading, &mut clock);
-                self.trace_specular(scratch, &mut rays);
-                times.lap(Phase::Specular, &mut clock);
-                if self.compensate_clamp && self.d_min2 > 0.0 {
-                    self.compensate(&region, sample, first, scratch, &mut rays);
-                    times.lap(Phase::Compensation, &mut clock);
-                }
-                self.light(set, sample, first, scratch, &mut rays);
-                times.lap(Phase::Shadow, &mut clock);
+            let first = scratch.points.len();
+            self.trace_primary(&region, set, scratch, &mut rays);
+            times.lap(Phase::Primary, &mut clock);
+            self.shade_primary(&region, scratch);
+            times.lap(Phase::Shading, &mut clock);
+            self.trace_specular(scratch, &mut rays);
+            times.lap(Phase::Specular, &mut clock);
+            if self.compensate_clamp && self.d_min2 > 0.0 {
+                self.compensate(&region, first, scratch, &mut rays);
+                times.lap(Phase::Compensation, &mut clock);
             }
+            self.light(set, first, scratch, &mut rays);
+            times.lap(Phase::Shadow, &mut clock);
         }
 
         let pixels = self.compose(&tile, &region, scratch);
@@ -255,66 +295,137 @@ impl<'a> TilePipeline<'a> {
         TileOutput { tile, pixels, stats, rays, times }
     }
 
-    /// Step 1: the camera rays of sample `sample` of the pixels of `set`, packet by packet.
-    fn trace_primary(
-        &self,
-        region: &PixelRect,
-        set: u32,
-        sample: u32,
-        s: &mut TileScratch,
-        rays: &mut RayCounts,
-    ) {
+    /// Step 1: the camera rays of every anti-aliasing sample of the pixels of `set`, packet by
+    /// packet: the N packets of one group of pixels follow each other in `s.packets`.
+    fn trace_primary(&self, region: &PixelRect, set: u32, s: &mut TileScratch, rays: &mut RayCounts) {
         s.packets.clear();
         let accel = self.scene.accel();
+        let aa = self.interleave.aa;
         let mut primary = 0u64;
         self.interleave.packets(region, set, |lanes| {
-            primary += lanes.len() as u64;
-            let mut packet = Packet8::new();
-            let mut pixels = [0u32; 8];
-            for (lane, &(x, y)) in lanes.iter().enumerate() {
-                let (dx, dy) = self.interleave.sample_offset(
-                    x,
-                    y,
-                    self.sequence.first + sample,
-                    self.sequence.seed,
-                    self.pixel_centres,
-                );
-                packet.set(lane, self.camera.ray_at(x, y, dx, dy));
-                pixels[lane] = region.index(x, y) as u32;
-            }
-            let traced = packet.intersect(accel);
-            let missed = packet.bits() & !traced.bits;
-            if missed != 0 && self.scene.environment().is_some() {
-                for lane in (0..8).filter(|lane| missed & (1 << lane) != 0) {
-                    s.emitted[(pixels[lane] * self.interleave.aa + sample) as usize] +=
-                        self.scene.background(packet.ray(lane).dir);
+            primary += (lanes.len() as u64) * u64::from(aa);
+            for sample in 0..aa {
+                let mut packet = Packet8::new();
+                let mut pixels = [0u32; 8];
+                for (lane, &(x, y)) in lanes.iter().enumerate() {
+                    let (dx, dy) = self.interleave.sample_offset(
+                        x,
+                        y,
+                        self.sequence.first + sample,
+                        self.sequence.seed,
+                        self.pixel_centres,
+                    );
+                    packet.set(lane, self.camera.ray_at(x, y, dx, dy));
+                    pixels[lane] = region.index(x, y) as u32;
                 }
+                let traced = packet.intersect(accel);
+                let missed = packet.bits() & !traced.bits;
+                if missed != 0 && self.scene.environment().is_some() {
+                    for lane in (0..8).filter(|lane| missed & (1 << lane) != 0) {
+                        s.emitted[(pixels[lane] * aa + sample) as usize] +=
+                            self.scene.background(packet.ray(lane).dir);
+                    }
+                }
+                s.packets.push(PrimaryPacket {
+                    dirs: std::array::from_fn(|lane| packet.ray(lane).dir),
+                    hits: traced.hits,
+                    pixels,
+                    bits: traced.bits,
+                });
             }
-            s.packets.push(PrimaryPacket {
-                dirs: std::array::from_fn(|lane| packet.ray(lane).dir),
-                hits: traced.hits,
-                pixels,
-                bits: traced.bits,
-            });
         });
         rays.primary += primary;
     }
 
-    /// Step 2: the surface shaders of every primary hit.
-    fn shade_primary(&self, sample: u32, s: &mut TileScratch) {
+    /// Step 2: the surface shaders of the primary hits: once per pixel whose samples all hit
+    /// one surface ([`same_surface`]), else once per sample that hit something.
+    fn shade_primary(&self, region: &PixelRect, s: &mut TileScratch) {
         let packets = std::mem::take(&mut s.packets);
-        for p in &packets {
-            for (lane, &pixel) in p.pixels.iter().enumerate() {
-                if p.bits & (1 << lane) == 0 {
+        let aa = self.interleave.aa as usize;
+        for (k, samples) in packets.chunks(aa).enumerate() {
+            for lane in 0..8 {
+                let shading_sample = self.shading_sample(region.pixel(samples[0].pixels[lane]));
+                let p = &samples[shading_sample];
+                let Some(first) = p.hit(lane) else {
+                    self.shade_samples(samples, lane, s);
+                    continue;
+                };
+                let surface = self.scene.surface(first);
+                // Hits of one triangle lie on one surface; others are looked at closer.
+                let whole_pixel = samples.iter().all(|q| {
+                    q.hit(lane).is_some_and(|h| {
+                        (h.instance, h.prim) == (first.instance, first.prim)
+                            || same_surface(&surface, first.t, &self.scene.surface(h))
+                    })
+                });
+                if !whole_pixel {
+                    self.shade_samples(samples, lane, s);
                     continue;
                 }
-                let state =
-                    PathState { pixel, sample, path: 1, throughput: Vec3::ONE, depth: 0.0, bounces: 0 };
+                let state = PathState {
+                    pixel: p.pixels[lane],
+                    sample: shading_sample as u32,
+                    coverage: aa as u32,
+                    path: 1,
+                    throughput: Vec3::ONE,
+                    depth: 0.0,
+                    bounces: 0,
+                };
+                let sample_origins = (aa > 1 && !self.vpls.lights().is_empty()).then(|| {
+                    let at = s.sample_origins.len() as u32;
+                    let accel = self.scene.accel();
+                    s.sample_origins
+                        .extend(samples.iter().map(|p| p.hits[lane]).map(|h| accel.hit_position(&h)));
+                    at
+                });
+                let packets = (k * aa) as u32;
+                let whole_pixel = Some(WholePixel { packets, lane: lane as u32, sample_origins });
+                self.queue(PendingHit { state, dir: p.dirs[lane], t: first.t, surface, whole_pixel }, s);
+            }
+        }
+        self.shade_queued(s);
+        // Mirrors and glass show what lies behind them, which the samples must resolve as
+        // they resolve the pixel's own edges: such pixels are shaded again, sample by sample.
+        let split = std::mem::take(&mut s.split);
+        for w in &split {
+            let at = w.packets as usize;
+            self.shade_samples(&packets[at..at + aa], w.lane as usize, s);
+        }
+        s.split = split;
+        s.split.clear();
+        self.shade_queued(s);
+        s.packets = packets;
+    }
+
+    /// The sample that stands for pixel `(x, y)` if all its samples see one
+    /// surface: one of them chosen at random per pixel and frame. Each sample is a uniformly
+    /// random point in the pixel, but a fixed choice j would take the points f·N + j of the
+    /// pixel's sequence in frames f = 0, 1, …, and a (0,2)-sequence puts every N-th point
+    /// into one stripe of the pixel: accumulated frames would integrate that stripe.
+    fn shading_sample(&self, (x, y): (u32, u32)) -> usize {
+        let aa = self.interleave.aa;
+        if aa == 1 {
+            return 0;
+        }
+        (hash_combine(pixel_seed(x, y, self.sequence.seed), self.sequence.first) % aa) as usize
+    }
+
+    /// Queues the hit of `lane` of each sample's packet in `samples` on its own.
+    fn shade_samples(&self, samples: &[PrimaryPacket], lane: usize, s: &mut TileScratch) {
+        for (sample, p) in samples.iter().enumerate() {
+            if p.bits & (1 << lane) != 0 {
+                let state = PathState {
+                    pixel: p.pixels[lane],
+                    sample: sample as u32,
+                    coverage: 1,
+                    path: 1,
+                    throughput: Vec3::ONE,
+                    depth: 0.0,
+                    bounces: 0,
+                };
                 self.queue_hit(p.dirs[lane], &p.hits[lane], state, s);
             }
         }
-        s.packets = packets;
-        self.shade_queued(s);
     }
 
     /// Step 3: the specular stream, bounce by bounce: the rays queued by the previous step
@@ -338,7 +449,8 @@ impl<'a> TilePipeline<'a> {
                     if hit.is_hit() {
                         self.queue_hit(r.ray.dir, hit, r.state, s);
                     } else {
-                        let sky = r.state.throughput * self.scene.background(r.ray.dir);
+                        let sky =
+                            r.state.coverage as f32 * r.state.throughput * self.scene.background(r.ray.dir);
                         s.emitted[(r.state.pixel * self.interleave.aa + r.state.sample) as usize] += sky;
                     }
                 }
@@ -353,7 +465,12 @@ impl<'a> TilePipeline<'a> {
     /// where its material's parameters are the same at every hit (a constant material),
     /// scatters it at once.
     fn queue_hit(&self, dir: Vec3, hit: &Hit, state: PathState, s: &mut TileScratch) {
-        let hit = PendingHit { state, dir, t: hit.t, surface: self.scene.surface(hit) };
+        let hit = PendingHit { state, dir, t: hit.t, surface: self.scene.surface(hit), whole_pixel: None };
+        self.queue(hit, s);
+    }
+
+    /// Queues a hit whose surface is known (see [`TilePipeline::queue_hit`]).
+    fn queue(&self, hit: PendingHit, s: &mut TileScratch) {
         match self.scene.uniform_shading(&hit.surface) {
             Some(params) => self.scatter(&hit, &params, s),
             None => s.pending.push(hit),
@@ -400,9 +517,20 @@ impl<'a> TilePipeline<'a> {
         };
         if front && b.emission.max_element() > 0.0 {
             s.emitted[(state.pixel * self.interleave.aa + state.sample) as usize] +=
-                state.throughput * b.emission;
+                state.coverage as f32 * state.throughput * b.emission;
         }
         let depth = state.depth + hit.t;
+        if let Some(w) = hit.whole_pixel.filter(|_| b.mirror.max_element() > 0.0 || b.glass > 0.0) {
+            s.split.push(w);
+            return;
+        }
+        let sample_origins = hit.whole_pixel.and_then(|w| w.sample_origins);
+        if let Some(at) = sample_origins {
+            let at = at as usize;
+            for o in &mut s.sample_origins[at..at + self.interleave.aa as usize] {
+                *o = offset_ray_origin(*o, ng);
+            }
+        }
         if b.has_non_delta() {
             s.points.push(ShadingPoint {
                 state,
@@ -417,6 +545,7 @@ impl<'a> TilePipeline<'a> {
                 diffuse_radiance: Vec3::ZERO,
                 glossy_radiance: [Vec3::ZERO; 2],
                 exact: Vec3::ZERO,
+                sample_origins,
             });
         }
         if state.bounces >= self.specular_bounces {
@@ -491,23 +620,15 @@ impl<'a> TilePipeline<'a> {
     ///
     /// comes only from surfaces closer than d_min. One cosine-distributed ray per shading point,
     /// at most d_min long, estimates it as ρ_x · w(d) · L(y → x): the point y it hits becomes a
-    /// shading point of the group with throughput ρ_x · w(d) (its emission counts directly),
+    /// shading point of the set with throughput ρ_x · w(d) (its emission counts directly),
     /// lit by the same VPLs, and is compensated in turn, up to [`COMPENSATION_LEVELS`]. What
     /// remains biased is the clamp below the last level and the light of specular surfaces at
     /// y, which it drops. The rays are short, and few hit anything away from creases and
     /// contacts.
-    fn compensate(
-        &self,
-        region: &PixelRect,
-        sample: u32,
-        first: usize,
-        s: &mut TileScratch,
-        rays: &mut RayCounts,
-    ) {
+    fn compensate(&self, region: &PixelRect, first: usize, s: &mut TileScratch, rays: &mut RayCounts) {
         let d_min = self.d_min2.sqrt();
         let accel = self.scene.accel();
-        let index = self.sequence.first + sample;
-        // Level 0 starts from the group's own points; each level compensates the points the
+        // Level 0 starts from the set's own points; each level compensates the points the
         // previous one found (their near field is clamped too).
         let (mut lo, mut hi) = (first, s.points.len());
         for level in 0..COMPENSATION_LEVELS {
@@ -519,6 +640,7 @@ impl<'a> TilePipeline<'a> {
                 for (lane, i) in (start..chunk_end).enumerate() {
                     let p = &s.points[i];
                     let (x, y) = region.pixel(p.state.pixel);
+                    let index = self.sequence.first + p.state.sample;
                     let [_, _, u, v] = sobol4(index, 1 + level, pixel_seed(x, y, self.sequence.seed));
                     let dir = cosine_hemisphere(p.ns, glam::Vec2::new(u, v));
                     if dir.dot(p.ng) <= 0.0 {
@@ -558,36 +680,88 @@ impl<'a> TilePipeline<'a> {
         }
     }
 
-    /// Step 4: the lights and the VPLs of the group (set `set`, sample `sample`) on the
-    /// shading points from index `first` on.
-    fn light(&self, set: u32, sample: u32, first: usize, s: &mut TileScratch, rays: &mut RayCounts) {
-        let points = &mut s.points[first..];
-        if points.is_empty() {
-            return;
-        }
-        let receivers = &mut s.receivers;
-        receivers.clear();
-        for p in points.iter() {
-            receivers.push(p.origin, p.ns, p.ng, p.lobe);
-        }
+    /// Step 4: the lights and the VPLs of set `set` on the shading points from index `first`
+    /// on. A point that stands for its whole pixel is lit by every VPL of the set; a point of
+    /// sample j of an edge pixel by the VPLs j, j + N, j + 2N, … weighted by N (paper 3.3), so
+    /// each pixel uses each VPL of its set once. The exact lights light every point with
+    /// weight 1.
+    fn light(&self, set: u32, first: usize, s: &mut TileScratch, rays: &mut RayCounts) {
+        let TileScratch { points, receivers, order, sample_origins, .. } = s;
+        let aa = self.interleave.aa;
+        // The lighting group of a point: 0 for whole pixels, 1 + j for sample j's own points.
+        let group = |p: &ShadingPoint| if p.state.coverage == aa { 0 } else { 1 + p.state.sample };
+        order.clear();
+        order.extend((first..points.len()).map(|i| (group(&points[i]), i as u32)));
+        // Stable: each group keeps the pixel order its shadow packets want.
+        order.sort_by_key(|&(g, _)| g);
         let accel = self.scene.accel();
-        if !self.vpls.lights().is_empty() {
-            receivers.add_lights(accel, self.vpls.lights().iter(), 1.0, rays);
-            for (i, p) in points.iter_mut().enumerate() {
-                let (d, g, schlick) = receivers.radiance(i);
-                p.exact = p.albedo * d + p.glossy * g + schlick;
+        for run in order.chunk_by(|a, b| a.0 == b.0) {
+            let (skip, step) = match run[0].0 {
+                0 => (0, 1),
+                g => (g as usize - 1, aa as usize),
+            };
+            let weight = step as f32;
+            if !self.vpls.lights().is_empty() {
+                self.light_exactly(points, run, sample_origins, receivers, rays);
             }
-            receivers.reset_radiance();
+            receivers.clear();
+            for &(_, i) in run {
+                let p = &points[i as usize];
+                receivers.push(p.origin, p.ns, p.ng, p.lobe);
+            }
+            receivers.regularise();
+            let sky = self.vpls.sky(set).iter().skip(skip).step_by(step);
+            receivers.add_lights(accel, sky, weight, rays);
+            let vpls = self.vpls.set(set).iter().skip(skip).step_by(step);
+            receivers.add_vpls(accel, vpls, weight, self.d_min2, rays);
+            for (k, &(_, i)) in run.iter().enumerate() {
+                let p = &mut points[i as usize];
+                let (d, g, schlick) = receivers.radiance(k);
+                (p.diffuse_radiance, p.glossy_radiance) = (d, [g, schlick]);
+            }
         }
-        receivers.regularise();
+    }
+
+    /// The light of the exact lights (point, spot, directional) reflected at the points
+    /// `run` of `points`; a whole pixel's point is lit from each of its samples' positions
+    /// ([`ShadingPoint::sample_origins`]) and takes their mean, so a hard shadow's edge across
+    /// the pixel stays anti-aliased.
+    fn light_exactly(
+        &self,
+        points: &mut [ShadingPoint],
+        run: &[(u32, u32)],
+        sample_origins: &[Vec3],
+        receivers: &mut Receivers,
+        rays: &mut RayCounts,
+    ) {
         let aa = self.interleave.aa as usize;
-        let sky = self.vpls.sky(set).iter().skip(sample as usize).step_by(aa);
-        receivers.add_lights(accel, sky, aa as f32, rays);
-        let vpls = self.vpls.set(set).iter().skip(sample as usize).step_by(aa);
-        receivers.add_vpls(accel, vpls, aa as f32, self.d_min2, rays);
-        for (i, p) in points.iter_mut().enumerate() {
-            let (d, g, schlick) = receivers.radiance(i);
-            (p.diffuse_radiance, p.glossy_radiance) = (d, [g, schlick]);
+        let origins = |p: &ShadingPoint| match p.sample_origins {
+            Some(at) => at as usize..at as usize + aa,
+            None => 0..1,
+        };
+        let origin = |p: &ShadingPoint, k: usize| match p.sample_origins {
+            Some(_) => sample_origins[k],
+            None => p.origin,
+        };
+        receivers.clear();
+        for &(_, i) in run {
+            let p = &points[i as usize];
+            for k in origins(p) {
+                receivers.push(origin(p, k), p.ns, p.ng, p.lobe);
+            }
+        }
+        receivers.add_lights(self.scene.accel(), self.vpls.lights().iter(), 1.0, rays);
+        let mut k = 0;
+        for &(_, i) in run {
+            let p = &mut points[i as usize];
+            let n = origins(p).len();
+            let mut sum = Vec3::ZERO;
+            for _ in 0..n {
+                let (d, g, schlick) = receivers.radiance(k);
+                sum += p.albedo * d + p.glossy * g + schlick;
+                k += 1;
+            }
+            p.exact = sum / n as f32;
         }
     }
 
@@ -605,6 +779,7 @@ impl<'a> TilePipeline<'a> {
                 filter_samples.extend(points.iter().map(|p| FilterSample {
                     pixel: p.state.pixel,
                     sample: p.state.sample,
+                    whole_pixel: p.state.coverage > 1,
                     path: p.state.path,
                     normal: p.ns,
                     depth: p.depth,
@@ -641,7 +816,7 @@ impl<'a> TilePipeline<'a> {
         for (i, (p, d)) in points.iter().zip(&filtered.diffuse_radiance).enumerate() {
             if let Some(pixel) = tile_index(p.state.pixel) {
                 let g = filtered.glossy_radiance.get(i).map_or(Vec3::ZERO, |[g, s]| p.glossy * *g + *s);
-                pixels[pixel] += p.state.throughput * (p.albedo * *d + g + p.exact);
+                pixels[pixel] += p.state.coverage as f32 * p.state.throughput * (p.albedo * *d + g + p.exact);
             }
         }
         let scale = 1.0 / aa as f32;
@@ -655,4 +830,22 @@ impl<'a> TilePipeline<'a> {
         }
         pixels
     }
+}
+
+/// Largest angle between the geometric normals of samples that count as one surface: the
+/// cosine. A pixel across a crease sharper than about 11° keeps its samples apart.
+const SAME_SURFACE_MIN_COS: f32 = 0.98;
+
+/// Largest distance of a sample's hit from the plane of another's, relative to the distance
+/// from the camera, for the two to count as one surface (a step in depth keeps them apart).
+const SAME_SURFACE_PLANE_DISTANCE: f32 = 0.01;
+
+/// Whether the camera-ray hit `b` lies on the surface of `a` (reached at distance `t`): same
+/// material, geometric normals within [`SAME_SURFACE_MIN_COS`] and `b` on the plane of `a`
+/// within [`SAME_SURFACE_PLANE_DISTANCE`]. Samples of a pixel that all lie on one surface are
+/// shaded and lit once (anti-aliasing at the cost of primary rays, paper 3.3).
+fn same_surface(a: &SurfacePoint, t: f32, b: &SurfacePoint) -> bool {
+    a.material == b.material
+        && a.geometric_normal.dot(b.geometric_normal) >= SAME_SURFACE_MIN_COS
+        && a.geometric_normal.dot(b.position - a.position).abs() <= SAME_SURFACE_PLANE_DISTANCE * t
 }
