@@ -14,6 +14,7 @@
 use glam::Vec3;
 use igi_bvh::Ray;
 use igi_scene::Camera;
+use igi_simd::{F32x8, Vec3x8};
 
 /// `a · (1 / |a|)` as the reference code normalises (zero stays zero).
 #[inline]
@@ -81,6 +82,27 @@ impl PinholeCamera {
         let sx = (2.0 * (x as f32 + dx) / w - 1.0) * self.tan_half * self.aspect;
         let sy = (1.0 - 2.0 * (y as f32 + dy) / h) * self.tan_half;
         normalize(self.forward + self.right * sx + self.up * sy)
+    }
+
+    /// [`PinholeCamera::direction_at`] of eight points at once, lane by lane: the same
+    /// operations in the same order on eight lanes, so every lane equals the scalar direction
+    /// bit for bit (primary rays stay embree-bench's rays).
+    #[inline]
+    pub fn directions_at8(&self, x: [u32; 8], y: [u32; 8], dx: [f32; 8], dy: [f32; 8]) -> Vec3x8 {
+        let f = |v: [u32; 8]| F32x8::from_array(v.map(|v| v as f32));
+        let (x, y, dx, dy) = (f(x), f(y), F32x8::from_array(dx), F32x8::from_array(dy));
+        let s = F32x8::splat;
+        let (w, h) = (s(self.width as f32), s(self.height as f32));
+        let sx = (s(2.0) * (x + dx) / w - s(1.0)) * s(self.tan_half) * s(self.aspect);
+        let sy = (s(1.0) - s(2.0) * (y + dy) / h) * s(self.tan_half);
+        let axis = |a: usize| s(self.forward[a]) + s(self.right[a]) * sx + s(self.up[a]) * sy;
+        let v = Vec3x8::new(axis(0), axis(1), axis(2));
+        // `normalize`: a · (1 / |a|), zero staying zero.
+        let l = (v.x * v.x + v.y * v.y + v.z * v.z).sqrt();
+        let inv = s(1.0) / l;
+        let keep = l.gt(F32x8::ZERO);
+        let scaled = |c: F32x8| F32x8::select(keep, c * inv, c);
+        Vec3x8::new(scaled(v.x), scaled(v.y), scaled(v.z))
     }
 
     /// Unit direction through the centre of pixel `(x, y)`.

@@ -12,7 +12,7 @@
 
 use crate::frame::IgiSettings;
 use crate::pixel_rect::PixelRect;
-use crate::sampling::{pixel_seed, sobol4};
+use crate::sampling::sobol4;
 use crate::tile::Tile;
 
 /// The interleaving pattern of a frame: n×m VPL sets and N samples per pixel.
@@ -56,16 +56,17 @@ impl Interleave {
         }
     }
 
-    /// Where sample `index` of pixel `(x, y)` lies in the pixel, as offsets in [0, 1)² from its
-    /// top-left corner: the centre if `centre` (one sample per pixel in a still frame), else
-    /// point `index` of an Owen-scrambled Sobol sequence seeded by the pixel and `seed`
-    /// (stratified within the pixel; see [`crate::frame::FrameState::sequence`] for the index).
+    /// Where sample `index` of a pixel lies in it, as offsets in [0, 1)² from its top-left
+    /// corner: the centre if `centre` (one sample per pixel in a still frame), else point
+    /// `index` of the Owen-scrambled Sobol sequence of the pixel's sequence seed
+    /// `pixel_seed` ([`crate::sampling::pixel_seed`]: stratified within the pixel; see
+    /// [`crate::frame::FrameState::sequence`] for the index).
     #[inline]
-    pub fn sample_offset(&self, x: u32, y: u32, index: u32, seed: u32, centre: bool) -> (f32, f32) {
+    pub fn sample_offset(&self, index: u32, pixel_seed: u32, centre: bool) -> (f32, f32) {
         if centre {
             return (0.5, 0.5);
         }
-        let [u, v, _, _] = sobol4(index, 0, pixel_seed(x, y, seed));
+        let [u, v, _, _] = sobol4(index, 0, pixel_seed);
         (u, v)
     }
 

@@ -42,12 +42,6 @@ impl Packet8 {
         &self.rays[lane]
     }
 
-    /// The occupied lanes, as a bit mask.
-    #[inline]
-    pub fn bits(&self) -> u32 {
-        self.bits
-    }
-
     /// Number of rays.
     #[inline]
     pub fn len(&self) -> u32 {
@@ -77,7 +71,7 @@ impl Packet8 {
 
 /// The hits of a packet as single records (one store per field instead of one per lane and
 /// field).
-fn unpack_hits(h: &HitPacket8) -> [Hit; 8] {
+pub(crate) fn unpack_hits(h: &HitPacket8) -> [Hit; 8] {
     let (t, u, v) = (h.t.to_array(), h.u.to_array(), h.v.to_array());
     let (instance, prim) = (h.instance.to_array(), h.prim.to_array());
     std::array::from_fn(|i| Hit {
@@ -117,7 +111,7 @@ mod tests {
         for &(lane, r) in &rays {
             packet.set(lane, r);
         }
-        assert_eq!((packet.bits(), packet.len()), (0b101_0010, 3));
+        assert_eq!(packet.len(), 3);
         let traced = packet.intersect(&accel);
         assert_eq!(traced.bits, 0b100_0010, "occupied lanes that hit");
         for &(lane, r) in &rays {

@@ -33,7 +33,7 @@ use crate::discontinuity::{DiscontinuityBuffer, FilterSample, Filtered};
 use crate::frame::{FilterSettings, FrameState, SequenceSpan};
 use crate::frame_image::{PixelFormat, Pixels};
 use crate::interleave::Interleave;
-use crate::packet::Packet8;
+use crate::packet::{Packet8, unpack_hits};
 use crate::pixel_rect::PixelRect;
 use crate::prepared::{PreparedScene, SurfacePoint};
 use crate::sampling::{hash_combine, pixel_seed, sobol4};
@@ -43,10 +43,11 @@ use crate::tonemap::{LuminanceStats, ToneMapper};
 use crate::vpl::VplSets;
 use crate::vpl_lighting::{GlossyLobe, Receivers};
 use glam::Vec3;
-use igi_bvh::{Hit, Ray, offset_ray_origin};
+use igi_bvh::{Hit, Ray, RayPacket8, offset_ray_origin};
 use igi_shade::BrdfParams;
 use igi_shade::brdf::cosine_hemisphere;
 use igi_shade::brdf::dielectric::{Interface, glass_exit_side, reflect, refract};
+use igi_simd::{F32x8, M32x8, Vec3x8};
 use std::time::Instant;
 
 /// Specular chains carrying less than this (per channel, relative to the camera ray) end: glass
@@ -302,36 +303,33 @@ impl<'a> TilePipeline<'a> {
         let accel = self.scene.accel();
         let aa = self.interleave.aa;
         let mut primary = 0u64;
+        let origin = Vec3x8::splat(self.camera.origin.to_array());
         self.interleave.packets(region, set, |lanes| {
             primary += (lanes.len() as u64) * u64::from(aa);
+            // Unoccupied lanes repeat the first pixel, so every lane holds a valid ray (the
+            // packet kernel decides the traversal order from all lanes' signs).
+            let lane = |i: usize| lanes[if i < lanes.len() { i } else { 0 }];
+            let (x, y) = (std::array::from_fn(|i| lane(i).0), std::array::from_fn(|i| lane(i).1));
+            let pixels = std::array::from_fn(|i| region.index(lane(i).0, lane(i).1) as u32);
+            let seeds: [u32; 8] = std::array::from_fn(|i| pixel_seed(x[i], y[i], self.sequence.seed));
+            let occupied = (1u32 << lanes.len()) - 1;
             for sample in 0..aa {
-                let mut packet = Packet8::new();
-                let mut pixels = [0u32; 8];
-                for (lane, &(x, y)) in lanes.iter().enumerate() {
-                    let (dx, dy) = self.interleave.sample_offset(
-                        x,
-                        y,
-                        self.sequence.first + sample,
-                        self.sequence.seed,
-                        self.pixel_centres,
-                    );
-                    packet.set(lane, self.camera.ray_at(x, y, dx, dy));
-                    pixels[lane] = region.index(x, y) as u32;
-                }
-                let traced = packet.intersect(accel);
-                let missed = packet.bits() & !traced.bits;
+                let offsets: [(f32, f32); 8] = std::array::from_fn(|i| {
+                    self.interleave.sample_offset(self.sequence.first + sample, seeds[i], self.pixel_centres)
+                });
+                let dir = self.camera.directions_at8(x, y, offsets.map(|o| o.0), offsets.map(|o| o.1));
+                let packet =
+                    RayPacket8 { origin, dir, tnear: F32x8::ZERO, tfar: F32x8::splat(f32::INFINITY) };
+                let traced = accel.intersect8(&packet, M32x8::from_bitmask(occupied));
+                let bits = occupied & traced.hit_mask().bitmask();
+                let dirs: [Vec3; 8] = std::array::from_fn(|i| Vec3::from(dir.lane(i)));
+                let missed = occupied & !bits;
                 if missed != 0 && self.scene.environment().is_some() {
                     for lane in (0..8).filter(|lane| missed & (1 << lane) != 0) {
-                        s.emitted[(pixels[lane] * aa + sample) as usize] +=
-                            self.scene.background(packet.ray(lane).dir);
+                        s.emitted[(pixels[lane] * aa + sample) as usize] += self.scene.background(dirs[lane]);
                     }
                 }
-                s.packets.push(PrimaryPacket {
-                    dirs: std::array::from_fn(|lane| packet.ray(lane).dir),
-                    hits: traced.hits,
-                    pixels,
-                    bits: traced.bits,
-                });
+                s.packets.push(PrimaryPacket { dirs, hits: unpack_hits(&traced), pixels, bits });
             }
         });
         rays.primary += primary;

@@ -58,6 +58,29 @@ fn directions_follow_the_formula() {
     assert!(tl.dot(up2) > 0.0 && tl.dot(right) < 0.0);
 }
 
+/// The eight-lane directions of the tile pipeline are the scalar ones, bit for bit, so its
+/// primary rays are the rays `igi bench rays` and embree-bench trace.
+#[test]
+fn eight_directions_at_once_equal_the_scalar_ones_bit_for_bit() {
+    let pin = PinholeCamera::new(&cornell(), 640, 480);
+    let mut state = 12345u32;
+    let mut next = || {
+        state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        state
+    };
+    for _ in 0..1000 {
+        let x: [u32; 8] = std::array::from_fn(|_| next() % 640);
+        let y: [u32; 8] = std::array::from_fn(|_| next() % 480);
+        let dx: [f32; 8] = std::array::from_fn(|_| (next() >> 8) as f32 / (1u32 << 24) as f32);
+        let dy: [f32; 8] = std::array::from_fn(|_| (next() >> 8) as f32 / (1u32 << 24) as f32);
+        let d = pin.directions_at8(x, y, dx, dy);
+        for lane in 0..8 {
+            let want = pin.direction_at(x[lane], y[lane], dx[lane], dy[lane]);
+            assert_eq!(d.lane(lane).map(f32::to_bits), want.to_array().map(f32::to_bits), "lane {lane}");
+        }
+    }
+}
+
 #[test]
 fn frame_is_orthonormal_and_fov_is_vertical() {
     let pin = PinholeCamera::new(&cornell(), 512, 512);
