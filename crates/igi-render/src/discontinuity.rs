@@ -53,31 +53,42 @@ pub struct Filtered {
     pub glossy_radiance: Vec<[Vec3; 2]>,
 }
 
-/// What the filter reads of a shading point, stored in a pixel grid per layer so that the
-/// neighbours of a pixel lie next to each other in memory.
+/// What the filter reads of a shading point, stored in a pixel grid per camera path so that
+/// the neighbours of a pixel lie next to each other in memory.
 #[derive(Clone, Copy, Debug)]
 struct Cell {
     normal: Vec3,
     depth: f32,
     diffuse_radiance: Vec3,
-    /// Material index, or [`EMPTY`] if the layer has no point at this pixel.
+    /// Material index; [`EMPTY`] if the layer has no point at this pixel; for a pixel whose
+    /// samples have points of their own, [`EDGE`] plus the slot of its N cells in
+    /// [`DiscontinuityBuffer::edge_cells`].
     material: u32,
 }
 
 /// No shading point at this pixel in this layer.
 const EMPTY: u32 = u32::MAX;
 
+/// Marks a cell whose pixel has a point per sample (the low bits hold the slot of its cells).
+const EDGE: u32 = 1 << 31;
+
 const EMPTY_CELL: Cell =
     Cell { normal: Vec3::ZERO, depth: 0.0, diffuse_radiance: Vec3::ZERO, material: EMPTY };
 
-/// Scratch space of the filter: one pixel grid per (sample, path) layer, reused across tiles.
+/// Scratch space of the filter, reused across tiles: one pixel grid per camera path (layer)
+/// holding the whole pixels' points, and beside it the cells of the pixels that have a point
+/// per sample, N per pixel.
 #[derive(Clone, Debug, Default)]
 pub struct DiscontinuityBuffer {
-    keys: Vec<(u32, u32)>,
+    /// Camera path of each layer.
+    paths: Vec<u32>,
     grids: Vec<Vec<Cell>>,
     /// The glossy terms G and S per layer, beside the grids (filled only for tiles with a
     /// glossy point, which keeps the cells small for the rest).
     glossy_grids: Vec<Vec<[Vec3; 2]>>,
+    /// The cells of pixels with a point per sample, N per slot, and their G and S.
+    edge_cells: Vec<Cell>,
+    edge_glossy: Vec<[Vec3; 2]>,
     /// Layer of each point.
     layers: Vec<u32>,
 }
@@ -100,7 +111,8 @@ impl DiscontinuityBuffer {
     ) {
         let Filtered { diffuse_radiance: out, glossy_radiance: glossy_out } = out;
         let glossy = !glossy_in.is_empty();
-        self.index(region, interleave.aa, points, glossy_in);
+        let aa = interleave.aa as usize;
+        self.index(region, aa, points, glossy_in);
         out.clear();
         out.extend(points.iter().map(|p| p.diffuse_radiance));
         glossy_out.clear();
@@ -118,13 +130,21 @@ impl DiscontinuityBuffer {
             let mut count = 0u32;
             for qy in y.saturating_sub(up)..=(y + down).min(region.y1 - 1) {
                 let row = region.index(x0, qy)..=region.index(x1, qy);
-                for (qx, (q, index)) in (x0..).zip(grid[row.clone()].iter().zip(row)) {
+                for (qx, (cell, index)) in (x0..).zip(grid[row.clone()].iter().zip(row)) {
+                    // A neighbour with a point per sample shows this point's sample.
+                    let (q, edge) = match cell.material {
+                        m if m != EMPTY && m & EDGE != 0 => {
+                            let at = (m & !EDGE) as usize * aa + p.sample as usize;
+                            (&self.edge_cells[at], Some(at))
+                        }
+                        _ => (cell, None),
+                    };
                     // The centre always counts (a normal's dot product with itself can round
                     // below a threshold of 1), so count ≥ 1.
                     if (qx == x && qy == y) || similar(p, q, settings) {
                         sum[0] += q.diffuse_radiance;
                         if glossy {
-                            let [g, s] = glossy_grid[index];
+                            let [g, s] = edge.map_or(glossy_grid[index], |at| self.edge_glossy[at]);
                             sum[1] += g;
                             sum[2] += s;
                         }
@@ -139,20 +159,21 @@ impl DiscontinuityBuffer {
         }
     }
 
-    /// Builds one pixel grid per (sample, path) layer holding the points; a whole-pixel point
-    /// goes into the layer of every sample of its path.
-    fn index(&mut self, region: &PixelRect, samples: u32, points: &[FilterSample], glossy: &[[Vec3; 2]]) {
-        self.keys.clear();
+    /// Builds one pixel grid per camera path holding the points: a whole pixel's point in its
+    /// cell, a sample's own point in its pixel's slot of N edge cells.
+    fn index(&mut self, region: &PixelRect, aa: usize, points: &[FilterSample], glossy: &[[Vec3; 2]]) {
+        self.paths.clear();
         self.layers.clear();
-        let mut last: Option<((u32, u32), u32)> = None;
+        self.edge_cells.clear();
+        self.edge_glossy.clear();
+        let mut last: Option<(u32, u32)> = None;
         for (i, p) in points.iter().enumerate() {
-            let key = (p.sample, p.path);
-            // Points come in runs of one layer: look the key up only when it changes.
+            // Points come in runs of one path: look it up only when it changes.
             let layer = match last {
-                Some((k, layer)) if k == key => layer,
-                _ => self.layer(key, region, !glossy.is_empty()),
+                Some((path, layer)) if path == p.path => layer,
+                _ => self.layer(p.path, region, !glossy.is_empty()),
             };
-            last = Some((key, layer));
+            last = Some((p.path, layer));
             self.layers.push(layer);
             let cell = Cell {
                 normal: p.normal,
@@ -160,39 +181,48 @@ impl DiscontinuityBuffer {
                 diffuse_radiance: p.diffuse_radiance,
                 material: p.material,
             };
-            for j in 0..samples {
-                let l = match j == p.sample {
-                    true => layer,
-                    false if p.whole_pixel => self.layer((j, p.path), region, !glossy.is_empty()),
-                    false => continue,
-                };
-                self.grids[l as usize][p.pixel as usize] = cell;
-                if let Some(g) = glossy.get(i) {
-                    self.glossy_grids[l as usize][p.pixel as usize] = *g;
+            let g = glossy.get(i).copied();
+            let slot = &mut self.grids[layer as usize][p.pixel as usize];
+            if p.whole_pixel {
+                *slot = cell;
+                if let Some(g) = g {
+                    self.glossy_grids[layer as usize][p.pixel as usize] = g;
                 }
+                continue;
+            }
+            if slot.material == EMPTY || slot.material & EDGE == 0 {
+                // The pixel's first sample point in this layer opens its slot.
+                slot.material = EDGE | (self.edge_cells.len() / aa) as u32;
+                self.edge_cells.resize(self.edge_cells.len() + aa, EMPTY_CELL);
+                self.edge_glossy.resize(self.edge_glossy.len() + aa, [Vec3::ZERO; 2]);
+            }
+            let at = (slot.material & !EDGE) as usize * aa + p.sample as usize;
+            self.edge_cells[at] = cell;
+            if let Some(g) = g {
+                self.edge_glossy[at] = g;
             }
         }
     }
 
-    /// The layer of `key`, a fresh empty one the first time a key is seen in a tile.
-    fn layer(&mut self, key: (u32, u32), region: &PixelRect, glossy: bool) -> u32 {
-        if let Some(layer) = self.keys.iter().position(|&k| k == key) {
+    /// The layer of camera path `path`, a fresh empty one the first time it is seen in a tile.
+    fn layer(&mut self, path: u32, region: &PixelRect, glossy: bool) -> u32 {
+        if let Some(layer) = self.paths.iter().position(|&k| k == path) {
             return layer as u32;
         }
-        self.keys.push(key);
-        if self.grids.len() < self.keys.len() {
+        self.paths.push(path);
+        if self.grids.len() < self.paths.len() {
             self.grids.push(Vec::new());
             self.glossy_grids.push(Vec::new());
         }
-        let grid = &mut self.grids[self.keys.len() - 1];
+        let grid = &mut self.grids[self.paths.len() - 1];
         grid.clear();
         grid.resize(region.pixel_count(), EMPTY_CELL);
-        let glossy_grid = &mut self.glossy_grids[self.keys.len() - 1];
+        let glossy_grid = &mut self.glossy_grids[self.paths.len() - 1];
         glossy_grid.clear();
         if glossy {
             glossy_grid.resize(region.pixel_count(), [Vec3::ZERO; 2]);
         }
-        (self.keys.len() - 1) as u32
+        (self.paths.len() - 1) as u32
     }
 }
 
@@ -217,7 +247,7 @@ mod tests {
                 points.push(FilterSample {
                     pixel: region.index(x, y) as u32,
                     sample: 0,
-                    whole_pixel: false,
+                    whole_pixel: true,
                     path: 1,
                     normal,
                     depth,
@@ -289,5 +319,55 @@ mod tests {
         let out = run(&points, &region, &tile);
         assert_eq!(out[region.index(2, 3)], Vec3::ONE);
         assert_eq!(out[region.index(3, 3)], Vec3::splat(5.0));
+    }
+
+    /// With two samples per pixel, a pixel across an edge has a point per sample: sample j
+    /// averages its whole neighbours and their sample-j points, never another sample's; a
+    /// whole pixel counts for every sample.
+    #[test]
+    fn a_sample_is_filtered_with_whole_pixels_and_the_same_sample_of_edge_pixels() {
+        let region = PixelRect { x0: 0, y0: 0, x1: 3, y1: 3 };
+        let tile = Tile { index: 0, rect: region };
+        let il = Interleave { n: 3, m: 3, aa: 2 };
+        let point = |x: u32, y: u32, sample: u32, whole_pixel: bool, d: f32| FilterSample {
+            pixel: region.index(x, y) as u32,
+            sample,
+            whole_pixel,
+            path: 1,
+            normal: Vec3::Y,
+            depth: 1.0,
+            material: 0,
+            diffuse_radiance: Vec3::splat(d),
+        };
+        // Whole pixels of value 1 everywhere but (1, 1) and (2, 1), which have samples 0 and 1
+        // of values 10, 20 and 30, 40.
+        let mut points: Vec<FilterSample> = (0..9)
+            .map(|i| (i % 3, i / 3))
+            .filter(|&(x, y)| y != 1 || x == 0)
+            .map(|(x, y)| point(x, y, 0, true, 1.0))
+            .collect();
+        points.extend([point(1, 1, 0, false, 10.0), point(1, 1, 1, false, 20.0)]);
+        points.extend([point(2, 1, 0, false, 30.0), point(2, 1, 1, false, 40.0)]);
+        let mut out = Filtered::default();
+        DiscontinuityBuffer::default().filter(
+            &region,
+            &tile,
+            &il,
+            &FilterSettings::default(),
+            (&points, &[]),
+            &mut out,
+        );
+        let value = |x: u32, y: u32, sample: u32| {
+            let i = points
+                .iter()
+                .position(|p| p.pixel == region.index(x, y) as u32 && p.sample == sample)
+                .unwrap();
+            out.diffuse_radiance[i].x
+        };
+        // Sample 0 at (1, 1): seven whole pixels, itself (10) and (2, 1)'s sample 0 (30).
+        assert!((value(1, 1, 0) - (7.0 + 10.0 + 30.0) / 9.0).abs() < 1e-5);
+        assert!((value(1, 1, 1) - (7.0 + 20.0 + 40.0) / 9.0).abs() < 1e-5);
+        // A whole pixel is filtered as its own sample (0): (0, 0) sees (1, 1)'s sample 0.
+        assert!((value(0, 0, 0) - (3.0 + 10.0) / 4.0).abs() < 1e-5);
     }
 }

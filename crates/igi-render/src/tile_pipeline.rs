@@ -777,7 +777,7 @@ impl<'a> TilePipeline<'a> {
                 filter_samples.extend(points.iter().map(|p| FilterSample {
                     pixel: p.state.pixel,
                     sample: p.state.sample,
-                    whole_pixel: p.state.coverage > 1,
+                    whole_pixel: p.state.coverage == self.interleave.aa,
                     path: p.state.path,
                     normal: p.ns,
                     depth: p.depth,

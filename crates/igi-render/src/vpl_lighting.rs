@@ -147,6 +147,7 @@ impl Chunk {
         ggx_bits: 0,
     };
 
+    #[inline]
     fn set(&mut self, lane: usize, origin: Vec3, ns: Vec3, ng: Vec3, glossy: Option<GlossyLobe>) {
         let ((lobe_axis, exponent), (view, alpha)) = match glossy {
             Some(GlossyLobe::Phong { axis, exponent }) => ((axis, exponent), (ns, 1.0)),
@@ -264,6 +265,7 @@ impl Receivers {
     /// turned to the side being lit, and for a point with a glossy lobe that lobe toward the
     /// viewer. Points are lit in the order they were added; neighbours in that
     /// order share packets, so add them in a coherent order.
+    #[inline]
     pub fn push(&mut self, origin: Vec3, ns: Vec3, ng: Vec3, glossy: Option<GlossyLobe>) {
         let lane = self.len % 8;
         if lane == 0 {
@@ -308,6 +310,7 @@ impl Receivers {
 
     /// The diffuse radiance D, glossy radiance G and Schlick radiance S accumulated at point
     /// `i` (in the order of [`Receivers::push`]).
+    #[inline]
     pub fn radiance(&self, i: usize) -> (Vec3, Vec3, Vec3) {
         let lane = |v: &[Vec3x8]| Vec3::from(v[i / 8].lane(i % 8));
         (lane(&self.diffuse_radiance), lane(&self.glossy_radiance), lane(&self.schlick_radiance))
