@@ -30,8 +30,9 @@ pub struct FrameArgs {
     /// Interleave pattern NxM: the frame has N·M VPL sets, one per pixel of every NxM block.
     #[arg(long, default_value = "3x3", value_parser = parse_interleave)]
     pub interleave: [u32; 2],
-    /// Primary rays per pixel (interleaved super-sampling: each is lit by its share of the
-    /// pixel's VPLs). Default 4; 1 in the interactive viewers (`view`, `serve`).
+    /// Primary rays per pixel (interleaved super-sampling: a pixel whose rays all see one
+    /// surface is shaded once, with all its VPLs; across an edge each ray is lit by its share
+    /// of them). Default 4; 1 in the interactive viewers (`view`, `serve`).
     #[arg(long)]
     pub aa: Option<u32>,
     /// Show the raw interleaved image: no discontinuity filter.
