@@ -24,6 +24,9 @@ use glam::{Affine3A, Vec3};
 use igi_simd::{F32x8, I32x8, LaneMask, Lanes, M32x8, Vec3x8};
 use std::sync::Arc;
 
+mod shadow_cache;
+pub use shadow_cache::ShadowCache;
+
 /// Decides whether a hit on a triangle that may be cut out is really there (alpha cut-outs:
 /// glTF `alphaMode: MASK`, MTL `map_d`; the renderer reads the texels).
 pub trait HitFilter: Send + Sync + std::fmt::Debug {
@@ -294,7 +297,12 @@ impl Accel {
     /// Eight rays through both levels, as [`Accel::trace1`]; each instance's walk is
     /// monomorphised for the packet's kind of shear and box test.
     fn trace8<Q: TriangleQuery<F32x8>>(&self, rays: &RayPacket8, active: M32x8, q: &mut Q) {
-        let world = Local8::new(rays.origin, rays.dir, rays.tnear, active);
+        self.trace8_from(&Local8::new(rays.origin, rays.dir, rays.tnear, active), rays, q);
+    }
+
+    /// [`Accel::trace8`] of `rays` prepared in world space as `world`.
+    fn trace8_from<Q: TriangleQuery<F32x8>>(&self, world: &Local8, rays: &RayPacket8, q: &mut Q) {
+        let world = *world;
         let instance = |q: &mut Q, inst: u32, p: &Placement| {
             let local =
                 if p.identity { world } else { world.transformed(rays, &p.world_to_object, q.active()) };
@@ -346,14 +354,19 @@ impl Accel {
     ) where
         for<'a> MayCut<'a>: Cut<L>,
     {
-        let cut = self.cutouts.as_ref().and_then(|c| {
-            let bits = &c.may_cut[mesh as usize];
-            (!bits.is_empty()).then_some(MayCut { bits, filter: c.filter.as_ref(), mesh })
-        });
-        match cut {
+        match self.may_cut(mesh) {
             None => self.walk_triangles(mesh, inst, start, shear, boxes, q, Opaque),
             Some(cut) => self.walk_triangles(mesh, inst, start, shear, boxes, q, cut),
         }
+    }
+
+    /// The cut-out test of `mesh`, if it has a triangle that may be cut.
+    #[inline(always)]
+    fn may_cut(&self, mesh: u32) -> Option<MayCut<'_>> {
+        self.cutouts.as_ref().and_then(|c| {
+            let bits = &c.may_cut[mesh as usize];
+            (!bits.is_empty()).then_some(MayCut { bits, filter: c.filter.as_ref(), mesh })
+        })
     }
 
     /// [`Accel::walk_mesh`] with the hits of each triangle test passed through `cut`.

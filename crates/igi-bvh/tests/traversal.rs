@@ -1,12 +1,12 @@
 //! The traversal kernels against brute force and against each other: the BVH never misses what
 //! a loop over all triangles finds, packets equal single rays lane by lane, instancing equals
-//! baked geometry, rays cannot slip through the shared edges of a closed mesh, and cut-out
-//! hits are no hits for any query, packets included.
+//! baked geometry, rays cannot slip through the shared edges of a closed mesh, cut-out hits
+//! are no hits for any query, packets included, and the shadow cache changes no answer.
 
 use glam::{Affine3A, Quat, Vec3};
 use igi_bvh::{
-    Accel, Hit, HitFilter, HitPacket8, INVALID_ID, Ray, RayPacket8, TriangleMesh, intersect_triangle,
-    offset_ray_origin,
+    Accel, Hit, HitFilter, HitPacket8, INVALID_ID, Ray, RayPacket8, ShadowCache, TriangleMesh,
+    intersect_triangle, offset_ray_origin,
 };
 use igi_simd::M32x8;
 use std::sync::Arc;
@@ -361,4 +361,54 @@ fn offset_origins_avoid_self_intersection() {
             assert!(!accel.occluded(&Ray::new(start, d)), "self-intersection at scale {scale}");
         }
     }
+}
+
+/// Shadow packets toward one light traced with the light's shadow cache are blocked exactly
+/// where `occluded8` blocks them: through a moved instance (whose triangles are not cached),
+/// cut-outs, partly active packets, and caches holding a triangle from another light.
+#[test]
+fn the_shadow_cache_changes_no_answer() {
+    let mut rng = Rng(13);
+    let mesh = soup(&mut rng, 1500, 1.5);
+    let instances = [
+        (0, Affine3A::IDENTITY),
+        (
+            0,
+            Affine3A::from_scale_rotation_translation(
+                Vec3::splat(0.6),
+                Quat::from_rotation_z(0.4),
+                Vec3::X * 4.0,
+            ),
+        ),
+    ];
+    let (mut accel, _) = Accel::build(vec![mesh.clone()], &instances);
+    let flags: Vec<bool> = (0..mesh.indices.len()).map(|p| p.is_multiple_of(2)).collect();
+    let (mut blocked, mut free) = (0u32, 0u32);
+    let mut cache = ShadowCache::default();
+    for light in 0..80 {
+        if light == 40 {
+            accel.set_cutouts(std::slice::from_ref(&flags), Arc::new(CutEvenTriangles));
+        }
+        if light % 3 != 0 {
+            // Every third light starts with the previous light's cache.
+            cache = ShadowCache::default();
+        }
+        let target = rng.v(-10.0, 10.0);
+        // Half the lights are surrounded by their points, so a triangle that blocks one side's
+        // rays lies beyond the light for the other side (the cached test must respect tfar).
+        let centre = if light % 2 == 0 { target } else { rng.v(-10.0, 10.0) };
+        for _ in 0..30 {
+            let rays: [Ray; 8] = std::array::from_fn(|_| {
+                let o = centre + rng.v(-4.0, 4.0);
+                Ray { origin: o, dir: target - o, tnear: 1e-4, tfar: 1.0 - 1e-4 }
+            });
+            let bits = if rng.next().is_multiple_of(4) { (rng.next() & 0xff) as u32 } else { 0xff };
+            let (p, a) = (packet_of(&rays), M32x8::from_bitmask(bits));
+            let want = accel.occluded8(&p, a);
+            assert_eq!(accel.occluded8_cached(&p, a, &mut cache).bitmask(), want.bitmask(), "light {light}");
+            blocked += want.bitmask().count_ones();
+            free += a.and_not(want).bitmask().count_ones();
+        }
+    }
+    assert!(blocked > 1000 && free > 1000, "{blocked} blocked and {free} free lanes");
 }

@@ -43,7 +43,7 @@ use crate::lights::{SHADOW_SHORTEN, SpotCone};
 use crate::stats::RayCounts;
 use crate::vpl::Vpl;
 use glam::Vec3;
-use igi_bvh::{Accel, RayPacket8, offset_ray_origin};
+use igi_bvh::{Accel, RayPacket8, ShadowCache, offset_ray_origin};
 use igi_scene::Light;
 use igi_shade::brdf::ggx::ggx_terms;
 use igi_shade::brdf::phong::{mirror_direction, phong_lobe8};
@@ -344,6 +344,7 @@ impl Receivers {
             let vpl_axis = Vec3x8::splat(vpl_axis.to_array());
             let vpl_cos_min = F32x8::splat(lobe_cutoff(vpl_exponent));
             let vpl_exponent = F32x8::splat(vpl_exponent);
+            let mut cache = ShadowCache::default();
             let chunks = self.chunks.iter().zip(
                 self.diffuse_radiance
                     .iter_mut()
@@ -368,7 +369,7 @@ impl Receivers {
                 let g = cos_x * cos_y / dist2.max(d_min2);
                 let packet =
                     RayPacket8 { origin, dir: wi, tnear: zero, tfar: dist * F32x8::splat(SHADOW_SHORTEN) };
-                let lit = unoccluded(accel, &packet, valid, counts);
+                let lit = unoccluded(accel, &packet, valid, &mut cache, counts);
                 let g = F32x8::select(lit, g, zero);
                 if vpl_lobe.is_none() && chunk.glossy_bits == 0 {
                     accumulate(acc, g, colour);
@@ -420,6 +421,7 @@ impl Receivers {
     ) {
         let zero = F32x8::ZERO;
         for light in lights {
+            let mut cache = ShadowCache::default();
             let chunks = self.chunks.iter().zip(
                 self.diffuse_radiance
                     .iter_mut()
@@ -462,7 +464,7 @@ impl Receivers {
                 }
                 let packet =
                     RayPacket8 { origin, dir: wi, tnear: zero, tfar: tfar * F32x8::splat(SHADOW_SHORTEN) };
-                let lit = unoccluded(accel, &packet, valid, counts);
+                let lit = unoccluded(accel, &packet, valid, &mut cache, counts);
                 let g = F32x8::select(lit, cos_x * g * F32x8::splat(weight), zero);
                 if chunk.ggx_bits != 0 {
                     chunk.add(Vec3x8::splat(colour.to_array()) * g, wi, acc, acc_glossy, acc_schlick);
@@ -507,16 +509,24 @@ fn accumulate(acc: &mut Vec3x8, g: F32x8, colour: Vec3) {
     );
 }
 
-/// The lanes of `valid` whose shadow ray reaches its end. A packet of one ray goes through the
-/// single-ray kernel, which is faster for it.
+/// The lanes of `valid` whose shadow ray reaches its end, with the shadow cache of the light
+/// (the packets toward one light come in pixel order, so the triangle that blocked the last
+/// one often blocks the next). A packet of one ray goes through the single-ray kernel, which is
+/// faster for it.
 #[inline(always)]
-fn unoccluded(accel: &Accel, packet: &RayPacket8, valid: M32x8, counts: &mut RayCounts) -> M32x8 {
+fn unoccluded(
+    accel: &Accel,
+    packet: &RayPacket8,
+    valid: M32x8,
+    cache: &mut ShadowCache,
+    counts: &mut RayCounts,
+) -> M32x8 {
     let bits = valid.bitmask();
     counts.shadow += u64::from(bits.count_ones());
     let blocked = if bits.count_ones() == 1 {
         if accel.occluded(&packet.ray(bits.trailing_zeros() as usize)) { valid } else { M32x8::NONE }
     } else {
-        accel.occluded8(packet, valid)
+        accel.occluded8_cached(packet, valid, cache)
     };
     valid.and_not(blocked)
 }
