@@ -3,14 +3,10 @@
 
 mod common;
 
-use common::directory;
+use common::{directory, textured_triangle_gltf};
 use glam::Vec3;
 use igi_scene::{AlphaMask, ColorSpace, CoverageChannel, Scene, Texels, load};
 use std::path::Path;
-
-/// One triangle with texture coordinates: positions, uvs, three u16 indices and padding.
-const TRIANGLE: &str =
-    "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAAAAAAIA/AAAAAAAAAAAAAIA/AAABAAIAAAA=";
 
 /// Writes a 2 × 1 PNG: an RGBA one whose second pixel is transparent, or a grey one.
 fn write_png(path: &Path, rgba: bool) {
@@ -24,29 +20,7 @@ fn write_png(path: &Path, rgba: bool) {
 /// A glTF file with one triangle per material of `materials` (JSON objects) and one texture,
 /// `rgba.png`.
 fn gltf_scene(test: &str, materials: &[&str]) -> Scene {
-    let primitives: Vec<String> = (0..materials.len())
-        .map(|i| {
-            format!(r#"{{"attributes": {{"POSITION": 0, "TEXCOORD_0": 1}}, "indices": 2, "material": {i}}}"#)
-        })
-        .collect();
-    let json = format!(
-        r#"{{"asset": {{"version": "2.0"}},
-            "buffers": [{{"byteLength": 68, "uri": "data:application/octet-stream;base64,{TRIANGLE}"}}],
-            "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 36}},
-                            {{"buffer": 0, "byteOffset": 36, "byteLength": 24}},
-                            {{"buffer": 0, "byteOffset": 60, "byteLength": 6}}],
-            "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
-                            "min": [0, 0, 0], "max": [1, 1, 0]}},
-                          {{"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}},
-                          {{"bufferView": 2, "componentType": 5123, "count": 3, "type": "SCALAR"}}],
-            "images": [{{"uri": "rgba.png"}}],
-            "textures": [{{"source": 0}}],
-            "materials": [{}],
-            "meshes": [{{"primitives": [{}]}}],
-            "nodes": [{{"mesh": 0}}], "scenes": [{{"nodes": [0]}}], "scene": 0}}"#,
-        materials.join(", "),
-        primitives.join(", ")
-    );
+    let json = textured_triangle_gltf("rgba.png", materials);
     let dir = directory(test, &[("scene.gltf", &json)]);
     write_png(&dir.join("rgba.png"), true);
     load(dir.join("scene.gltf")).unwrap()

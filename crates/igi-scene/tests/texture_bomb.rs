@@ -5,10 +5,13 @@
 //! A counting global allocator records the peak of live bytes; this binary holds only one test
 //! so that nothing else allocates meanwhile.
 
+mod common;
+
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+use common::textured_triangle_gltf;
 use igi_scene::{LoadOptions, Texels, load_with};
 use image::ImageEncoder;
 use image::codecs::png::{CompressionType, FilterType, PngEncoder};
@@ -63,10 +66,6 @@ const MIB: usize = 1 << 20;
 const SIDE: u32 = 8192;
 const DECODED: usize = SIDE as usize * SIDE as usize * 4;
 
-/// One triangle with texture coordinates: positions, uvs, three u16 indices and padding.
-const TRIANGLE: &str =
-    "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAAAAAAIA/AAAAAAAAAAAAAIA/AAABAAIAAAA=";
-
 /// A scene that refers to `bomb.png` eight ways: an OBJ's two materials as colour map and as
 /// bump map under three spellings of its path, and a glTF file using it in four slots.
 fn write_scene(dir: &Path) {
@@ -89,26 +88,11 @@ fn write_scene(dir: &Path) {
          usemtl a\nf 1/1 2/2 3/3\nusemtl b\nf 2/2 4/4 3/3\n",
     )
     .unwrap();
-    let gltf = format!(
-        r#"{{"asset": {{"version": "2.0"}},
-            "buffers": [{{"byteLength": 68, "uri": "data:application/octet-stream;base64,{TRIANGLE}"}}],
-            "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 36}},
-                            {{"buffer": 0, "byteOffset": 36, "byteLength": 24}},
-                            {{"buffer": 0, "byteOffset": 60, "byteLength": 6}}],
-            "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
-                            "min": [0, 0, 0], "max": [1, 1, 0]}},
-                          {{"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}},
-                          {{"bufferView": 2, "componentType": 5123, "count": 3, "type": "SCALAR"}}],
-            "images": [{{"uri": "bomb.png"}}],
-            "textures": [{{"source": 0}}],
-            "materials": [{{"pbrMetallicRoughness": {{"baseColorTexture": {{"index": 0}},
-                                                     "metallicRoughnessTexture": {{"index": 0}}}},
-                            "normalTexture": {{"index": 0}}, "emissiveTexture": {{"index": 0}},
-                            "emissiveFactor": [1, 1, 1]}}],
-            "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0, "TEXCOORD_0": 1}},
-                                          "indices": 2, "material": 0}}]}}],
-            "nodes": [{{"mesh": 0}}], "scenes": [{{"nodes": [0]}}], "scene": 0}}"#
-    );
+    let material = r#"{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0},
+                                                "metallicRoughnessTexture": {"index": 0}},
+                       "normalTexture": {"index": 0}, "emissiveTexture": {"index": 0},
+                       "emissiveFactor": [1, 1, 1]}"#;
+    let gltf = textured_triangle_gltf("bomb.png", &[material]);
     std::fs::write(dir.join("bomb.gltf"), gltf).unwrap();
     std::fs::write(
         dir.join("bomb.toml"),

@@ -187,3 +187,35 @@ pub fn lying_key_times() -> String {
         ),
     )
 }
+
+/// One triangle with texture coordinates: positions, uvs, three u16 indices and padding.
+const TEXTURED_TRIANGLE: &str =
+    "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAAAAAAIA/AAAAAAAAAAAAAIA/AAABAAIAAAA=";
+
+/// A glTF file (JSON) with one textured triangle per material of `materials` (JSON objects)
+/// and one texture, the image at `image`.
+pub fn textured_triangle_gltf(image: &str, materials: &[&str]) -> String {
+    let primitives: Vec<String> = (0..materials.len())
+        .map(|i| {
+            format!(r#"{{"attributes": {{"POSITION": 0, "TEXCOORD_0": 1}}, "indices": 2, "material": {i}}}"#)
+        })
+        .collect();
+    format!(
+        r#"{{"asset": {{"version": "2.0"}},
+            "buffers": [{{"byteLength": 68, "uri": "data:application/octet-stream;base64,{TEXTURED_TRIANGLE}"}}],
+            "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 36}},
+                            {{"buffer": 0, "byteOffset": 36, "byteLength": 24}},
+                            {{"buffer": 0, "byteOffset": 60, "byteLength": 6}}],
+            "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                            "min": [0, 0, 0], "max": [1, 1, 0]}},
+                          {{"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}},
+                          {{"bufferView": 2, "componentType": 5123, "count": 3, "type": "SCALAR"}}],
+            "images": [{{"uri": "{image}"}}],
+            "textures": [{{"source": 0}}],
+            "materials": [{}],
+            "meshes": [{{"primitives": [{}]}}],
+            "nodes": [{{"mesh": 0}}], "scenes": [{{"nodes": [0]}}], "scene": 0}}"#,
+        materials.join(", "),
+        primitives.join(", ")
+    )
+}
