@@ -168,6 +168,8 @@ struct WholePixel {
 #[derive(Clone, Copy, Debug)]
 struct PrimaryPacket {
     dirs: [Vec3; 8],
+    /// The pixels' sequence seeds ([`pixel_seed`]).
+    seeds: [u32; 8],
     hits: [Hit; 8],
     pixels: [u32; 8],
     bits: u32,
@@ -270,7 +272,7 @@ impl<'a> TilePipeline<'a> {
             let first = scratch.points.len();
             self.trace_primary(&region, set, scratch, &mut rays);
             times.lap(Phase::Primary, &mut clock);
-            self.shade_primary(&region, scratch);
+            self.shade_primary(scratch);
             times.lap(Phase::Shading, &mut clock);
             self.trace_specular(scratch, &mut rays);
             times.lap(Phase::Specular, &mut clock);
@@ -329,7 +331,7 @@ impl<'a> TilePipeline<'a> {
                         s.emitted[(pixels[lane] * aa + sample) as usize] += self.scene.background(dirs[lane]);
                     }
                 }
-                s.packets.push(PrimaryPacket { dirs, hits: unpack_hits(&traced), pixels, bits });
+                s.packets.push(PrimaryPacket { dirs, seeds, hits: unpack_hits(&traced), pixels, bits });
             }
         });
         rays.primary += primary;
@@ -337,12 +339,12 @@ impl<'a> TilePipeline<'a> {
 
     /// Step 2: the surface shaders of the primary hits: once per pixel whose samples all hit
     /// one surface ([`same_surface`]), else once per sample that hit something.
-    fn shade_primary(&self, region: &PixelRect, s: &mut TileScratch) {
+    fn shade_primary(&self, s: &mut TileScratch) {
         let packets = std::mem::take(&mut s.packets);
         let aa = self.interleave.aa as usize;
         for (k, samples) in packets.chunks(aa).enumerate() {
             for lane in 0..8 {
-                let shading_sample = self.shading_sample(region.pixel(samples[0].pixels[lane]));
+                let shading_sample = self.shading_sample(samples[0].seeds[lane]);
                 let p = &samples[shading_sample];
                 let Some(first) = p.hit(lane) else {
                     self.shade_samples(samples, lane, s);
@@ -395,17 +397,17 @@ impl<'a> TilePipeline<'a> {
         s.packets = packets;
     }
 
-    /// The sample that stands for pixel `(x, y)` if all its samples see one
-    /// surface: one of them chosen at random per pixel and frame. Each sample is a uniformly
-    /// random point in the pixel, but a fixed choice j would take the points f·N + j of the
-    /// pixel's sequence in frames f = 0, 1, …, and a (0,2)-sequence puts every N-th point
-    /// into one stripe of the pixel: accumulated frames would integrate that stripe.
-    fn shading_sample(&self, (x, y): (u32, u32)) -> usize {
+    /// The sample that stands for the pixel of sequence seed `pixel_seed` if all its samples
+    /// see one surface: one of them chosen at random per pixel and frame. Each sample is a
+    /// uniformly random point in the pixel, but a fixed choice j would take the points f·N + j
+    /// of the pixel's sequence in frames f = 0, 1, …, and a (0,2)-sequence puts every N-th
+    /// point into one stripe of the pixel: accumulated frames would integrate that stripe.
+    fn shading_sample(&self, pixel_seed: u32) -> usize {
         let aa = self.interleave.aa;
         if aa == 1 {
             return 0;
         }
-        (hash_combine(pixel_seed(x, y, self.sequence.seed), self.sequence.first) % aa) as usize
+        (hash_combine(pixel_seed, self.sequence.first) % aa) as usize
     }
 
     /// Queues the hit of `lane` of each sample's packet in `samples` on its own.
