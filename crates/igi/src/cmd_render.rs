@@ -10,8 +10,8 @@ use igi_render::output::{ImageFormat, check_writable, write_png_rgb8};
 use igi_render::path_tracer::render_path_traced;
 use igi_render::sampling::MAX_SAMPLES;
 use igi_render::{
-    Film, FrameImage, FrameState, IgiSettings, PixelFormat, PreparedScene, Progressive, ScenePose, Shown,
-    ToneMap, ToneMapper, write_exr, write_image,
+    Film, FrameImage, FrameState, PixelFormat, PreparedScene, Progressive, ScenePose, Shown, ToneMap,
+    ToneMapper, write_exr, write_image,
 };
 use igi_session::FrameSource;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -112,14 +112,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let build = t_build.elapsed();
 
     let mut frame = args.frame.frame_state(&prepared)?;
-    if args.frames > 1 && frame.settings.clamp > 0.0 {
-        // Accumulation converges to what it averages: the clamp's bias is compensated, and
-        // the larger default clamp keeps the VPLs' near-field noise low.
-        frame.settings.compensate_clamp = true;
-        if args.frame.clamp.is_none() {
-            frame.settings.clamp = IgiSettings::compensated_clamp_for(prepared.bounds().diagonal());
-        }
-    }
+    args.frame.accumulating(&mut frame, &prepared, args.frames);
 
     if source.is_some() || args.sequence > 1 {
         let mut source = source.unwrap_or_else(|| Box::new(FrameRenderer::new(args.frame.threads)));

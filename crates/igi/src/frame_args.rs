@@ -135,6 +135,18 @@ impl FrameArgs {
         (frame.pose, frame.seed) = (ScenePose::at(self.time), self.seed);
         Ok(frame)
     }
+
+    /// `frame` set up to be the mean of `frames` frames: with more than one, the clamp's bias
+    /// is compensated and, unless `--clamp` was given, the larger clamp of compensation keeps
+    /// the VPLs' near-field noise low, so accumulation converges to what it averages.
+    pub fn accumulating(&self, frame: &mut FrameState, scene: &PreparedScene, frames: u32) {
+        if frames > 1 && frame.settings.clamp > 0.0 {
+            frame.settings.compensate_clamp = true;
+            if self.clamp.is_none() {
+                frame.settings.clamp = IgiSettings::compensated_clamp_for(scene.bounds().diagonal());
+            }
+        }
+    }
 }
 
 #[cfg(test)]

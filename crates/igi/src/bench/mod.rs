@@ -2,11 +2,14 @@
 //! instant-global-illumination pipeline. `igi bench rays` times the two ray kinds of an
 //! instant-radiosity frame (primary rays, shadow rays to virtual point lights) on exactly the
 //! workload of `../shared/tools/embree-bench`, so the two can be compared ray for ray.
-//! `igi bench cluster` measures frames of a cluster job as its render nodes grow.
+//! `igi bench cluster` measures frames of a cluster job as its render nodes grow. `igi bench
+//! quality` measures one frame and accumulated frames against a path-traced reference (FLIP,
+//! RMSE) and the flicker of an animation.
 
 pub mod cluster;
 pub mod frame;
 mod json_report;
+pub mod quality;
 pub mod rays;
 mod workload;
 
@@ -21,6 +24,9 @@ pub enum BenchCommand {
     Rays(rays::RaysArgs),
     /// Cluster frame rate, traffic and scaling from 1 to N render nodes (under mpirun).
     Cluster(cluster::ClusterBenchArgs),
+    /// Image error of one frame and of accumulated frames against a path-traced reference
+    /// (mean FLIP, RMSE), and the flicker of an animation.
+    Quality(quality::QualityBenchArgs),
 }
 
 /// Runs one benchmark.
@@ -29,5 +35,6 @@ pub fn run(cmd: BenchCommand) -> anyhow::Result<()> {
         BenchCommand::Frame(args) => frame::run(&args),
         BenchCommand::Rays(args) => rays::run(&args),
         BenchCommand::Cluster(args) => cluster::run(&args),
+        BenchCommand::Quality(args) => quality::run(&args),
     }
 }

@@ -1,0 +1,384 @@
+//! `igi bench quality`: how far one frame, and the mean of N frames, are from the converged
+//! image, and how much an animation flickers (issue 16 measures every change to image quality
+//! with it).
+//!
+//! Every image is compared as a user sees it: its linear radiance tone-mapped with its own
+//! statistics (Reinhard, as `igi render` writes a PNG) and encoded as 8-bit sRGB. The figures
+//! are the mean LDR-FLIP (Andersson et al. 2020, NVIDIA's implementation through the `nv-flip`
+//! crate, 67 pixels per degree) and the RMSE of the display values in [0, 1], the figures of
+//! `../shared/tools/compare` in its `ldr` mode on the same PNGs. The reference is the path
+//! tracer at `--reference-spp` samples per pixel, kept as an EXR file so that later runs reuse
+//! it.
+//!
+//! Flicker (`--flicker F`, for animated scenes): F consecutive frames of the animation at
+//! 25 fps from a still camera, each one frame with the VPL seeds a viewer keeps while playing,
+//! against the same frames each accumulated over `--accumulate` frames. With L the luminance
+//! of a pixel's radiance, ΔL its change from one frame to the next, and L_ref, ΔL_ref those of
+//! the accumulated frames, flicker = mean over frame pairs and pixels of |ΔL − ΔL_ref|, divided
+//! by the mean of L_ref: 0 when one frame changes exactly as the converged image does.
+
+use super::frame::ANIMATION_FPS;
+use crate::frame_args::FrameArgs;
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use igi_render::frame_renderer::FrameRenderer;
+use igi_render::lights::luminance;
+use igi_render::output::{to_srgb8, write_exr};
+use igi_render::path_tracer::render_path_traced;
+use igi_render::tonemap::LuminanceStats;
+use igi_render::{Film, FrameState, PreparedScene, ScenePose, ToneMap, ToneMapper};
+use serde::Serialize;
+use std::hash::{Hash, Hasher};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Arguments of `igi bench quality`.
+#[derive(Debug, Args)]
+pub struct QualityBenchArgs {
+    /// Built-in scene name or scene file.
+    pub scene: String,
+    /// Frames averaged for the accumulated image (and for each reference frame of `--flicker`).
+    #[arg(long, default_value_t = 16)]
+    pub accumulate: u32,
+    /// Samples per pixel of the path-traced reference.
+    #[arg(long, default_value_t = 256)]
+    pub reference_spp: u32,
+    /// The reference as an EXR file: read if it exists, else path-traced and written there.
+    /// Default: a file in the system's temporary folder named after the scene, camera, image
+    /// size and samples.
+    #[arg(long)]
+    pub reference: Option<PathBuf>,
+    /// Also measure flicker over this many frames of the scene's animation (0: off).
+    #[arg(long, default_value_t = 0)]
+    pub flicker: u32,
+    /// Write the results as JSON.
+    #[arg(long)]
+    pub json: Option<PathBuf>,
+    /// Frame options.
+    #[command(flatten)]
+    pub frame: FrameArgs,
+}
+
+/// Error figures of one image against the reference.
+#[derive(Debug, Serialize)]
+struct Figures {
+    /// Mean LDR-FLIP of the display images.
+    flip: f64,
+    /// RMSE of the display values in [0, 1].
+    rmse: f64,
+    /// Wall time to render the image.
+    seconds: f64,
+}
+
+/// The results, as printed and written.
+#[derive(Debug, Serialize)]
+struct Report {
+    scene: String,
+    width: u32,
+    height: u32,
+    aa: u32,
+    vpls_per_pixel: u32,
+    interleave: [u32; 2],
+    filter: bool,
+    reference: PathBuf,
+    reference_spp: u32,
+    /// Time to path-trace the reference (0 when it was read from its file).
+    reference_seconds: f64,
+    one_frame: Figures,
+    accumulated_frames: u32,
+    accumulated: Figures,
+    /// The flicker figure, if measured.
+    flicker: Option<f64>,
+    flicker_frames: u32,
+}
+
+/// Runs `igi bench quality`.
+pub fn run(args: &QualityBenchArgs) -> Result<()> {
+    if !(1..=100_000).contains(&args.accumulate) {
+        bail!("--accumulate must be between 1 and 100000");
+    }
+    if !(1..=igi_render::sampling::MAX_SAMPLES).contains(&args.reference_spp) {
+        bail!("--reference-spp must be between 1 and {}", igi_render::sampling::MAX_SAMPLES);
+    }
+    if args.flicker == 1 || args.flicker > 10_000 {
+        bail!("--flicker must be 0 (off) or between 2 and 10000 frames");
+    }
+    super::json_report::check_json(args.json.as_deref())?;
+    let scene = igi_scene::load_named(&args.scene).context("cannot load scene")?;
+    let digest = scene.digest();
+    let mut prepared = args.frame.prepare(scene);
+    let frame = args.frame.frame_state(&prepared)?;
+    let renderer = FrameRenderer::new(args.frame.threads);
+
+    let reference_path =
+        args.reference.clone().unwrap_or_else(|| default_reference_path(args, digest, &frame));
+    let (reference, reference_seconds) =
+        reference(&mut prepared, &frame, args.reference_spp, &reference_path, &renderer)?;
+    let reference_display = display(&reference);
+
+    let one_frame = figures(&reference_display, &renderer, &mut prepared, &frame, 1)?;
+    let mut accumulating = frame.clone();
+    args.frame.accumulating(&mut accumulating, &prepared, args.accumulate);
+    let accumulated = figures(&reference_display, &renderer, &mut prepared, &accumulating, args.accumulate)?;
+    let flicker = if args.flicker > 1 {
+        Some(flicker(
+            &renderer,
+            &mut prepared,
+            &frame,
+            &accumulating,
+            args.accumulate,
+            args.flicker,
+            args.frame.time,
+        )?)
+    } else {
+        None
+    };
+
+    let s = &frame.settings;
+    let report = Report {
+        scene: args.scene.clone(),
+        width: s.width,
+        height: s.height,
+        aa: s.aa,
+        vpls_per_pixel: s.vpls_per_pixel,
+        interleave: s.interleave,
+        filter: s.filter.is_some(),
+        reference: reference_path,
+        reference_spp: args.reference_spp,
+        reference_seconds,
+        one_frame,
+        accumulated_frames: args.accumulate,
+        accumulated,
+        flicker,
+        flicker_frames: args.flicker,
+    };
+    print(&report);
+    if let Some(path) = &args.json {
+        super::json_report::write_json(path, &report)?;
+    }
+    Ok(())
+}
+
+/// Where the reference of this scene, camera, image size and sample count is kept by default.
+fn default_reference_path(args: &QualityBenchArgs, digest: u64, frame: &FrameState) -> PathBuf {
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    // Everything the path tracer's image depends on.
+    format!(
+        "{digest} {:?} {:?} {} {}",
+        frame.camera, frame.pose, args.reference_spp, args.frame.no_default_light
+    )
+    .hash(&mut h);
+    let stem = Path::new(&args.scene).file_stem().map_or_else(|| "scene".into(), |s| s.to_string_lossy());
+    std::env::temp_dir().join("igi-quality").join(format!(
+        "{stem}-{}x{}-{}spp-{:016x}.exr",
+        frame.settings.width,
+        frame.settings.height,
+        args.reference_spp,
+        h.finish()
+    ))
+}
+
+/// The reference image: read from `path`, or path-traced with `spp` samples and written there.
+/// Returns it and the time spent tracing it.
+fn reference(
+    scene: &mut PreparedScene,
+    frame: &FrameState,
+    spp: u32,
+    path: &Path,
+    renderer: &FrameRenderer,
+) -> Result<(Film, f64)> {
+    let (width, height) = (frame.settings.width, frame.settings.height);
+    if path.exists() {
+        let image =
+            image::open(path).with_context(|| format!("cannot read the reference {}", path.display()))?;
+        if (image.width(), image.height()) != (width, height) {
+            bail!(
+                "the reference {} is {}x{}, the frame {width}x{height}",
+                path.display(),
+                image.width(),
+                image.height()
+            );
+        }
+        let pixels = image.to_rgb32f().pixels().map(|p| glam::Vec3::from_array(p.0)).collect();
+        return Ok((Film::from_pixels(width, height, pixels), 0.0));
+    }
+    eprintln!("path-tracing the reference ({spp} spp) into {}", path.display());
+    let start = Instant::now();
+    let (film, _) = render_path_traced(scene, frame, spp, renderer.scheduler(), &|_, _| {});
+    let seconds = start.elapsed().as_secs_f64();
+    if let Some(folder) = path.parent() {
+        std::fs::create_dir_all(folder).with_context(|| format!("cannot create {}", folder.display()))?;
+    }
+    write_exr(&film, path).with_context(|| format!("cannot write the reference {}", path.display()))?;
+    Ok((film, seconds))
+}
+
+/// The 8-bit sRGB display image of `film`, tone-mapped with its own statistics (Reinhard), as
+/// `igi render` writes a PNG.
+fn display(film: &Film) -> Vec<u8> {
+    let stats = LuminanceStats::of_pixels(film.pixels());
+    to_srgb8(film, &ToneMapper::new(ToneMap::default(), &stats))
+}
+
+/// Renders the mean of `frames` frames of `frame` and measures it against `reference`.
+fn figures(
+    reference: &[u8],
+    renderer: &FrameRenderer,
+    scene: &mut PreparedScene,
+    frame: &FrameState,
+    frames: u32,
+) -> Result<Figures> {
+    let start = Instant::now();
+    let out = renderer.render_accumulated(scene, frame, frames, &|_, _| {})?;
+    let seconds = start.elapsed().as_secs_f64();
+    let film = out.image.into_film().context("an accumulated frame without its film")?;
+    let test = display(&film);
+    Ok(Figures {
+        flip: mean_flip(reference, &test, film.width(), film.height()),
+        rmse: rmse(reference, &test),
+        seconds,
+    })
+}
+
+/// Mean LDR-FLIP of two 8-bit sRGB images of the same size (67 pixels per degree: a 0.7 m wide
+/// monitor of 3840 pixels seen from 0.7 m, FLIP's default).
+pub fn mean_flip(reference: &[u8], test: &[u8], width: u32, height: u32) -> f64 {
+    let reference = nv_flip::FlipImageRgb8::with_data(width, height, reference);
+    let test = nv_flip::FlipImageRgb8::with_data(width, height, test);
+    let errors = nv_flip::flip(reference, test, nv_flip::DEFAULT_PIXELS_PER_DEGREE);
+    let values = errors.to_vec();
+    values.iter().map(|&e| f64::from(e)).sum::<f64>() / values.len().max(1) as f64
+}
+
+/// RMSE of two 8-bit images' values in [0, 1] over all pixels and channels.
+fn rmse(reference: &[u8], test: &[u8]) -> f64 {
+    let sum: f64 = reference
+        .iter()
+        .zip(test)
+        .map(|(&r, &t)| {
+            let d = (f64::from(t) - f64::from(r)) / 255.0;
+            d * d
+        })
+        .sum();
+    (sum / reference.len().max(1) as f64).sqrt()
+}
+
+/// The flicker figure (module documentation) over `count` frames of the animation from
+/// `start` s: one frame each with `frame`'s settings, against `accumulate` frames each with
+/// `accumulating`'s.
+fn flicker(
+    renderer: &FrameRenderer,
+    scene: &mut PreparedScene,
+    frame: &FrameState,
+    accumulating: &FrameState,
+    accumulate: u32,
+    count: u32,
+    start: f32,
+) -> Result<f64> {
+    let mut luminances = |f: &FrameState, frames: u32| -> Result<Vec<Vec<f32>>> {
+        (0..count)
+            .map(|k| {
+                let mut f = f.clone();
+                f.pose = ScenePose::at(start + k as f32 / ANIMATION_FPS);
+                f.frame = k.wrapping_mul(frames);
+                let out = renderer.render_accumulated(scene, &f, frames, &|_, _| {})?;
+                let film = out.image.into_film().context("an accumulated frame without its film")?;
+                Ok(film.pixels().iter().map(|&p| luminance(p)).collect())
+            })
+            .collect()
+    };
+    let one = luminances(frame, 1)?;
+    let converged = luminances(accumulating, accumulate)?;
+    Ok(flicker_of(&one, &converged))
+}
+
+/// mean over consecutive pairs and pixels of |ΔL − ΔL_ref|, over the mean of L_ref (module
+/// documentation); frames are luminance images of one size.
+pub fn flicker_of(frames: &[Vec<f32>], reference: &[Vec<f32>]) -> f64 {
+    let mut change = 0.0f64;
+    let mut pairs = 0usize;
+    for (f, r) in frames.windows(2).zip(reference.windows(2)) {
+        for (((&a0, &a1), &r0), &r1) in f[0].iter().zip(&f[1]).zip(&r[0]).zip(&r[1]) {
+            change += (f64::from(a1 - a0) - f64::from(r1 - r0)).abs();
+            pairs += 1;
+        }
+    }
+    let (sum, n) = reference.iter().flatten().fold((0.0f64, 0usize), |(s, n), &l| (s + f64::from(l), n + 1));
+    let mean = sum / n.max(1) as f64;
+    if pairs == 0 || mean <= 0.0 { 0.0 } else { change / pairs as f64 / mean }
+}
+
+fn print(r: &Report) {
+    outln!(
+        "{}: {}x{}, aa {}, {} VPLs per pixel in {}x{} sets, filter {}",
+        r.scene,
+        r.width,
+        r.height,
+        r.aa,
+        r.vpls_per_pixel,
+        r.interleave[0],
+        r.interleave[1],
+        if r.filter { "on" } else { "off" }
+    );
+    let traced = if r.reference_seconds > 0.0 {
+        format!("path-traced in {:.1} s", r.reference_seconds)
+    } else {
+        "read".to_string()
+    };
+    outln!("  reference: path tracer, {} spp, {traced}: {}", r.reference_spp, r.reference.display());
+    let line = |name: String, f: &Figures| {
+        outln!("  {name:<12} mean FLIP {:.4}  RMSE {:.4}  {:.3} s", f.flip, f.rmse, f.seconds);
+    };
+    line("one frame".into(), &r.one_frame);
+    line(format!("{} frames", r.accumulated_frames), &r.accumulated);
+    if let Some(flicker) = r.flicker {
+        outln!(
+            "  flicker      {flicker:.4} over {} frames at {ANIMATION_FPS} fps (one frame each against {} accumulated)",
+            r.flicker_frames,
+            r.accumulated_frames
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flicker_is_zero_when_frames_change_as_the_reference_does_and_grows_with_noise() {
+        let reference = vec![vec![1.0, 2.0], vec![1.5, 2.5], vec![2.0, 3.0]];
+        // The same changes on a constant offset: no flicker.
+        let offset: Vec<Vec<f32>> = reference.iter().map(|f| f.iter().map(|l| l + 0.3).collect()).collect();
+        assert_eq!(flicker_of(&offset, &reference), 0.0);
+        // Frame 1 is 0.5 too bright in both pixels: each pair changes 0.5 off, mean L_ref = 2.
+        let noisy = vec![vec![1.0, 2.0], vec![2.0, 3.0], vec![2.0, 3.0]];
+        assert!((flicker_of(&noisy, &reference) - 0.25).abs() < 1e-12);
+    }
+
+    #[test]
+    fn mean_flip_agrees_with_nvidias_python_flip_evaluator() {
+        // A 48x32 pattern and a copy with a structured error in red and green; the value is
+        // flip-evaluator 1.x's `evaluate(ref / 255, test / 255, "LDR", inputsRGB=True,
+        // parameters={"ppd": 67})` mean on the same bytes (as ../shared/tools/compare's ldr
+        // mode computes it).
+        let (w, h) = (48u32, 32u32);
+        let (mut reference, mut test) = (Vec::new(), Vec::new());
+        for y in 0..h as i32 {
+            for x in 0..w as i32 {
+                let (r, g, b) = ((x * 5 + y * 3) % 256, (x * x + y) % 256, (x * y * 7) % 256);
+                let t = (x * 13 + y * 29) % 31 - 15;
+                reference.extend([r as u8, g as u8, b as u8]);
+                test.extend([(r + t).clamp(0, 255) as u8, (g - t).clamp(0, 255) as u8, b as u8]);
+            }
+        }
+        let flip = mean_flip(&reference, &test, w, h);
+        assert!((flip - 0.071_443_349_123_001_1).abs() < 1e-5, "{flip}");
+        assert_eq!(mean_flip(&reference, &reference, w, h), 0.0);
+    }
+
+    #[test]
+    fn rmse_of_display_values() {
+        assert_eq!(rmse(&[0, 0, 0], &[0, 0, 0]), 0.0);
+        assert!((rmse(&[0, 0], &[255, 0]) - 0.5f64.sqrt()).abs() < 1e-12);
+    }
+}
