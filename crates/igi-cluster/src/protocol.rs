@@ -164,7 +164,7 @@ mod tests {
                 job: 7,
                 tile: 5,
                 pixels: Pixels::Srgb8(vec![1, 2, 3]),
-                stats: LuminanceStats { log_sum: -1.0, count: 1, max: 2.0 },
+                stats: LuminanceStats { log_sum: -1.0, count: 1, max: 2.0, histogram: [1; 32] },
                 rays: RayCounts::default(),
                 times: PhaseTimes::default(),
                 vpls: 100,

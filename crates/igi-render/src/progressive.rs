@@ -154,7 +154,7 @@ mod tests {
         let mut p = Progressive::new(ToneMap::default());
         let (a, sa) = linear(vec![Vec3::ONE]);
         p.add(a, sa);
-        let stats = LuminanceStats { log_sum: 0.5, count: 1, max: 2.0 };
+        let stats = LuminanceStats { log_sum: 0.5, count: 1, max: 2.0, ..LuminanceStats::default() };
         let image = FrameImage::Srgb8 { width: 1, height: 1, bytes: vec![1, 2, 3] };
         p.add(image.clone(), stats);
         assert_eq!(p.show().image, image);
