@@ -9,12 +9,20 @@
 //!   statistics of the image shown before it, so render nodes can send finished 8-bit pixels.
 //!
 //! A frame's statistics are those its tiles combined in tile order; a mean of several frames
-//! is measured itself, and its display image is tone-mapped with its own statistics.
+//! is measured itself, and its display image is tone-mapped with its own statistics. While the
+//! view moves (one frame at a time), the next tone map only moves part of the way toward the
+//! last frame's ([`TONE_MAP_ADAPTATION`]), so exposure and white point do not jump with the
+//! VPLs of each frame.
 
 use crate::film::Film;
 use crate::frame_image::FrameImage;
 use crate::tonemap::{LuminanceStats, ToneMap, ToneMapper};
 use glam::Vec3;
+
+/// The share of the way, in log exposure and log white point, that the tone map of a moving
+/// view goes toward the last frame's statistics each frame: a change of view settles to within
+/// 10 % of its stops in 8 frames (0.75⁸ ≈ 0.1).
+pub const TONE_MAP_ADAPTATION: f32 = 0.25;
 
 /// The running mean of a view's frames and the tone map of its next frame.
 #[derive(Clone, Debug)]
@@ -29,6 +37,8 @@ pub struct Progressive {
     /// The last frame as rendered while it is what to show (an 8-bit frame, or the first of a
     /// mean); `None` once a mean of several frames is.
     latest: Option<Shown>,
+    /// Whether `next` comes from an image's statistics yet (else it is the guess of `new`).
+    measured: bool,
 }
 
 /// What a view shows after a frame: its image (or the mean of the frames so far) and the
@@ -53,6 +63,7 @@ impl Progressive {
             height: 0,
             frames: 0,
             latest: None,
+            measured: false,
         }
     }
 
@@ -101,6 +112,7 @@ impl Progressive {
     /// empty image before any frame). The next frame's tone map follows from its statistics.
     /// Averaging many frames and showing only the end measures and encodes the mean once.
     pub fn show(&mut self) -> Shown {
+        let single = self.latest.is_some();
         let shown = match self.latest.take() {
             Some(latest) => latest,
             None if self.frames == 0 => Shown {
@@ -115,7 +127,13 @@ impl Progressive {
                 Shown { image: FrameImage::from_film(mean, &ToneMapper::new(self.tone_map, &stats)), stats }
             }
         };
-        self.next = ToneMapper::new(self.tone_map, &shown.stats);
+        let measured = ToneMapper::new(self.tone_map, &shown.stats);
+        self.next = if single && self.measured && shown.stats.count > 0 {
+            self.next.adapted_toward(&measured, TONE_MAP_ADAPTATION)
+        } else {
+            measured
+        };
+        self.measured |= shown.stats.count > 0;
         shown
     }
 }
@@ -159,6 +177,38 @@ mod tests {
         p.add(image.clone(), stats);
         assert_eq!(p.show().image, image);
         assert_eq!(p.frames(), 0);
+        // Nothing was shown before it: its statistics set the tone map at once.
         assert_eq!(p.tone_mapper(), ToneMapper::new(ToneMap::default(), &stats));
+    }
+
+    /// A moving view's tone map goes part of the way toward each frame's; the first measured
+    /// frame and a still view's mean set it at once.
+    #[test]
+    fn a_moving_views_tone_map_adapts_over_frames() {
+        let mut p = Progressive::new(ToneMap::default());
+        let (dark, sd) = linear(vec![Vec3::splat(0.01), Vec3::splat(0.02)]);
+        p.add(dark, sd);
+        p.show();
+        let at_dark = ToneMapper::new(ToneMap::default(), &sd);
+        assert_eq!(p.tone_mapper(), at_dark, "the first frame sets the tone map");
+        let (bright, sb) = linear(vec![Vec3::splat(10.0), Vec3::splat(20.0)]);
+        let at_bright = ToneMapper::new(ToneMap::default(), &sb);
+        let mut stops = Vec::new();
+        for _ in 0..8 {
+            p.reset();
+            p.add(bright.clone(), sb);
+            p.show();
+            stops.push((p.tone_mapper().scale / at_bright.scale).log2().abs());
+        }
+        // log2 of the scale is off by (1 − a)^k of the jump's ten stops.
+        let jump = (at_dark.scale / at_bright.scale).log2().abs();
+        for (k, s) in stops.iter().enumerate() {
+            let want = jump * (1.0 - TONE_MAP_ADAPTATION).powi(k as i32 + 1);
+            assert!((s - want).abs() < 1e-3 * jump, "frame {k}: {s} stops off, want {want}");
+        }
+        // A still view's mean is measured and sets the tone map at once.
+        p.add(bright.clone(), sb);
+        p.show();
+        assert_eq!(p.tone_mapper(), at_bright);
     }
 }

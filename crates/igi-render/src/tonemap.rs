@@ -207,6 +207,23 @@ impl ToneMapper {
         }
     }
 
+    /// This tone map moved the share `a` of the way toward `target` in log scale and log
+    /// white point (the same mapping as `target` where they cannot be blended: another
+    /// operator, no white point).
+    pub fn adapted_toward(&self, target: &Self, a: f32) -> Self {
+        let blend = |x: f32, y: f32| (x.ln() * (1.0 - a) + y.ln() * a).exp();
+        let positive = |x: f32| x > 0.0 && x.is_finite();
+        if self.compress != target.compress || ![self.scale, target.scale].into_iter().all(positive) {
+            return *target;
+        }
+        let white = if positive(self.white) && positive(target.white) {
+            blend(self.white, target.white)
+        } else {
+            target.white
+        };
+        Self { scale: blend(self.scale, target.scale), compress: target.compress, white }
+    }
+
     /// The tone mapper of `op` for `film`.
     pub fn for_film(op: ToneMap, film: &Film) -> Self {
         Self::new(op, &LuminanceStats::of_pixels(film.pixels()))
