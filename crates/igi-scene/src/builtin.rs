@@ -9,12 +9,19 @@ mod cornell_box;
 mod procedural_room;
 mod shapes;
 mod shirley_room;
+mod two_rooms;
 
 use crate::model::Scene;
 
 /// Names accepted by [`builtin`], in the order `igi` lists them.
-const NAMES: &[&str] =
-    &["cornell-box", "shirley-room", "procedural-room", "procedural-room-lambert", "animated-room"];
+const NAMES: &[&str] = &[
+    "cornell-box",
+    "shirley-room",
+    "procedural-room",
+    "procedural-room-lambert",
+    "animated-room",
+    "two-rooms",
+];
 
 /// The built-in scene called `name`, if there is one:
 /// - `cornell-box`: the geometry, materials, light and camera of the McGuire archive's
@@ -28,7 +35,10 @@ const NAMES: &[&str] =
 /// - `procedural-room-lambert`: the same room with constant Lambert materials of about the
 ///   patterns' mean colours, the baseline for the cost of procedural shading;
 /// - `animated-room`: a 6 × 3 × 6 m room with a swinging area lamp, a turning statue and a
-///   point light circling it while changing colour (paper Figure 1, left), the dynamic scene.
+///   point light circling it while changing colour (paper Figure 1, left), the dynamic scene;
+/// - `two-rooms`: two 4 × 2.8 × 4 m rooms joined by a doorway, the lamp in one and the camera
+///   in the other, which sees only light that came through the door and bounced (the hard case
+///   for VPLs that start at the lights).
 pub fn builtin(name: &str) -> Option<Scene> {
     match name {
         "cornell-box" => Some(cornell_box::scene()),
@@ -36,6 +46,7 @@ pub fn builtin(name: &str) -> Option<Scene> {
         "procedural-room" => Some(procedural_room::scene()),
         "procedural-room-lambert" => Some(procedural_room::lambert_scene()),
         "animated-room" => Some(animated_room::scene()),
+        "two-rooms" => Some(two_rooms::scene()),
         _ => None,
     }
 }
