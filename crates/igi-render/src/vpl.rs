@@ -75,10 +75,12 @@
 //! # Sampling
 //!
 //! The sets of a frame are consecutive blocks of one Owen-scrambled Sobol sequence
-//! ([`sobol4`]): the frame's paths are samples `first …` of one sequence, set s taking the
-//! s-th block of them (the frame's [`VplSets::paths`] shared out, the first sets taking one
-//! more where they do not divide evenly), with the scramble seed
-//! `hash_combine(span.seed, VPL_STREAM)` and `span = frame.sequence(paths)`. Each set is then an
+//! ([`sobol4`]): the frame's P = [`VplSets::paths`] paths are samples `first …` of one
+//! sequence, set s owning the s-th block of c = ⌈P / S⌉ samples and tracing all of them, or
+//! the first c − 1 where the sets do not divide P evenly (the last sets take one path less,
+//! and one path more or less in an animated frame changes one set, not the blocks of all sets
+//! after it, which made the animated room flicker), with the scramble seed
+//! `hash_combine(span.seed, VPL_STREAM)` and `span = frame.sequence(c · S)`. Each set is then an
 //! unbiased randomized quasi-Monte Carlo estimate on its own (a stratified net when P is a
 //! power of two), the S sets that the filter combines are spread evenly together, and
 //! progressive frames continue the same sequence. Its 4D dimension
@@ -254,7 +256,8 @@ impl VplSets {
             max_paths
         };
 
-        let span = frame.sequence(paths);
+        // The samples the sets own (see `share`), some of them unused.
+        let span = frame.sequence(paths.div_ceil(set_count) * set_count);
         let seed = hash_combine(span.seed, VPL_STREAM);
         let capacity = (paths as f32 / set_count as f32 * expected_vpls_per_path * 1.25) as usize + 8;
         let (sets, sky) = (0..set_count)
@@ -310,10 +313,13 @@ impl VplSets {
 }
 
 /// The first path (relative to the frame's span) and the number of paths of set `s` when
-/// `paths` are shared out over `sets` sets.
+/// `paths` are shared out over `sets` sets: set s owns the c = ⌈paths / sets⌉ samples from
+/// s·c on and traces all of them if the sets divide the paths evenly or s < paths mod sets,
+/// else the first c − 1. One path more or less (an animated scene's pilot estimate crossing a
+/// rounding step) then changes one set's paths, not those of every set after it.
 fn share(paths: u32, sets: u32, s: u32) -> (u32, u32) {
-    let (base, extra) = (paths / sets, paths % sets);
-    (s * base + s.min(extra), base + u32::from(s < extra))
+    let (stride, extra) = (paths.div_ceil(sets), paths % sets);
+    (s * stride, if extra == 0 || s < extra { stride } else { stride - 1 })
 }
 
 /// The VPLs light paths leave: on surfaces, and in the sky.
@@ -563,6 +569,33 @@ impl<'a> Emitters<'a> {
             // A reflection leaves on the arrival side, a refraction on the other.
             let side = if dir.dot(ng) > 0.0 { ng } else { -ng };
             origin = offset_ray_origin(s.position, side);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::share;
+
+    /// Every path is traced once, sets differ by at most one path, and a frame with one path
+    /// more changes one set's paths unless the sets divided the fewer paths evenly.
+    #[test]
+    fn sharing_paths_one_more_changes_one_set() {
+        for sets in [1, 4, 9, 16] {
+            for paths in sets..=6 * sets {
+                let shares: Vec<(u32, u32)> = (0..sets).map(|s| share(paths, sets, s)).collect();
+                assert_eq!(shares.iter().map(|&(_, c)| c).sum::<u32>(), paths);
+                let (lo, hi) =
+                    (shares.iter().map(|s| s.1).min().unwrap(), shares.iter().map(|s| s.1).max().unwrap());
+                assert!(hi - lo <= 1 && lo > 0, "{paths} paths in {sets} sets: {shares:?}");
+                // The sets own disjoint samples in order.
+                assert!(shares.windows(2).all(|w| w[0].0 + w[0].1 <= w[1].0));
+                let more: Vec<(u32, u32)> = (0..sets).map(|s| share(paths + 1, sets, s)).collect();
+                let changed = shares.iter().zip(&more).filter(|(a, b)| a != b).count();
+                if paths % sets != 0 {
+                    assert_eq!(changed, 1, "{paths} → {} paths in {sets} sets", paths + 1);
+                }
+            }
         }
     }
 }

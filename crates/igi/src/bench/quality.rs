@@ -12,7 +12,8 @@
 //!
 //! Flicker (`--flicker F`, for animated scenes): F consecutive frames of the animation at
 //! 25 fps from a still camera, each one frame with the VPL seeds a viewer keeps while playing,
-//! against the same frames each accumulated over `--accumulate` frames. With L the luminance
+//! against the same frames each accumulated over `--accumulate` frames (the same samples for
+//! every animation frame, so their own noise changes little from one to the next). With L the luminance
 //! of a pixel's radiance, ΔL its change from one frame to the next, and L_ref, ΔL_ref those of
 //! the accumulated frames, flicker = mean over frame pairs and pixels of |ΔL − ΔL_ref|, divided
 //! by the mean of L_ref: 0 when one frame changes exactly as the converged image does.
@@ -280,7 +281,10 @@ fn flicker(
             .map(|k| {
                 let mut f = f.clone();
                 f.pose = ScenePose::at(start + k as f32 / ANIMATION_FPS);
-                f.frame = k.wrapping_mul(frames);
+                // One frame each: frame k as a playing viewer numbers it. Accumulated: every
+                // animation frame averages the same frames of the sequence, so their residual
+                // noise is alike and cancels in ΔL_ref instead of counting as flicker.
+                f.frame = if frames == 1 { k } else { 0 };
                 let out = renderer.render_accumulated(scene, &f, frames, &|_, _| {})?;
                 let film = out.image.into_film().context("an accumulated frame without its film")?;
                 Ok(film.pixels().iter().map(|&p| luminance(p)).collect())
