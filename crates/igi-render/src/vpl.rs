@@ -75,12 +75,15 @@
 //! # Sampling
 //!
 //! The sets of a frame are consecutive blocks of one Owen-scrambled Sobol sequence
-//! ([`sobol4`]): the frame's P = [`VplSets::paths`] paths are samples `first …` of one
-//! sequence, set s owning the s-th block of c = ⌈P / S⌉ samples and tracing all of them, or
-//! the first c − 1 where the sets do not divide P evenly (the last sets take one path less,
-//! and one path more or less in an animated frame changes one set, not the blocks of all sets
-//! after it, which made the animated room flicker), with the scramble seed
-//! `hash_combine(span.seed, VPL_STREAM)` and `span = frame.sequence(c · S)`. Each set is then an
+//! ([`sobol4`]), with the scramble seed `hash_combine(span.seed, VPL_STREAM)` of the frame's
+//! span ([`FrameState::sequence`]). Frames that continue one sequence (progressive
+//! accumulation) take its next P = [`VplSets::paths`] samples, set s the s-th block (the first
+//! sets one path more where S does not divide P), so the frames together are one sequence.
+//! Frames that repeat their samples (a still or animated view, whose light paths follow the
+//! light when it moves) give set s the s-th block of c = ⌈P / S⌉ samples, all of them traced,
+//! or the first c − 1 where S does not divide P: one path more or less in an animated frame
+//! then changes one set, not the blocks of every set after it (which made the animated room
+//! flicker). Each set is then an
 //! unbiased randomized quasi-Monte Carlo estimate on its own (a stratified net when P is a
 //! power of two), the S sets that the filter combines are spread evenly together, and
 //! progressive frames continue the same sequence. Its 4D dimension
@@ -256,15 +259,16 @@ impl VplSets {
             max_paths
         };
 
-        // The samples the sets own (see `share`), some of them unused.
-        let span = frame.sequence(paths.div_ceil(set_count) * set_count);
+        let sharing =
+            if frame.settings.reseed_per_frame { Sharing::Contiguous } else { Sharing::FixedBlocks };
+        let span = frame.sequence(sharing.span(paths, set_count));
         let seed = hash_combine(span.seed, VPL_STREAM);
         let capacity = (paths as f32 / set_count as f32 * expected_vpls_per_path * 1.25) as usize + 8;
         let (sets, sky) = (0..set_count)
             .into_par_iter()
             .map(|s| {
                 let mut set = PathVpls { surface: Vec::with_capacity(capacity), ..PathVpls::default() };
-                let (first, count) = share(paths, set_count, s);
+                let (first, count) = sharing.share(paths, set_count, s);
                 for k in span.first + first..span.first + first + count {
                     emitters.trace_path(k, seed, count, &mut set);
                 }
@@ -312,14 +316,45 @@ impl VplSets {
     }
 }
 
-/// The first path (relative to the frame's span) and the number of paths of set `s` when
-/// `paths` are shared out over `sets` sets: set s owns the c = ⌈paths / sets⌉ samples from
-/// s·c on and traces all of them if the sets divide the paths evenly or s < paths mod sets,
-/// else the first c − 1. One path more or less (an animated scene's pilot estimate crossing a
-/// rounding step) then changes one set's paths, not those of every set after it.
-fn share(paths: u32, sets: u32, s: u32) -> (u32, u32) {
-    let (stride, extra) = (paths.div_ceil(sets), paths % sets);
-    (s * stride, if extra == 0 || s < extra { stride } else { stride - 1 })
+/// How a frame's paths are shared out over its sets (module documentation, "Sampling").
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Sharing {
+    /// One path after the other: the frame's paths are the first P samples of its span. For
+    /// frames that continue one sequence (progressive accumulation).
+    Contiguous,
+    /// In fixed blocks of ⌈P / S⌉ samples, so that one path more or less changes one set. For
+    /// frames that repeat their samples (a still or animated view).
+    FixedBlocks,
+}
+
+impl Sharing {
+    /// The samples of the frame's span that `paths` paths over `sets` sets own.
+    fn span(self, paths: u32, sets: u32) -> u32 {
+        match self {
+            Self::Contiguous => paths,
+            Self::FixedBlocks => paths.div_ceil(sets) * sets,
+        }
+    }
+
+    /// The first path (relative to the frame's span) and the number of paths of set `s` when
+    /// `paths` are shared out over `sets` sets. Contiguous: the first paths mod sets sets take
+    /// one path more. Fixed blocks: set s owns the c = ⌈paths / sets⌉ samples from s·c on and
+    /// traces all of them if the sets divide the paths evenly or s < paths mod sets, else the
+    /// first c − 1; one path more or less (an animated scene's pilot estimate crossing a
+    /// rounding step) then changes one set's paths, not those of every set after it.
+    fn share(self, paths: u32, sets: u32, s: u32) -> (u32, u32) {
+        let extra = paths % sets;
+        match self {
+            Self::Contiguous => {
+                let base = paths / sets;
+                (s * base + s.min(extra), base + u32::from(s < extra))
+            }
+            Self::FixedBlocks => {
+                let stride = paths.div_ceil(sets);
+                (s * stride, if extra == 0 || s < extra { stride } else { stride - 1 })
+            }
+        }
+    }
 }
 
 /// The VPLs light paths leave: on surfaces, and in the sky.
@@ -575,22 +610,30 @@ impl<'a> Emitters<'a> {
 
 #[cfg(test)]
 mod tests {
-    use super::share;
+    use super::Sharing;
 
-    /// Every path is traced once, sets differ by at most one path, and a frame with one path
-    /// more changes one set's paths unless the sets divided the fewer paths evenly.
+    /// Every path is traced once within the span, sets differ by at most one path, and with
+    /// fixed blocks a frame with one path more changes one set's paths unless the sets divided
+    /// the fewer paths evenly.
     #[test]
     fn sharing_paths_one_more_changes_one_set() {
         for sets in [1, 4, 9, 16] {
             for paths in sets..=6 * sets {
-                let shares: Vec<(u32, u32)> = (0..sets).map(|s| share(paths, sets, s)).collect();
+                for sharing in [Sharing::Contiguous, Sharing::FixedBlocks] {
+                    let shares: Vec<(u32, u32)> = (0..sets).map(|s| sharing.share(paths, sets, s)).collect();
+                    assert_eq!(shares.iter().map(|&(_, c)| c).sum::<u32>(), paths);
+                    let last = shares.last().unwrap();
+                    assert!(last.0 + last.1 <= sharing.span(paths, sets));
+                }
+                let share = |paths, s| Sharing::FixedBlocks.share(paths, sets, s);
+                let shares: Vec<(u32, u32)> = (0..sets).map(|s| share(paths, s)).collect();
                 assert_eq!(shares.iter().map(|&(_, c)| c).sum::<u32>(), paths);
                 let (lo, hi) =
                     (shares.iter().map(|s| s.1).min().unwrap(), shares.iter().map(|s| s.1).max().unwrap());
                 assert!(hi - lo <= 1 && lo > 0, "{paths} paths in {sets} sets: {shares:?}");
                 // The sets own disjoint samples in order.
                 assert!(shares.windows(2).all(|w| w[0].0 + w[0].1 <= w[1].0));
-                let more: Vec<(u32, u32)> = (0..sets).map(|s| share(paths + 1, sets, s)).collect();
+                let more: Vec<(u32, u32)> = (0..sets).map(|s| share(paths + 1, s)).collect();
                 let changed = shares.iter().zip(&more).filter(|(a, b)| a != b).count();
                 if paths % sets != 0 {
                     assert_eq!(changed, 1, "{paths} → {} paths in {sets} sets", paths + 1);
