@@ -3,6 +3,7 @@
 
 use crate::cluster::{ClusterArgs, Rank};
 use crate::frame_args::FrameArgs;
+use crate::progress::LateProgress;
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
 use igi_render::frame_renderer::{FrameOutput, FrameRenderer};
@@ -14,11 +15,9 @@ use igi_render::{
     ToneMapper, write_exr, write_image,
 };
 use igi_session::FrameSource;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::path::Path;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 /// How the image is computed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -284,41 +283,6 @@ fn igi_summary(out: &FrameOutput, frames: u32, s: &igi_render::frame::IgiSetting
         out.rays.total() as f64 / pixels.max(1.0),
         out.rays.total() as f64 * 1e-6 / out.elapsed.as_secs_f64().max(1e-9)
     )
-}
-
-/// A progress bar that appears only once a render has taken more than a second (and only on
-/// a terminal), so quick renders print nothing but their summary.
-struct LateProgress {
-    bar: ProgressBar,
-    start: Instant,
-    shown: AtomicBool,
-}
-
-impl LateProgress {
-    const DELAY: Duration = Duration::from_secs(1);
-
-    fn new() -> Self {
-        let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden());
-        if let Ok(style) = ProgressStyle::with_template("{bar:40} {pos}/{len} tiles, {elapsed} (eta {eta})") {
-            bar.set_style(style);
-        }
-        Self { bar, start: Instant::now(), shown: AtomicBool::new(false) }
-    }
-
-    fn tile_done(&self, done: u32, total: u32) {
-        if !self.shown.load(Ordering::Relaxed)
-            && self.start.elapsed() > Self::DELAY
-            && !self.shown.swap(true, Ordering::Relaxed)
-        {
-            self.bar.set_length(u64::from(total));
-            self.bar.set_draw_target(ProgressDrawTarget::stderr());
-        }
-        self.bar.set_position(u64::from(done));
-    }
-
-    fn finish(&self) {
-        self.bar.finish_and_clear();
-    }
 }
 
 #[cfg(test)]

@@ -22,6 +22,7 @@ mod cmd_view;
 mod cmd_worker;
 mod cpu_check;
 mod frame_args;
+mod progress;
 mod stdout;
 mod viewer_args;
 

@@ -20,6 +20,7 @@
 
 use super::frame::ANIMATION_FPS;
 use crate::frame_args::FrameArgs;
+use crate::progress::LateProgress;
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use igi_render::frame_renderer::FrameRenderer;
@@ -203,9 +204,13 @@ fn reference(
         let pixels = image.to_rgb32f().pixels().map(|p| glam::Vec3::from_array(p.0)).collect();
         return Ok((Film::from_pixels(width, height, pixels), 0.0));
     }
-    eprintln!("path-tracing the reference ({spp} spp) into {}", path.display());
+    tracing::info!("path-tracing the reference ({spp} spp) into {}", path.display());
     let start = Instant::now();
-    let (film, _) = render_path_traced(scene, frame, spp, renderer.scheduler(), &|_, _| {});
+    let bar = LateProgress::new();
+    let (film, _) = render_path_traced(scene, frame, spp, renderer.scheduler(), &|done, total| {
+        bar.tile_done(done, total)
+    });
+    bar.finish();
     let seconds = start.elapsed().as_secs_f64();
     if let Some(folder) = path.parent() {
         std::fs::create_dir_all(folder).with_context(|| format!("cannot create {}", folder.display()))?;
@@ -230,7 +235,9 @@ fn figures(
     frames: u32,
 ) -> Result<Figures> {
     let start = Instant::now();
-    let out = renderer.render_accumulated(scene, frame, frames, &|_, _| {})?;
+    let bar = LateProgress::new();
+    let out = renderer.render_accumulated(scene, frame, frames, &|done, total| bar.tile_done(done, total))?;
+    bar.finish();
     let seconds = start.elapsed().as_secs_f64();
     let film = out.image.into_film().context("an accumulated frame without its film")?;
     let test = display(&film);
