@@ -54,10 +54,42 @@ fn accumulated_frames_are_closer_to_the_reference_than_one_frame_and_the_referen
 
 #[test]
 fn bad_flags_are_refused_by_name() {
-    for (flag, value) in [("--flicker", "1"), ("--accumulate", "0"), ("--reference-spp", "0")] {
+    for (flag, value) in
+        [("--flicker", "1"), ("--accumulate", "0"), ("--reference-spp", "0"), ("--reference-frames", "1")]
+    {
         let out = igi(&["bench", "quality", "cornell-box", flag, value]);
         assert!(!out.status.success());
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(stderr.contains(flag), "{flag} {value}: {stderr}");
     }
+}
+
+#[test]
+fn an_accumulated_reference_is_closer_to_many_frames_than_to_one() {
+    let dir = std::env::temp_dir().join(format!("igi-bench-quality-igi-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let json = dir.join("quality.json");
+    let out = igi(&[
+        "bench",
+        "quality",
+        "two-rooms",
+        "--width",
+        "48",
+        "--height",
+        "36",
+        "--reference-frames",
+        "64",
+        "--accumulate",
+        "16",
+        "--reference",
+        dir.join("reference.exr").to_str().unwrap(),
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let r: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    assert_eq!(r["reference_method"], "IGI, the mean of 64 frames");
+    assert!(r["accumulated"]["flip"].as_f64() < r["one_frame"]["flip"].as_f64(), "{r}");
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -7,8 +7,9 @@
 //! are the mean LDR-FLIP (Andersson et al. 2020, NVIDIA's implementation through the `nv-flip`
 //! crate, 67 pixels per degree) and the RMSE of the display values in [0, 1], the figures of
 //! `../shared/tools/compare` in its `ldr` mode on the same PNGs. The reference is the path
-//! tracer at `--reference-spp` samples per pixel, kept as an EXR file so that later runs reuse
-//! it.
+//! tracer at `--reference-spp` samples per pixel, or with `--reference-frames N` the mean of N
+//! IGI frames (converging to the same solution; the path tracer is slow to find light that
+//! comes through a doorway), kept as an EXR file so that later runs reuse it.
 //!
 //! Flicker (`--flicker F`, for animated scenes): F consecutive frames of the animation at
 //! 25 fps from a still camera, each one frame with the VPL seeds a viewer keeps while playing,
@@ -45,9 +46,14 @@ pub struct QualityBenchArgs {
     /// Samples per pixel of the path-traced reference.
     #[arg(long, default_value_t = 256)]
     pub reference_spp: u32,
-    /// The reference as an EXR file: read if it exists, else path-traced and written there.
+    /// Make the reference the mean of this many IGI frames (as `igi render --frames N`, on
+    /// samples the measured frames do not use) instead of path-tracing it: for scenes whose
+    /// light the path tracer finds slowly (light through a doorway).
+    #[arg(long, conflicts_with = "reference_spp")]
+    pub reference_frames: Option<u32>,
+    /// The reference as an EXR file: read if it exists, else rendered and written there.
     /// Default: a file in the system's temporary folder named after the scene, camera, image
-    /// size and samples.
+    /// size and how the reference is made.
     #[arg(long)]
     pub reference: Option<PathBuf>,
     /// Also measure flicker over this many frames of the scene's animation (0: off).
@@ -83,8 +89,9 @@ struct Report {
     interleave: [u32; 2],
     filter: bool,
     reference: PathBuf,
-    reference_spp: u32,
-    /// Time to path-trace the reference (0 when it was read from its file).
+    /// How the reference was made, e.g. "path tracer, 256 spp".
+    reference_method: String,
+    /// Time to render the reference (0 when it was read from its file).
     reference_seconds: f64,
     one_frame: Figures,
     accumulated_frames: u32,
@@ -102,6 +109,13 @@ pub fn run(args: &QualityBenchArgs) -> Result<()> {
     if !(1..=igi_render::sampling::MAX_SAMPLES).contains(&args.reference_spp) {
         bail!("--reference-spp must be between 1 and {}", igi_render::sampling::MAX_SAMPLES);
     }
+    let method = match args.reference_frames {
+        Some(frames) if !(2..=1_000_000).contains(&frames) => {
+            bail!("--reference-frames must be between 2 and 1000000")
+        }
+        Some(frames) => Method::Accumulated { frames },
+        None => Method::PathTracer { spp: args.reference_spp },
+    };
     if args.flicker == 1 || args.flicker > 10_000 {
         bail!("--flicker must be 0 (off) or between 2 and 10000 frames");
     }
@@ -113,9 +127,9 @@ pub fn run(args: &QualityBenchArgs) -> Result<()> {
     let renderer = FrameRenderer::new(args.frame.threads);
 
     let reference_path =
-        args.reference.clone().unwrap_or_else(|| default_reference_path(args, digest, &frame));
+        args.reference.clone().unwrap_or_else(|| default_reference_path(args, digest, &frame, method));
     let (reference, reference_seconds) =
-        reference(&mut prepared, &frame, args.reference_spp, &reference_path, &renderer)?;
+        reference(args, &mut prepared, &frame, method, &reference_path, &renderer)?;
     let reference_display = display(&reference);
 
     let one_frame = figures(&reference_display, &renderer, &mut prepared, &frame, 1)?;
@@ -146,7 +160,7 @@ pub fn run(args: &QualityBenchArgs) -> Result<()> {
         interleave: s.interleave,
         filter: s.filter.is_some(),
         reference: reference_path,
-        reference_spp: args.reference_spp,
+        reference_method: method.to_string(),
         reference_seconds,
         one_frame,
         accumulated_frames: args.accumulate,
@@ -161,31 +175,62 @@ pub fn run(args: &QualityBenchArgs) -> Result<()> {
     Ok(())
 }
 
-/// Where the reference of this scene, camera, image size and sample count is kept by default.
-fn default_reference_path(args: &QualityBenchArgs, digest: u64, frame: &FrameState) -> PathBuf {
+/// How the reference image is made.
+#[derive(Clone, Copy, Debug)]
+enum Method {
+    /// The path tracer with this many samples per pixel.
+    PathTracer { spp: u32 },
+    /// The mean of this many IGI frames, set up as `igi render --frames N` sets them up.
+    Accumulated { frames: u32 },
+}
+
+impl std::fmt::Display for Method {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::PathTracer { spp } => write!(f, "path tracer, {spp} spp"),
+            Self::Accumulated { frames } => write!(f, "IGI, the mean of {frames} frames"),
+        }
+    }
+}
+
+/// The frame number the accumulated reference starts at: its samples lie far from those of
+/// the measured frames (which start at 0), so its noise is not theirs.
+const REFERENCE_FIRST_FRAME: u32 = 1 << 24;
+
+/// Where the reference of this scene, camera, image size and method is kept by default.
+fn default_reference_path(
+    args: &QualityBenchArgs,
+    digest: u64,
+    frame: &FrameState,
+    method: Method,
+) -> PathBuf {
     let mut h = std::collections::hash_map::DefaultHasher::new();
-    // Everything the path tracer's image depends on.
-    format!(
-        "{digest} {:?} {:?} {} {}",
-        frame.camera, frame.pose, args.reference_spp, args.frame.no_default_light
-    )
-    .hash(&mut h);
+    // Everything the reference image depends on (the IGI settings too, for an IGI mean).
+    format!("{digest} {:?} {:?} {method:?} {}", frame.camera, frame.pose, args.frame.no_default_light)
+        .hash(&mut h);
+    if let Method::Accumulated { .. } = method {
+        format!("{:?} {}", frame.settings, frame.seed).hash(&mut h);
+    }
+    let tag = match method {
+        Method::PathTracer { spp } => format!("{spp}spp"),
+        Method::Accumulated { frames } => format!("igi{frames}f"),
+    };
     let stem = Path::new(&args.scene).file_stem().map_or_else(|| "scene".into(), |s| s.to_string_lossy());
     std::env::temp_dir().join("igi-quality").join(format!(
-        "{stem}-{}x{}-{}spp-{:016x}.exr",
+        "{stem}-{}x{}-{tag}-{:016x}.exr",
         frame.settings.width,
         frame.settings.height,
-        args.reference_spp,
         h.finish()
     ))
 }
 
-/// The reference image: read from `path`, or path-traced with `spp` samples and written there.
-/// Returns it and the time spent tracing it.
+/// The reference image: read from `path`, or rendered by `method` and written there. Returns
+/// it and the time spent rendering it.
 fn reference(
+    args: &QualityBenchArgs,
     scene: &mut PreparedScene,
     frame: &FrameState,
-    spp: u32,
+    method: Method,
     path: &Path,
     renderer: &FrameRenderer,
 ) -> Result<(Film, f64)> {
@@ -204,12 +249,22 @@ fn reference(
         let pixels = image.to_rgb32f().pixels().map(|p| glam::Vec3::from_array(p.0)).collect();
         return Ok((Film::from_pixels(width, height, pixels), 0.0));
     }
-    tracing::info!("path-tracing the reference ({spp} spp) into {}", path.display());
+    tracing::info!("rendering the reference ({method}) into {}", path.display());
     let start = Instant::now();
     let bar = LateProgress::new();
-    let (film, _) = render_path_traced(scene, frame, spp, renderer.scheduler(), &|done, total| {
-        bar.tile_done(done, total)
-    });
+    let progress = |done, total| bar.tile_done(done, total);
+    let film = match method {
+        Method::PathTracer { spp } => {
+            render_path_traced(scene, frame, spp, renderer.scheduler(), &progress).0
+        }
+        Method::Accumulated { frames } => {
+            let mut mean = frame.clone();
+            args.frame.accumulating(&mut mean, scene, frames);
+            mean.frame = REFERENCE_FIRST_FRAME;
+            let out = renderer.render_accumulated(scene, &mean, frames, &progress)?;
+            out.image.into_film().context("an accumulated frame without its film")?
+        }
+    };
     bar.finish();
     let seconds = start.elapsed().as_secs_f64();
     if let Some(folder) = path.parent() {
@@ -331,12 +386,12 @@ fn print(r: &Report) {
         r.interleave[1],
         if r.filter { "on" } else { "off" }
     );
-    let traced = if r.reference_seconds > 0.0 {
-        format!("path-traced in {:.1} s", r.reference_seconds)
+    let made = if r.reference_seconds > 0.0 {
+        format!("rendered in {:.1} s", r.reference_seconds)
     } else {
         "read".to_string()
     };
-    outln!("  reference: path tracer, {} spp, {traced}: {}", r.reference_spp, r.reference.display());
+    outln!("  reference: {}, {made}: {}", r.reference_method, r.reference.display());
     let line = |name: String, f: &Figures| {
         outln!("  {name:<12} mean FLIP {:.4}  RMSE {:.4}  {:.3} s", f.flip, f.rmse, f.seconds);
     };
