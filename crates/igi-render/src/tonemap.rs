@@ -59,13 +59,12 @@ impl LuminanceStats {
             let Soa8 { rgb, lanes } = Soa8::load(chunk);
             let l = luminance8(rgb);
             let counted = lanes & l.gt(F32x8::ZERO) & l.lt(F32x8::splat(f32::INFINITY));
-            let ln = (F32x8::splat(LOG_DELTA) + l).log2() * F32x8::splat(std::f32::consts::LN_2);
-            let (bits, ln) = (counted.bitmask(), ln.to_array());
-            for (lane, &v) in ln.iter().enumerate() {
-                if bits & (1 << lane) != 0 {
-                    s.log_sum += f64::from(v);
-                    s.histogram[histogram_bin(v)] += 1;
-                }
+            let log2 = (F32x8::splat(LOG_DELTA) + l).log2();
+            let ln = log2 * F32x8::splat(std::f32::consts::LN_2);
+            let (bits, ln, log2) = (counted.bitmask(), ln.to_array(), log2.to_array());
+            for lane in (0..8).filter(|lane| bits & (1 << lane) != 0) {
+                s.log_sum += f64::from(ln[lane]);
+                s.histogram[histogram_bin(log2[lane])] += 1;
             }
             s.count += u64::from(bits.count_ones());
             max = max.max(F32x8::select(counted, l, F32x8::ZERO));
@@ -87,11 +86,10 @@ impl LuminanceStats {
     /// The luminance below which a share `p` of the counted pixels lie (0 if none is counted),
     /// at most the largest: from the histogram, log-linearly within the bin it falls in.
     pub fn percentile(&self, p: f64) -> f32 {
-        let total: u64 = self.histogram.iter().map(|&c| u64::from(c)).sum();
-        if total == 0 {
+        if self.count == 0 {
             return 0.0;
         }
-        let target = p.clamp(0.0, 1.0) * total as f64;
+        let target = p.clamp(0.0, 1.0) * self.count as f64;
         let mut below = 0.0;
         for (b, &c) in self.histogram.iter().enumerate() {
             let c = f64::from(c);
@@ -129,10 +127,9 @@ impl Soa8 {
     }
 }
 
-/// The [`LuminanceStats::histogram`] bin of a pixel with ln(δ + L) = `ln`.
+/// The [`LuminanceStats::histogram`] bin of a pixel with log2(δ + L) = `log2`.
 #[inline]
-fn histogram_bin(ln: f32) -> usize {
-    let log2 = ln * std::f32::consts::LOG2_E;
+fn histogram_bin(log2: f32) -> usize {
     // NaN cannot occur (counted pixels have 0 < L < ∞); `as` saturates.
     (((log2 + 32.0) * 0.5).floor() as i64).clamp(0, HISTOGRAM_BINS as i64 - 1) as usize
 }

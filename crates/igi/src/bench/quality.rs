@@ -28,7 +28,6 @@ use igi_render::frame_renderer::FrameRenderer;
 use igi_render::lights::luminance;
 use igi_render::output::{to_srgb8, write_exr};
 use igi_render::path_tracer::render_path_traced;
-use igi_render::tonemap::LuminanceStats;
 use igi_render::{Film, FrameState, PreparedScene, ScenePose, ToneMap, ToneMapper};
 use serde::Serialize;
 use std::hash::{Hash, Hasher};
@@ -277,8 +276,7 @@ fn reference(
 /// The 8-bit sRGB display image of `film`, tone-mapped with its own statistics (Reinhard), as
 /// `igi render` writes a PNG.
 fn display(film: &Film) -> Vec<u8> {
-    let stats = LuminanceStats::of_pixels(film.pixels());
-    to_srgb8(film, &ToneMapper::new(ToneMap::default(), &stats))
+    to_srgb8(film, &ToneMapper::for_film(ToneMap::default(), film))
 }
 
 /// Renders the mean of `frames` frames of `frame` and measures it against `reference`.
