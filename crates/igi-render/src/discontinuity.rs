@@ -14,7 +14,7 @@
 //! without a similar neighbour keeps its own value, so a constant irradiance stays constant.
 
 use crate::frame::FilterSettings;
-use crate::interleave::Interleave;
+use crate::interleave::{Interleave, Window};
 use crate::pixel_rect::PixelRect;
 use crate::tile::Tile;
 use glam::Vec3;
@@ -91,14 +91,30 @@ pub struct DiscontinuityBuffer {
     edge_glossy: Vec<[Vec3; 2]>,
     /// Layer of each point.
     layers: Vec<u32>,
+    /// Cell of each point in its layer: the pixel index, or [`EDGE`] plus the index in
+    /// `edge_cells` for a sample's own point.
+    cells: Vec<u32>,
+}
+
+/// One level of the filter: the window of taps around a pixel and the distance between taps.
+#[derive(Clone, Copy, Debug)]
+struct Level {
+    window: Window,
+    stride: (u32, u32),
 }
 
 impl DiscontinuityBuffer {
     /// Filters D, G and S of the points of `tile`: `out.diffuse_radiance[i]` becomes the filtered
-    /// D of `points[i]` for points inside the tile (points in the apron get their own value),
-    /// and likewise `out.glossy_radiance[i]` the filtered G and S of `glossy_in[i]` (the same
+    /// D of `points[i]` for points inside the tile (points in the apron get other values), and
+    /// likewise `out.glossy_radiance[i]` the filtered G and S of `glossy_in[i]` (the same
     /// weights; `glossy_in` is empty where no point has a glossy lobe, and then so is
     /// `out.glossy_radiance`).
+    ///
+    /// With a coarse level ([`Interleave::coarse`] above 1) the first level filters every point
+    /// the second level reads, the tile grown by the coarse window at stride (n, m); its results
+    /// replace the points' values, and the second level averages them over the coarse window's
+    /// taps with the same similarity test, as the à-trous wavelet filter does one scale up
+    /// (Dammertz et al. 2010).
     /// `points` must cover `region`, the tile plus the apron of [`Interleave::region`].
     pub fn filter(
         &mut self,
@@ -109,28 +125,63 @@ impl DiscontinuityBuffer {
         (points, glossy_in): (&[FilterSample], &[[Vec3; 2]]),
         out: &mut Filtered,
     ) {
-        let Filtered { diffuse_radiance: out, glossy_radiance: glossy_out } = out;
-        let glossy = !glossy_in.is_empty();
-        let aa = interleave.aa as usize;
-        self.index(region, aa, points, glossy_in);
-        out.clear();
-        out.extend(points.iter().map(|p| p.diffuse_radiance));
-        glossy_out.clear();
-        glossy_out.extend_from_slice(glossy_in);
-        let ([left, right], [up, down]) = interleave.window();
+        self.index(region, interleave.aa as usize, points, glossy_in);
+        out.diffuse_radiance.clear();
+        out.diffuse_radiance.extend(points.iter().map(|p| p.diffuse_radiance));
+        out.glossy_radiance.clear();
+        out.glossy_radiance.extend_from_slice(glossy_in);
+        let fine = Level { window: interleave.window(), stride: (1, 1) };
+        if interleave.coarse == 1 {
+            self.level(region, &tile.rect, fine, settings, points, interleave.aa, out);
+            return;
+        }
+        let coarse = Level { window: interleave.coarse_window(), stride: (interleave.n, interleave.m) };
+        let ([l, r], [u, d]) = coarse.window;
+        let read = PixelRect {
+            x0: tile.rect.x0.saturating_sub(l * interleave.n).max(region.x0),
+            y0: tile.rect.y0.saturating_sub(u * interleave.m).max(region.y0),
+            x1: (tile.rect.x1 + r * interleave.n).min(region.x1),
+            y1: (tile.rect.y1 + d * interleave.m).min(region.y1),
+        };
+        self.level(region, &read, fine, settings, points, interleave.aa, out);
+        self.store(region, &read, points, out);
+        self.level(region, &tile.rect, coarse, settings, points, interleave.aa, out);
+    }
+
+    /// One filter level: for each point inside `rect`, the mean of the values in the cells of
+    /// `level`'s taps around its pixel (inside `region`) whose points are [`similar`] to it.
+    #[allow(clippy::too_many_arguments)]
+    fn level(
+        &self,
+        region: &PixelRect,
+        rect: &PixelRect,
+        level: Level,
+        settings: &FilterSettings,
+        points: &[FilterSample],
+        aa: u32,
+        out: &mut Filtered,
+    ) {
+        let glossy = !out.glossy_radiance.is_empty();
+        let aa = aa as usize;
+        let (([left, right], [up, down]), (sx, sy)) = (level.window, level.stride);
         for (i, p) in points.iter().enumerate() {
             let (x, y) = region.pixel(p.pixel);
-            if !tile.rect.contains(x, y) {
+            if !rect.contains(x, y) {
                 continue;
             }
             let grid = &self.grids[self.layers[i] as usize];
             let glossy_grid = &self.glossy_grids[self.layers[i] as usize];
-            let (x0, x1) = (x.saturating_sub(left), (x + right).min(region.x1 - 1));
+            // The taps at stride (sx, sy) that lie in the region.
+            let x0 = x - sx * left.min((x - region.x0) / sx);
+            let x1 = x + sx * right.min((region.x1 - 1 - x) / sx);
+            let y0 = y - sy * up.min((y - region.y0) / sy);
+            let y1 = y + sy * down.min((region.y1 - 1 - y) / sy);
             let mut sum = [Vec3::ZERO; 3];
             let mut count = 0u32;
-            for qy in y.saturating_sub(up)..=(y + down).min(region.y1 - 1) {
-                let row = region.index(x0, qy)..=region.index(x1, qy);
-                for (qx, (cell, index)) in (x0..).zip(grid[row.clone()].iter().zip(row)) {
+            for qy in (y0..=y1).step_by(sy as usize) {
+                for qx in (x0..=x1).step_by(sx as usize) {
+                    let index = region.index(qx, qy);
+                    let cell = &grid[index];
                     // A neighbour with a point per sample shows this point's sample.
                     let (q, edge) = match cell.material {
                         m if m != EMPTY && m & EDGE != 0 => {
@@ -152,9 +203,36 @@ impl DiscontinuityBuffer {
                     }
                 }
             }
-            out[i] = sum[0] / count as f32;
+            out.diffuse_radiance[i] = sum[0] / count as f32;
             if glossy {
-                glossy_out[i] = [sum[1] / count as f32, sum[2] / count as f32];
+                out.glossy_radiance[i] = [sum[1] / count as f32, sum[2] / count as f32];
+            }
+        }
+    }
+
+    /// Replaces the values in the cells of the points inside `rect` by `values` (the first
+    /// level's results, which the second level reads).
+    fn store(&mut self, region: &PixelRect, rect: &PixelRect, points: &[FilterSample], values: &Filtered) {
+        let glossy = !values.glossy_radiance.is_empty();
+        for (i, p) in points.iter().enumerate() {
+            let (x, y) = region.pixel(p.pixel);
+            if !rect.contains(x, y) {
+                continue;
+            }
+            let layer = self.layers[i] as usize;
+            let d = values.diffuse_radiance[i];
+            let at = self.cells[i];
+            if at & EDGE == 0 {
+                self.grids[layer][at as usize].diffuse_radiance = d;
+                if glossy {
+                    self.glossy_grids[layer][at as usize] = values.glossy_radiance[i];
+                }
+            } else {
+                let at = (at & !EDGE) as usize;
+                self.edge_cells[at].diffuse_radiance = d;
+                if glossy {
+                    self.edge_glossy[at] = values.glossy_radiance[i];
+                }
             }
         }
     }
@@ -164,6 +242,7 @@ impl DiscontinuityBuffer {
     fn index(&mut self, region: &PixelRect, aa: usize, points: &[FilterSample], glossy: &[[Vec3; 2]]) {
         self.paths.clear();
         self.layers.clear();
+        self.cells.clear();
         self.edge_cells.clear();
         self.edge_glossy.clear();
         let mut last: Option<(u32, u32)> = None;
@@ -184,6 +263,7 @@ impl DiscontinuityBuffer {
             let g = glossy.get(i).copied();
             let slot = &mut self.grids[layer as usize][p.pixel as usize];
             if p.whole_pixel {
+                self.cells.push(p.pixel);
                 *slot = cell;
                 if let Some(g) = g {
                     self.glossy_grids[layer as usize][p.pixel as usize] = g;
@@ -197,6 +277,7 @@ impl DiscontinuityBuffer {
                 self.edge_glossy.resize(self.edge_glossy.len() + aa, [Vec3::ZERO; 2]);
             }
             let at = (slot.material & !EDGE) as usize * aa + p.sample as usize;
+            self.cells.push(EDGE | at as u32);
             self.edge_cells[at] = cell;
             if let Some(g) = g {
                 self.edge_glossy[at] = g;
@@ -261,7 +342,7 @@ mod tests {
 
     fn run(points: &[FilterSample], region: &PixelRect, tile: &Tile) -> Vec<Vec3> {
         let mut out = Filtered::default();
-        let il = Interleave { n: 3, m: 3, aa: 1 };
+        let il = Interleave { n: 3, m: 3, coarse: 1, aa: 1 };
         DiscontinuityBuffer::default().filter(
             region,
             tile,
@@ -328,7 +409,7 @@ mod tests {
     fn a_sample_is_filtered_with_whole_pixels_and_the_same_sample_of_edge_pixels() {
         let region = PixelRect { x0: 0, y0: 0, x1: 3, y1: 3 };
         let tile = Tile { index: 0, rect: region };
-        let il = Interleave { n: 3, m: 3, aa: 2 };
+        let il = Interleave { n: 3, m: 3, coarse: 1, aa: 2 };
         let point = |x: u32, y: u32, sample: u32, whole_pixel: bool, d: f32| FilterSample {
             pixel: region.index(x, y) as u32,
             sample,

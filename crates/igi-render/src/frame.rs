@@ -24,6 +24,11 @@ pub struct IgiSettings {
     /// Interleave pattern `[n, m]`: pixel (x, y) uses VPL set (x mod n) + n (y mod m), so the
     /// frame has n·m sets (paper 2.1, Keller & Heidrich 2001).
     pub interleave: [u32; 2],
+    /// The coarse level of interleaving K (ARCHITECTURE.md, "Two levels of interleaving"): the
+    /// n×m block of pixel (x, y) uses group (⌊x/n⌋ mod K) + K (⌊y/m⌋ mod K) of K² groups of
+    /// n·m sets, and a second filter level at stride (n, m) merges the groups, so the filter
+    /// reaches over nK × mK pixels and n·m·K² sets. 1 is the paper's single level.
+    pub coarse_interleave: u32,
     /// Primary rays per pixel; each is lit by its own 1/N of the pixel's VPL set (interleaved
     /// super-sampling, paper 3.3).
     pub aa: u32,
@@ -81,6 +86,7 @@ impl Default for IgiSettings {
             height: 480,
             vpls_per_pixel: 12,
             interleave: [3, 3],
+            coarse_interleave: 3,
             aa: 4,
             filter: Some(FilterSettings::default()),
             clamp: 0.0,
@@ -111,6 +117,8 @@ pub mod limits {
     pub const MAX_VPLS_PER_PIXEL: u32 = 4096;
     /// Largest interleave side.
     pub const MAX_INTERLEAVE: u32 = 16;
+    /// Largest coarse interleave K (K² groups of sets).
+    pub const MAX_COARSE_INTERLEAVE: u32 = 4;
     /// Largest number of primary rays per pixel.
     pub const MAX_AA: u32 = 64;
     /// Most specular bounces a camera path may follow.
@@ -127,9 +135,9 @@ pub mod limits {
 }
 
 impl IgiSettings {
-    /// Number of VPL sets, n·m.
+    /// Number of VPL sets, n·m·K².
     pub fn set_count(&self) -> u32 {
-        self.interleave[0] * self.interleave[1]
+        self.interleave[0] * self.interleave[1] * self.coarse_interleave * self.coarse_interleave
     }
 
     /// Checks every field; the error names the offending flag.
@@ -157,6 +165,12 @@ impl IgiSettings {
                     self.interleave[1],
                     limits::MAX_INTERLEAVE
                 ),
+            );
+        }
+        if !(1..=limits::MAX_COARSE_INTERLEAVE).contains(&self.coarse_interleave) {
+            return err(
+                "coarse-interleave",
+                format!("{} is not between 1 and {}", self.coarse_interleave, limits::MAX_COARSE_INTERLEAVE),
             );
         }
         if !(1..=limits::MAX_AA).contains(&self.aa) {

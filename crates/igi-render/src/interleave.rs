@@ -3,8 +3,14 @@
 //! lie in the pixel, and how a tile's pixels of one set are grouped into 8-ray packets
 //! (paper Figure 2).
 //!
-//! Pixel (x, y) belongs to set (x mod n) + n·(y mod m), so every n×m window of the image holds
-//! one pixel of every set, which is what the discontinuity filter averages over. With N
+//! Pixel (x, y) belongs to fine set (x mod n) + n·(y mod m), so every n×m window of the image
+//! holds one pixel of every fine set, which is what the discontinuity filter averages over.
+//! A second, coarse level (ARCHITECTURE.md, "Two levels of interleaving") repeats the idea one
+//! scale up: the n×m block (⌊x/n⌋, ⌊y/m⌋) uses group (⌊x/n⌋ mod K) + K·(⌊y/m⌋ mod K) of K²
+//! groups of n·m sets, so pixel (x, y) is lit by set fine + n·m·group, and any nK × mK window
+//! holds one pixel of each of the n·m·K² sets: the filter's second level, K×K taps at stride
+//! (n, m) over the first level's averages, merges them. The frame thereby holds K² times the
+//! VPLs at the same VPLs per pixel; the primary rays keep the coherence of the fine sets. With N
 //! samples per pixel, a pixel whose samples all see one surface is shaded once and lit by its
 //! whole set; in a pixel across an edge, sample j is lit by the VPLs j, j + N, j + 2N, … of
 //! the pixel's set, weighted by N. Either way each pixel uses each VPL of its set once, so
@@ -15,39 +21,76 @@ use crate::pixel_rect::PixelRect;
 use crate::sampling::sobol4;
 use crate::tile::Tile;
 
-/// The interleaving pattern of a frame: n×m VPL sets and N samples per pixel.
+/// The interleaving pattern of a frame: n×m fine sets in K² coarse groups, and N samples per
+/// pixel.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Interleave {
     /// Pattern width n.
     pub n: u32,
     /// Pattern height m.
     pub m: u32,
+    /// The coarse pattern's side K (1: one level).
+    pub coarse: u32,
     /// Samples per pixel N.
     pub aa: u32,
 }
 
+/// Offsets of a filter window around its centre: `[left, right]` in x and `[up, down]` in y.
+pub type Window = ([u32; 2], [u32; 2]);
+
 impl Interleave {
     /// The pattern of `settings`.
     pub fn of(settings: &IgiSettings) -> Self {
-        Self { n: settings.interleave[0], m: settings.interleave[1], aa: settings.aa }
+        Self {
+            n: settings.interleave[0],
+            m: settings.interleave[1],
+            coarse: settings.coarse_interleave,
+            aa: settings.aa,
+        }
     }
 
-    /// Number of sets, n·m.
-    pub fn sets(&self) -> u32 {
+    /// Number of fine sets, n·m: the pipeline traces the pixels of one fine set at a time.
+    pub fn fine_sets(&self) -> u32 {
         self.n * self.m
     }
 
-    /// The filter window around a pixel as offsets `[left, right]` in x and `[up, down]` in y:
-    /// the pixel at offset 0 plus (n − 1) neighbours in x split as evenly as possible, the same
-    /// in y. Any such window holds one pixel of each set.
-    pub fn window(&self) -> ([u32; 2], [u32; 2]) {
+    /// Number of sets, n·m·K².
+    pub fn sets(&self) -> u32 {
+        self.fine_sets() * self.coarse * self.coarse
+    }
+
+    /// The set of the pixels of fine set `fine` in the n×m block of pixel (x, y).
+    #[inline]
+    pub fn set(&self, fine: u32, x: u32, y: u32) -> u32 {
+        let group = (x / self.n) % self.coarse + self.coarse * ((y / self.m) % self.coarse);
+        fine + self.fine_sets() * group
+    }
+
+    /// The first filter level's window around a pixel, in pixels: the pixel at offset 0 plus
+    /// (n − 1) neighbours in x split as evenly as possible, the same in y. Any such window
+    /// holds one pixel of each fine set.
+    pub fn window(&self) -> Window {
         ([(self.n - 1) / 2, self.n / 2], [(self.m - 1) / 2, self.m / 2])
     }
 
-    /// `tile` grown by the filter window (the apron, paper 3.4) and clipped to a `width` ×
-    /// `height` image. Every pixel the filter of the tile reads lies in it.
+    /// The second filter level's window, in taps at stride (n, m): K taps in x and in y split
+    /// as evenly as possible (none without a coarse level). With the first level's windows
+    /// around them it covers nK × mK pixels, one of each set.
+    pub fn coarse_window(&self) -> Window {
+        let k = self.coarse;
+        ([(k - 1) / 2, k / 2], [(k - 1) / 2, k / 2])
+    }
+
+    /// The apron of both filter levels: how far the filter of a pixel reads, in pixels.
+    pub fn apron(&self) -> Window {
+        let (([l, r], [u, d]), ([cl, cr], [cu, cd])) = (self.window(), self.coarse_window());
+        ([l + self.n * cl, r + self.n * cr], [u + self.m * cu, d + self.m * cd])
+    }
+
+    /// `tile` grown by the apron of the filter (paper 3.4) and clipped to a `width` × `height`
+    /// image. Every pixel the filter of the tile reads lies in it.
     pub fn region(&self, tile: &Tile, width: u32, height: u32) -> PixelRect {
-        let ([left, right], [up, down]) = self.window();
+        let ([left, right], [up, down]) = self.apron();
         PixelRect {
             x0: tile.rect.x0.saturating_sub(left),
             y0: tile.rect.y0.saturating_sub(up),
@@ -70,12 +113,12 @@ impl Interleave {
         (u, v)
     }
 
-    /// The pixels of set `set` inside `region`, grouped into packets of 4×2 pixels of the set's
-    /// sub-grid (paper Figure 2: neighbouring pixels of one set, so each packet's rays stay
+    /// The pixels of fine set `fine` inside `region`, grouped into packets of 4×2 pixels of the
+    /// set's sub-grid (paper Figure 2: neighbouring pixels of one set, so each packet's rays stay
     /// coherent). Each packet lists up to 8 pixels; the last ones of a row or column may be
     /// partial.
-    pub fn packets(&self, region: &PixelRect, set: u32, mut f: impl FnMut(&[(u32, u32)])) {
-        let (sx, sy) = (set % self.n, set / self.n);
+    pub fn packets(&self, region: &PixelRect, fine: u32, mut f: impl FnMut(&[(u32, u32)])) {
+        let (sx, sy) = (fine % self.n, fine / self.n);
         let first = |start: u32, phase: u32, period: u32| start + (phase + period - start % period) % period;
         let (x_first, y_first) = (first(region.x0, sx, self.n), first(region.y0, sy, self.m));
         let xs: Vec<u32> = (x_first..region.x1).step_by(self.n as usize).collect();
@@ -97,40 +140,50 @@ impl Interleave {
 mod tests {
     use super::*;
 
-    /// The set of pixel `(x, y)`, (x mod n) + n·(y mod m) (the module documentation).
+    /// The set of pixel `(x, y)` as the module documentation defines it.
     fn set_of(il: &Interleave, x: u32, y: u32) -> u32 {
-        x % il.n + il.n * (y % il.m)
+        let fine = x % il.n + il.n * (y % il.m);
+        let group = (x / il.n) % il.coarse + il.coarse * ((y / il.m) % il.coarse);
+        fine + il.n * il.m * group
     }
 
     #[test]
     fn every_window_holds_every_set_once() {
-        for (n, m) in [(3, 3), (2, 4), (4, 1), (1, 1)] {
-            let il = Interleave { n, m, aa: 1 };
+        for (n, m, coarse) in [(3, 3, 1), (2, 4, 1), (4, 1, 1), (1, 1, 1), (3, 3, 3), (3, 3, 2), (2, 3, 4)] {
+            let il = Interleave { n, m, coarse, aa: 1 };
             let ([l, r], [u, d]) = il.window();
-            assert_eq!(l + r + 1, n);
-            assert_eq!(u + d + 1, m);
-            for (cx, cy) in [(5u32, 7u32), (10, 3)] {
+            assert_eq!((l + r + 1, u + d + 1), (n, m));
+            let ([cl, cr], [cu, cd]) = il.coarse_window();
+            assert_eq!((cl + cr + 1, cu + cd + 1), (coarse, coarse));
+            for (cx, cy) in [(17u32, 19u32), (30, 23)] {
+                // Each first-level window around the second level's taps, together: each set
+                // exactly once.
                 let mut seen = vec![0; il.sets() as usize];
-                for y in cy - u..=cy + d {
-                    for x in cx - l..=cx + r {
-                        seen[set_of(&il, x, y) as usize] += 1;
+                for ty in (cy - il.m * cu..=cy + il.m * cd).step_by(il.m as usize) {
+                    for tx in (cx - il.n * cl..=cx + il.n * cr).step_by(il.n as usize) {
+                        for y in ty - u..=ty + d {
+                            for x in tx - l..=tx + r {
+                                seen[set_of(&il, x, y) as usize] += 1;
+                                assert_eq!(il.set(x % n + n * (y % m), x, y), set_of(&il, x, y));
+                            }
+                        }
                     }
                 }
-                assert!(seen.iter().all(|&c| c == 1), "{n}x{m}: {seen:?}");
+                assert!(seen.iter().all(|&c| c == 1), "{n}x{m}, K = {coarse}: {seen:?}");
             }
         }
     }
 
     #[test]
-    fn packets_cover_each_pixel_of_a_set_once() {
-        let il = Interleave { n: 3, m: 3, aa: 1 };
+    fn packets_cover_each_pixel_of_a_fine_set_once() {
+        let il = Interleave { n: 3, m: 3, coarse: 3, aa: 1 };
         let region = PixelRect { x0: 5, y0: 2, x1: 40, y1: 23 };
         let mut count = vec![0; region.pixel_count()];
-        for set in 0..il.sets() {
-            il.packets(&region, set, |lanes| {
+        for fine in 0..il.fine_sets() {
+            il.packets(&region, fine, |lanes| {
                 assert!(!lanes.is_empty() && lanes.len() <= 8);
                 for &(x, y) in lanes {
-                    assert_eq!(set_of(&il, x, y), set);
+                    assert_eq!(set_of(&il, x, y) % il.fine_sets(), fine);
                     count[region.index(x, y)] += 1;
                 }
             });
@@ -140,8 +193,12 @@ mod tests {
 
     #[test]
     fn region_is_the_tile_plus_the_apron_inside_the_image() {
-        let il = Interleave { n: 3, m: 3, aa: 1 };
         let tile = Tile { index: 0, rect: PixelRect { x0: 0, y0: 16, x1: 16, y1: 32 } };
-        assert_eq!(il.region(&tile, 20, 32), PixelRect { x0: 0, y0: 15, x1: 17, y1: 32 });
+        let il = Interleave { n: 3, m: 3, coarse: 1, aa: 1 };
+        assert_eq!(il.region(&tile, 20, 40), PixelRect { x0: 0, y0: 15, x1: 17, y1: 33 });
+        let il = Interleave { coarse: 3, ..il };
+        assert_eq!(il.region(&tile, 20, 40), PixelRect { x0: 0, y0: 12, x1: 20, y1: 36 });
+        let il = Interleave { coarse: 2, ..il };
+        assert_eq!(il.apron(), ([1, 4], [1, 4]));
     }
 }

@@ -203,8 +203,8 @@ pub struct TileScratch {
     sample_origins: Vec<Vec3>,
     /// Whole pixels that turned out to have a mirror or glass lobe: shaded again per sample.
     split: Vec<WholePixel>,
-    /// A set's shading points (lighting group, index) in the order they are lit.
-    order: Vec<(u32, u32)>,
+    /// A fine set's shading points (set and lighting group, index) in the order they are lit.
+    order: Vec<(u64, u32)>,
     filter_samples: Vec<FilterSample>,
     glossy_radiance: Vec<[Vec3; 2]>,
     filtered: Filtered,
@@ -268,9 +268,9 @@ impl<'a> TilePipeline<'a> {
         let mut times = PhaseTimes::default();
         let mut clock = Instant::now();
 
-        for set in 0..il.sets() {
+        for fine in 0..il.fine_sets() {
             let first = scratch.points.len();
-            self.trace_primary(&region, set, scratch, &mut rays);
+            self.trace_primary(&region, fine, scratch, &mut rays);
             times.lap(Phase::Primary, &mut clock);
             self.shade_primary(scratch);
             times.lap(Phase::Shading, &mut clock);
@@ -280,7 +280,7 @@ impl<'a> TilePipeline<'a> {
                 self.compensate(&region, first, scratch, &mut rays);
                 times.lap(Phase::Compensation, &mut clock);
             }
-            self.light(set, first, scratch, &mut rays);
+            self.light(&region, fine, first, scratch, &mut rays);
             times.lap(Phase::Shadow, &mut clock);
         }
 
@@ -298,15 +298,15 @@ impl<'a> TilePipeline<'a> {
         TileOutput { tile, pixels, stats, rays, times }
     }
 
-    /// Step 1: the camera rays of every anti-aliasing sample of the pixels of `set`, packet by
-    /// packet: the N packets of one group of pixels follow each other in `s.packets`.
-    fn trace_primary(&self, region: &PixelRect, set: u32, s: &mut TileScratch, rays: &mut RayCounts) {
+    /// Step 1: the camera rays of every anti-aliasing sample of the pixels of fine set `fine`,
+    /// packet by packet: the N packets of one group of pixels follow each other in `s.packets`.
+    fn trace_primary(&self, region: &PixelRect, fine: u32, s: &mut TileScratch, rays: &mut RayCounts) {
         s.packets.clear();
         let accel = self.scene.accel();
         let aa = self.interleave.aa;
         let mut primary = 0u64;
         let origin = Vec3x8::splat(self.camera.origin.to_array());
-        self.interleave.packets(region, set, |lanes| {
+        self.interleave.packets(region, fine, |lanes| {
             primary += (lanes.len() as u64) * u64::from(aa);
             // Unoccupied lanes repeat the first pixel, so every lane holds a valid ray (the
             // packet kernel decides the traversal order from all lanes' signs).
@@ -680,23 +680,30 @@ impl<'a> TilePipeline<'a> {
         }
     }
 
-    /// Step 4: the lights and the VPLs of set `set` on the shading points from index `first`
-    /// on. A point that stands for its whole pixel is lit by every VPL of the set; a point of
-    /// sample j of an edge pixel by the VPLs j, j + N, j + 2N, … weighted by N (paper 3.3), so
-    /// each pixel uses each VPL of its set once. The exact lights light every point with
-    /// weight 1.
-    fn light(&self, set: u32, first: usize, s: &mut TileScratch, rays: &mut RayCounts) {
+    /// Step 4: the lights and the VPLs on the shading points of fine set `fine` from index
+    /// `first` on, each point lit by the set of its pixel's coarse group
+    /// ([`Interleave::set`]). A point that stands for its whole pixel is lit by every VPL of
+    /// the set; a point of sample j of an edge pixel by the VPLs j, j + N, j + 2N, … weighted
+    /// by N (paper 3.3), so each pixel uses each VPL of its set once. The exact lights light
+    /// every point with weight 1.
+    fn light(&self, region: &PixelRect, fine: u32, first: usize, s: &mut TileScratch, rays: &mut RayCounts) {
         let TileScratch { points, receivers, order, sample_origins, .. } = s;
         let aa = self.interleave.aa;
-        // The lighting group of a point: 0 for whole pixels, 1 + j for sample j's own points.
-        let group = |p: &ShadingPoint| if p.state.coverage == aa { 0 } else { 1 + p.state.sample };
+        // The lighting group of a point: its set, then 0 for whole pixels, 1 + j for sample j's
+        // own points.
+        let group = |p: &ShadingPoint| {
+            let (x, y) = region.pixel(p.state.pixel);
+            let lighting = if p.state.coverage == aa { 0 } else { 1 + p.state.sample };
+            u64::from(self.interleave.set(fine, x, y)) << 32 | u64::from(lighting)
+        };
         order.clear();
         order.extend((first..points.len()).map(|i| (group(&points[i]), i as u32)));
         // Stable: each group keeps the pixel order its shadow packets want.
         order.sort_by_key(|&(g, _)| g);
         let accel = self.scene.accel();
         for run in order.chunk_by(|a, b| a.0 == b.0) {
-            let (skip, step) = match run[0].0 {
+            let set = (run[0].0 >> 32) as u32;
+            let (skip, step) = match run[0].0 as u32 {
                 0 => (0, 1),
                 g => (g as usize - 1, aa as usize),
             };
@@ -729,7 +736,7 @@ impl<'a> TilePipeline<'a> {
     fn light_exactly(
         &self,
         points: &mut [ShadingPoint],
-        run: &[(u32, u32)],
+        run: &[(u64, u32)],
         sample_origins: &[Vec3],
         receivers: &mut Receivers,
         rays: &mut RayCounts,

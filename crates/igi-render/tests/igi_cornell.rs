@@ -24,6 +24,17 @@ const FRAMES: u32 = 256;
 /// Paths per pixel of the reference.
 const SPP: u32 = 512;
 
+/// The frame these comparisons render: one filter level. The second level's 9-pixel window
+/// covers a fifth of this 48-pixel image and averages irradiance gradients (the contact
+/// shadows, the colour bleeding near the walls) into a bias a larger image does not have:
+/// after 256 frames its worst 6 × 6 block was 26 % off the path tracer, against 4-6 % with one
+/// level.
+fn cornell_frame(camera: igi_scene::Camera) -> FrameState {
+    let mut frame = igi_frame(camera, SIZE, SIZE);
+    frame.settings.coarse_interleave = 1;
+    frame
+}
+
 fn cornell() -> (PreparedScene, igi_scene::Camera) {
     let scene = igi_scene::builtin("cornell-box").expect("built-in cornell-box");
     let camera = scene.camera.expect("the Cornell box has its camera");
@@ -113,7 +124,7 @@ fn accumulate(
 fn converged_igi_matches_the_path_tracer_and_the_default_clamp_loses_little() {
     let (mut scene, camera) = cornell();
     let renderer = FrameRenderer::new(2);
-    let frame = igi_frame(camera, SIZE, SIZE);
+    let frame = cornell_frame(camera);
     let skip = light_pixels(&scene, &PinholeCamera::new(&camera, SIZE, SIZE));
     assert!((10..60).contains(&skip.iter().filter(|s| **s).count()), "the light covers a few dozen pixels");
     let (pt, _) = render_path_traced(&mut scene, &frame, SPP, renderer.scheduler(), &|_, _| {});
@@ -187,7 +198,7 @@ fn bias_compensation_restores_what_a_large_clamp_removes() {
     // difference is the compensation alone.
     let (mut scene, camera) = cornell();
     let renderer = FrameRenderer::new(2);
-    let mut frame = igi_frame(camera, SIZE, SIZE);
+    let mut frame = cornell_frame(camera);
     let skip = light_pixels(&scene, &PinholeCamera::new(&camera, SIZE, SIZE));
     let (pt, _) = render_path_traced(&mut scene, &frame, SPP, renderer.scheduler(), &|_, _| {});
     let mp = luminance(masked_mean(&pt, &skip));

@@ -1,5 +1,6 @@
 //! The discontinuity buffer (paper 2.1): each pixel's D = E/π is replaced by the mean of D
-//! over the n × m window around it, taken only over neighbours that see a similar surface
+//! over the n × m window around it (then, with the coarse level, the mean of those over K × K
+//! taps n and m pixels apart), taken only over neighbours that see a similar surface
 //! (same material, shading normals within cos 0.9, path distances within 10 %); the albedo
 //! multiplies afterwards, so texture detail stays sharp. These tests check that definition
 //! exactly on scenes where every pixel's surface is known in closed form, and that it pays:
@@ -21,9 +22,25 @@ use std::sync::Arc;
 /// pixel plus (n − 1) neighbours in x split as evenly as possible (⌊(n−1)/2⌋ left), the same
 /// in y (paper 2.1: every window holds one pixel of every VPL set).
 fn window(x: u32, y: u32, [n, m]: [u32; 2], width: u32, height: u32) -> impl Iterator<Item = (u32, u32)> {
+    strided_window(x, y, [n, m], [1, 1], width, height)
+}
+
+/// The taps `stride` apart of a window of `[n, m]` taps around (x, y), split as
+/// [`window`] splits pixels, inside the image: the second filter level's window with
+/// `[n, m]` = [K, K] and the stride the interleave pattern's size.
+fn strided_window(
+    x: u32,
+    y: u32,
+    [n, m]: [u32; 2],
+    [sx, sy]: [u32; 2],
+    width: u32,
+    height: u32,
+) -> impl Iterator<Item = (u32, u32)> {
     let (left, right, up, down) = ((n - 1) / 2, n / 2, (m - 1) / 2, m / 2);
-    let xs = x.saturating_sub(left)..=(x + right).min(width - 1);
-    (y.saturating_sub(up)..=(y + down).min(height - 1)).flat_map(move |qy| xs.clone().map(move |qx| (qx, qy)))
+    let (x0, y0) = (x - sx * left.min(x / sx), y - sy * up.min(y / sy));
+    let xs = (x0..=x + sx * right.min((width - 1 - x) / sx)).step_by(sx as usize);
+    let ys = (y0..=y + sy * down.min((height - 1 - y) / sy)).step_by(sy as usize);
+    ys.flat_map(move |qy| xs.clone().map(move |qx| (qx, qy)))
 }
 
 /// What a pixel-centre ray sees, in closed form.
@@ -251,6 +268,12 @@ fn filter_never_averages_across_a_depth_normal_or_material_edge() {
     frame.settings.filter = Some(FilterSettings::default());
     let filtered = render_igi(&mut prepared, &frame);
 
+    // The first level: the mean of the unfiltered pixels of the 3 × 3 window on the pixel's own
+    // surface; the second (the default coarse level K = 3): the mean of the first level's
+    // values at the 3 × 3 taps 3 pixels apart on its own surface.
+    let k = frame.settings.coarse_interleave;
+    assert_eq!(k, 3, "the default has a second level");
+    let mut level1 = vec![Vec3::ZERO; (w * h) as usize];
     let (mut edge_pixels, mut would_leak) = ([0u32; 4], 0);
     for y in 0..h {
         for x in 0..w {
@@ -276,6 +299,38 @@ fn filter_never_averages_across_a_depth_normal_or_material_edge() {
                 all += raw.get(qx, qy);
                 m += 1;
             }
+            level1[(y * w + x) as usize] = own / n as f32;
+            if foreign {
+                edge_pixels[a.surface as usize] += 1;
+                // Averaging over the whole window would have given a visibly different value.
+                if rel_err(all / m as f32, own / n as f32) > 0.01 {
+                    would_leak += 1;
+                }
+            }
+        }
+    }
+    let (mut checked, mut near_threshold) = (0, 0);
+    'pixels: for y in 0..h {
+        for x in 0..w {
+            let Some(a) = seen(x, y) else { continue };
+            let (mut own, mut n) = (Vec3::ZERO, 0);
+            for (qx, qy) in strided_window(x, y, [k, k], [3, 3], w, h) {
+                let Some(b) = seen(qx, qy) else { continue };
+                // Taps 3 pixels apart on the floor can lie near the depth threshold (the
+                // renderer's test decides there, not the surface): such pixels are left out.
+                match similar(&a, &b, &surface_material) {
+                    None => {
+                        near_threshold += 1;
+                        continue 'pixels;
+                    }
+                    Some(true) => {
+                        own += level1[(qy * w + qx) as usize];
+                        n += 1;
+                    }
+                    // Another surface, or the floor farther than the depth threshold.
+                    Some(false) => {}
+                }
+            }
             let want = own / n as f32;
             let got = filtered.get(x, y);
             assert!(
@@ -283,15 +338,11 @@ fn filter_never_averages_across_a_depth_normal_or_material_edge() {
                 "pixel ({x}, {y}) on surface {}: got {got}, want {want} (the mean over its own surface)",
                 a.surface
             );
-            if foreign {
-                edge_pixels[a.surface as usize] += 1;
-                // Averaging over the whole window would have given a visibly different value.
-                if rel_err(all / m as f32, want) > 0.01 {
-                    would_leak += 1;
-                }
-            }
+            checked += 1;
         }
     }
+    eprintln!("second level: {checked} pixels checked, {near_threshold} left out near a threshold");
+    assert!(checked > 1000, "{checked} pixels checked, {near_threshold} left out near a threshold");
     eprintln!(
         "pixels next to another surface (floor, wall, square, decal): {edge_pixels:?}; {would_leak} would differ"
     );

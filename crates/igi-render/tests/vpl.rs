@@ -15,9 +15,15 @@ use igi_render::vpl::{Vpl, VplSets};
 use igi_scene::{Light, Material, MaterialKind, Mesh};
 use std::f64::consts::PI;
 
-/// The frame of `seed` with `vpls` VPLs per set and 4 × 4 sets.
+/// The frame of `seed` with `vpls` VPLs per set and 4 × 4 sets (one level: the coarse level
+/// only multiplies the sets, and 16 times the paths of 144 sets would not fit one sequence).
 fn frame(seed: u32, vpls: u32) -> FrameState {
-    let settings = IgiSettings { vpls_per_pixel: vpls, interleave: [4, 4], ..IgiSettings::default() };
+    let settings = IgiSettings {
+        vpls_per_pixel: vpls,
+        interleave: [4, 4],
+        coarse_interleave: 1,
+        ..IgiSettings::default()
+    };
     FrameState {
         seed,
         ..FrameState::new(camera(Vec3::new(0.0, 1.0, 3.5), Vec3::new(0.0, 1.0, 0.0), 39.3), settings)

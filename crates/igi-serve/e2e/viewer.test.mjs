@@ -5,10 +5,11 @@
 //
 // Checks: a non-blank frame arrives; a mouse drag over the image turns the view (the next
 // frame differs); a setting changed in the side panel comes back in the frames' settings and
-// changes the image; and, with the animation playing, the latency from an input event to the
-// first frame drawn with it is at most 3 frame times + 40 ms (median of 12 drags): the frame
-// in progress when the input comes, the frame with it, encoding, sending and drawing, and one
-// frame of slack for a busy 2-core machine (a queue of frames would exceed it many times).
+// changes the image (the filter off; the wide filter's strength K 3 -> 1); and, with the
+// animation playing, the latency from an input event to the first frame drawn with it is at
+// most 3 frame times + 40 ms (median of 12 drags): the frame in progress when the input comes,
+// the frame with it, encoding, sending and drawing, and one frame of slack for a busy 2-core
+// machine (a queue of frames would exceed it many times).
 
 import { chromium } from "playwright-core";
 import { strict as assert } from "node:assert";
@@ -70,6 +71,21 @@ await page.waitForTimeout(200);
 const unfiltered = await pixels();
 assert.notEqual(unfiltered.sum, turned.sum, "the unfiltered frame differs");
 console.log(`filter off: the frames say filter = false, pixel sum ${turned.sum} -> ${unfiltered.sum}`);
+
+// The wide filter (issue 16): with the filter back on, its strength K from the default 3 to 1
+// (one level, the paper's 3 × 3 filter) comes back in the frames' settings and changes the image.
+await page.locator("#filter").click();
+await waitFor(() => window.__igi.header.stats.settings.filter === true);
+assert.equal((await header()).stats.settings.coarse_interleave, 3);
+await page.waitForTimeout(200);
+const wide = await pixels();
+await page.locator("#coarse_interleave").fill("1");
+await page.locator("#coarse_interleave").dispatchEvent("change");
+await waitFor(() => window.__igi.header.stats.settings.coarse_interleave === 1);
+await page.waitForTimeout(200);
+const narrow = await pixels();
+assert.notEqual(narrow.sum, wide.sum, "the frame with one filter level differs");
+console.log(`wide filter K 3 -> 1: pixel sum ${wide.sum} -> ${narrow.sum}`);
 
 // Once still, the frame comes losslessly.
 await waitFor(() => window.__igi.kind === "png");

@@ -25,6 +25,9 @@ pub struct ViewSettings {
     pub vpls_per_pixel: u32,
     /// Interleave pattern n × m.
     pub interleave: [u32; 2],
+    /// The wide filter's strength: the coarse interleave K (1: off; see
+    /// [`IgiSettings::coarse_interleave`]).
+    pub coarse_interleave: u32,
     /// Primary rays per pixel.
     pub aa: u32,
     /// The discontinuity filter on or off.
@@ -62,6 +65,7 @@ impl ViewSettings {
             height: igi.height,
             vpls_per_pixel: igi.vpls_per_pixel,
             interleave: igi.interleave,
+            coarse_interleave: igi.coarse_interleave,
             aa: 1,
             filter: true,
             filter_normal: filter.min_normal_cos,
@@ -84,6 +88,7 @@ impl ViewSettings {
             height: self.height,
             vpls_per_pixel: self.vpls_per_pixel,
             interleave: self.interleave,
+            coarse_interleave: self.coarse_interleave,
             aa: self.aa,
             filter: self.filter.then_some(FilterSettings {
                 min_normal_cos: self.filter_normal,

@@ -91,6 +91,7 @@ impl Panel {
             row(ui, "specular bounces", DragValue::new(&mut s.specular_bounces).range(0..=16));
             ui.heading("Filter");
             ui.checkbox(&mut s.filter, "discontinuity filter");
+            row(ui, "wide filter K (1: off)", DragValue::new(&mut s.coarse_interleave).range(1..=4));
             row(ui, "normal cosine ≥", DragValue::new(&mut s.filter_normal).range(-1.0..=1.0).speed(0.01));
             row(ui, "depth ratio ≤", DragValue::new(&mut s.filter_depth).range(0.0..=10.0).speed(0.01));
             ui.heading("Display");

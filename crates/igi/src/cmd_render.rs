@@ -271,11 +271,10 @@ fn sequence_path(output: &Path, k: u32, frames: u32) -> std::path::PathBuf {
 fn igi_summary(out: &FrameOutput, frames: u32, s: &igi_render::frame::IgiSettings) -> String {
     let pixels = f64::from(s.width) * f64::from(s.height) * f64::from(frames);
     format!(
-        "igi, {} frame(s), {} VPLs/frame in {}x{} sets, aa {}, filter {}, clamp {:.3}: {:.2} M rays ({:.1} per pixel), {:.1} Mrays/s",
+        "igi, {} frame(s), {} VPLs/frame in {}, aa {}, filter {}, clamp {:.3}: {:.2} M rays ({:.1} per pixel), {:.1} Mrays/s",
         frames,
         out.vpls / frames.max(1) as usize,
-        s.interleave[0],
-        s.interleave[1],
+        crate::frame_args::sets_label(s.interleave, s.coarse_interleave),
         s.aa,
         if s.filter.is_some() { "on" } else { "off" },
         s.clamp,

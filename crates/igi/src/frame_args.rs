@@ -30,6 +30,12 @@ pub struct FrameArgs {
     /// Interleave pattern NxM: the frame has N·M VPL sets, one per pixel of every NxM block.
     #[arg(long, default_value = "3x3", value_parser = parse_interleave)]
     pub interleave: [u32; 2],
+    /// Wide filter: a second level of interleaving K times coarser, merged by a second filter
+    /// level over K×K blocks of NxM pixels, so each pixel's light is averaged from N·M·K² VPL
+    /// sets instead of N·M at the same VPLs per pixel (less of the blotchy low-frequency noise
+    /// of one frame, ARCHITECTURE.md "Two levels of interleaving"). 1 turns it off.
+    #[arg(long, default_value_t = IgiSettings::default().coarse_interleave)]
+    pub coarse_interleave: u32,
     /// Primary rays per pixel (interleaved super-sampling: a pixel whose rays all see one
     /// surface is shaded once, with all its VPLs; across an edge each ray is lit by its share
     /// of them). Default 4; 1 in the interactive viewers (`view`, `serve`).
@@ -92,6 +98,15 @@ pub fn parse_interleave(s: &str) -> Result<[u32; 2], String> {
     Ok([n, m])
 }
 
+/// How a summary names the VPL sets: "3x3 sets", or "3x3 sets in 3x3 groups" with a coarse
+/// level.
+pub fn sets_label([n, m]: [u32; 2], coarse: u32) -> String {
+    match coarse {
+        1 => format!("{n}x{m} sets"),
+        k => format!("{n}x{m} sets in {k}x{k} groups"),
+    }
+}
+
 impl FrameArgs {
     /// `scene` prepared for rendering, with the default light it needs unless
     /// `--no-default-light` (one warning says what was added).
@@ -118,6 +133,7 @@ impl FrameArgs {
             height: self.height,
             vpls_per_pixel: self.vpls,
             interleave: self.interleave,
+            coarse_interleave: self.coarse_interleave,
             aa: self.aa.unwrap_or(DEFAULT_AA),
             filter: (!self.no_filter).then_some(FilterSettings {
                 min_normal_cos: self.filter_normal,

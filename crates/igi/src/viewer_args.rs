@@ -60,6 +60,7 @@ impl ViewerArgs {
             height: s.height,
             vpls_per_pixel: s.vpls_per_pixel,
             interleave: s.interleave,
+            coarse_interleave: s.coarse_interleave,
             aa: s.aa,
             filter: s.filter.is_some(),
             filter_normal: filter.min_normal_cos,

@@ -52,6 +52,7 @@ struct Report {
     threads: usize,
     vpls_per_pixel: u32,
     interleave: [u32; 2],
+    coarse_interleave: u32,
     aa: u32,
     filter: bool,
     clamp: f32,
@@ -155,6 +156,7 @@ pub fn run(args: &FrameBenchArgs) -> Result<()> {
         threads,
         vpls_per_pixel: s.vpls_per_pixel,
         interleave: s.interleave,
+        coarse_interleave: s.coarse_interleave,
         aa: s.aa,
         filter: s.filter.is_some(),
         clamp: s.clamp,
@@ -200,13 +202,12 @@ fn clamp_energy_loss(renderer: &FrameRenderer, scene: &mut PreparedScene, frame:
 
 fn print_report(r: &Report) {
     outln!(
-        "{}: {}x{}, {} VPLs/pixel in {}x{} sets ({} VPLs/frame), aa {}, filter {}, clamp {:.3}, {} thread(s)",
+        "{}: {}x{}, {} VPLs/pixel in {} ({} VPLs/frame), aa {}, filter {}, clamp {:.3}, {} thread(s)",
         r.scene,
         r.width,
         r.height,
         r.vpls_per_pixel,
-        r.interleave[0],
-        r.interleave[1],
+        crate::frame_args::sets_label(r.interleave, r.coarse_interleave),
         r.vpls_per_frame,
         r.aa,
         if r.filter { "on" } else { "off" },

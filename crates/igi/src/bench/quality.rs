@@ -86,6 +86,7 @@ struct Report {
     aa: u32,
     vpls_per_pixel: u32,
     interleave: [u32; 2],
+    coarse_interleave: u32,
     filter: bool,
     reference: PathBuf,
     /// How the reference was made, e.g. "path tracer, 256 spp".
@@ -157,6 +158,7 @@ pub fn run(args: &QualityBenchArgs) -> Result<()> {
         aa: s.aa,
         vpls_per_pixel: s.vpls_per_pixel,
         interleave: s.interleave,
+        coarse_interleave: s.coarse_interleave,
         filter: s.filter.is_some(),
         reference: reference_path,
         reference_method: method.to_string(),
@@ -374,14 +376,13 @@ pub fn flicker_of(frames: &[Vec<f32>], reference: &[Vec<f32>]) -> f64 {
 
 fn print(r: &Report) {
     outln!(
-        "{}: {}x{}, aa {}, {} VPLs per pixel in {}x{} sets, filter {}",
+        "{}: {}x{}, aa {}, {} VPLs per pixel in {}, filter {}",
         r.scene,
         r.width,
         r.height,
         r.aa,
         r.vpls_per_pixel,
-        r.interleave[0],
-        r.interleave[1],
+        crate::frame_args::sets_label(r.interleave, r.coarse_interleave),
         if r.filter { "on" } else { "off" }
     );
     let made = if r.reference_seconds > 0.0 {
