@@ -38,13 +38,15 @@ fn fingerprint(out: &FrameOutput) -> Fingerprint {
 fn same_image_at_any_thread_count_and_tile_size() {
     let mut scene = every_path_room();
     let renderers = [FrameRenderer::new(1), FrameRenderer::new(2), FrameRenderer::new(3)];
-    for filter in [Some(FilterSettings::default()), None] {
+    let cases = [(Some(FilterSettings::default()), 3), (Some(FilterSettings::default()), 1), (None, 3)];
+    for (filter, coarse_interleave) in cases {
         for aa in [1, 4] {
             let mut f = frame(7);
             f.settings.filter = filter;
+            f.settings.coarse_interleave = coarse_interleave;
             f.settings.aa = aa;
             f.settings.tile_size = 16;
-            let what = format!("filter {}, aa {aa}", filter.is_some());
+            let what = format!("filter {}, coarse interleave {coarse_interleave}, aa {aa}", filter.is_some());
             let one = renderers[0].render(&mut scene, &f, &|_, _| {}).expect("valid settings");
             assert!(
                 one.image.film().unwrap().pixels().iter().any(|p| p.max_element() > 0.0),
