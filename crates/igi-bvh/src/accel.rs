@@ -212,8 +212,18 @@ impl Accel {
 
     /// Bytes of triangle data plus all BVH nodes and the top level.
     pub fn bytes(&self) -> usize {
-        self.meshes.iter().map(TriangleMesh::bytes).sum::<usize>()
-            + self.blas.iter().map(Bvh::bytes).sum::<usize>()
+        self.triangle_bytes() + self.bvh_bytes()
+    }
+
+    /// Bytes of the meshes' vertices and index triples.
+    pub fn triangle_bytes(&self) -> usize {
+        self.meshes.iter().map(TriangleMesh::bytes).sum()
+    }
+
+    /// Bytes of the BVHs: every mesh's nodes and triangle order, the top level and the
+    /// instance placements.
+    pub fn bvh_bytes(&self) -> usize {
+        self.blas.iter().map(Bvh::bytes).sum::<usize>()
             + self.tlas.bytes()
             + self.placements.len() * std::mem::size_of::<Placement>()
     }

@@ -81,7 +81,7 @@ pub use frame_image::{FrameImage, PixelFormat, Pixels};
 pub use frame_renderer::{FrameError, FrameOutput, FramePlan, FrameRenderer};
 pub use output::{OutputError, write_exr, write_image, write_png};
 pub use pixel_rect::PixelRect;
-pub use prepared::{PreparedScene, SurfacePoint};
+pub use prepared::{GeometryBytes, PreparedScene, SurfacePoint};
 pub use progressive::{Progressive, Shown};
 pub use stats::{Phase, PhaseTimes, RayCounts};
 pub use tile::{Tile, TileGrid};

@@ -42,6 +42,36 @@ pub struct MeshShading {
     pub material_ids: Vec<u32>,
 }
 
+impl MeshShading {
+    /// Bytes of its per-vertex normals and texture coordinates and per-triangle materials.
+    pub fn bytes(&self) -> usize {
+        self.normals.as_ref().map_or(0, |n| n.len() * size_of::<Vec3>())
+            + self.uvs.as_ref().map_or(0, |t| t.len() * size_of::<Vec2>())
+            + self.material_ids.len() * size_of::<u32>()
+    }
+}
+
+/// What a prepared scene's geometry occupies in memory, in bytes (`igi info`; issue 17's
+/// budget of mesh plus BVH per triangle).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct GeometryBytes {
+    /// Triangles stored in the meshes (each counted once however often it is instanced).
+    pub stored_triangles: usize,
+    /// Vertex positions and index triples ([`Accel::triangle_bytes`]).
+    pub triangles: usize,
+    /// BVH nodes, triangle order, top level and placements ([`Accel::bvh_bytes`]).
+    pub bvh: usize,
+    /// Normals, texture coordinates and material indices ([`MeshShading::bytes`]).
+    pub shading: usize,
+}
+
+impl GeometryBytes {
+    /// All of it.
+    pub fn total(&self) -> usize {
+        self.triangles + self.bvh + self.shading
+    }
+}
+
 /// Everything shading needs to know about a ray hit, in world space.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SurfacePoint {
@@ -116,6 +146,16 @@ fn normal_matrix(m: &Affine3A) -> Option<Mat3A> {
 }
 
 impl PreparedScene {
+    /// What the geometry occupies in memory.
+    pub fn geometry_bytes(&self) -> GeometryBytes {
+        GeometryBytes {
+            stored_triangles: self.meshes.iter().map(|m| m.material_ids.len()).sum(),
+            triangles: self.accel.triangle_bytes(),
+            bvh: self.accel.bvh_bytes(),
+            shading: self.meshes.iter().map(MeshShading::bytes).sum(),
+        }
+    }
+
     /// Builds the acceleration structure over `scene` and the shading tables. Material ids
     /// out of range (which a valid scene never has) fall back to a default grey material.
     /// A scene without any light source is lit by the headlight at the camera until

@@ -57,3 +57,45 @@ fn tile_grid_covers_every_pixel_once() {
     assert!(covered.iter().all(|&c| c == 1));
     assert_eq!(grid.tile(5), Tile { index: 5, rect: PixelRect { x0: 32, y0: 16, x1: 37, y1: 21 } });
 }
+
+#[test]
+fn geometry_bytes_count_what_the_meshes_and_bvh_hold() {
+    // A 100 × 100 grid of quads on a bumpy height field (20,000 triangles sharing 10,201
+    // vertices), no normals or texture coordinates: the vertices and index triples take 12 B
+    // per triangle at least (the triples) and 36 B at most (no vertex shared); a binary BVH
+    // over N triangles has at most 2N − 1 nodes of 32 B plus a 4 B order entry per triangle,
+    // under 68 B per triangle; the shading data is the 4 B material index per triangle.
+    let n = 100u32;
+    let positions = (0..=n)
+        .flat_map(|z| (0..=n).map(move |x| (x, z)))
+        .map(|(x, z)| glam::Vec3::new(x as f32, ((x * 7 + z * 13) % 5) as f32 * 0.1, z as f32))
+        .collect();
+    let at = |x: u32, z: u32| z * (n + 1) + x;
+    let indices: Vec<[u32; 3]> = (0..n)
+        .flat_map(|z| (0..n).map(move |x| (x, z)))
+        .flat_map(|(x, z)| {
+            [[at(x, z), at(x, z + 1), at(x + 1, z)], [at(x + 1, z), at(x, z + 1), at(x + 1, z + 1)]]
+        })
+        .collect();
+    let mesh = igi_scene::Mesh {
+        name: "grid".into(),
+        positions,
+        normals: None,
+        uvs: None,
+        material_ids: vec![0; indices.len()],
+        indices,
+    };
+    let prepared = igi_render::PreparedScene::new(igi_scene::Scene {
+        meshes: vec![mesh],
+        instances: vec![igi_scene::Instance { mesh: 0, transform: glam::Affine3A::IDENTITY }],
+        materials: vec![igi_scene::Material::default()],
+        ..igi_scene::Scene::default()
+    });
+    let g = prepared.geometry_bytes();
+    assert_eq!(g.stored_triangles, 20_000);
+    let per = |bytes: usize| bytes as f64 / 20_000.0;
+    assert!((12.0..=36.0).contains(&per(g.triangles)), "{g:?}");
+    assert!(per(g.bvh) > 4.0 && per(g.bvh) < 68.0, "{g:?}");
+    assert_eq!(g.shading, 4 * 20_000, "{g:?}");
+    assert_eq!(g.total(), g.triangles + g.bvh + g.shading);
+}

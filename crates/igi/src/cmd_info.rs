@@ -114,7 +114,22 @@ pub fn run(args: &InfoArgs) -> Result<()> {
         outln!("  {w}");
     }
     let own_camera = scene.camera.is_some();
+    let t = Instant::now();
     let mut prepared = PreparedScene::new(scene);
+    let build = t.elapsed();
+    let g = prepared.geometry_bytes();
+    let per = |bytes: usize| bytes as f64 / g.stored_triangles.max(1) as f64;
+    outln!(
+        "geometry     prepared in {:.3} s (BVH build included); {:.1} MiB, per stored triangle \
+         {:.1} B: {:.1} B vertices and indices, {:.1} B BVH, {:.1} B normals, texture \
+         coordinates and materials",
+        build.as_secs_f64(),
+        g.total() as f64 / f64::from(1 << 20),
+        per(g.total()),
+        per(g.triangles),
+        per(g.bvh),
+        per(g.shading)
+    );
     let default_light = add_default_light(&mut prepared, true);
     let c = start_camera(&prepared);
     if own_camera {
