@@ -91,9 +91,6 @@ pub struct DiscontinuityBuffer {
     edge_glossy: Vec<[Vec3; 2]>,
     /// Layer of each point.
     layers: Vec<u32>,
-    /// Cell of each point in its layer: the pixel index, or [`EDGE`] plus the index in
-    /// `edge_cells` for a sample's own point.
-    cells: Vec<u32>,
 }
 
 /// One level of the filter: the window of taps around a pixel and the distance between taps.
@@ -144,7 +141,7 @@ impl DiscontinuityBuffer {
             y1: (tile.rect.y1 + d * interleave.m).min(region.y1),
         };
         self.level(region, &read, fine, settings, points, interleave.aa, out);
-        self.store(region, &read, points, out);
+        self.store(region, &read, interleave.aa as usize, points, out);
         self.level(region, &tile.rect, coarse, settings, points, interleave.aa, out);
     }
 
@@ -212,7 +209,14 @@ impl DiscontinuityBuffer {
 
     /// Replaces the values in the cells of the points inside `rect` by `values` (the first
     /// level's results, which the second level reads).
-    fn store(&mut self, region: &PixelRect, rect: &PixelRect, points: &[FilterSample], values: &Filtered) {
+    fn store(
+        &mut self,
+        region: &PixelRect,
+        rect: &PixelRect,
+        aa: usize,
+        points: &[FilterSample],
+        values: &Filtered,
+    ) {
         let glossy = !values.glossy_radiance.is_empty();
         for (i, p) in points.iter().enumerate() {
             let (x, y) = region.pixel(p.pixel);
@@ -221,14 +225,15 @@ impl DiscontinuityBuffer {
             }
             let layer = self.layers[i] as usize;
             let d = values.diffuse_radiance[i];
-            let at = self.cells[i];
-            if at & EDGE == 0 {
-                self.grids[layer][at as usize].diffuse_radiance = d;
+            if p.whole_pixel {
+                self.grids[layer][p.pixel as usize].diffuse_radiance = d;
                 if glossy {
-                    self.glossy_grids[layer][at as usize] = values.glossy_radiance[i];
+                    self.glossy_grids[layer][p.pixel as usize] = values.glossy_radiance[i];
                 }
             } else {
-                let at = (at & !EDGE) as usize;
+                // The pixel's slot of N cells ([`DiscontinuityBuffer::index`]).
+                let slot = self.grids[layer][p.pixel as usize].material & !EDGE;
+                let at = slot as usize * aa + p.sample as usize;
                 self.edge_cells[at].diffuse_radiance = d;
                 if glossy {
                     self.edge_glossy[at] = values.glossy_radiance[i];
@@ -242,7 +247,6 @@ impl DiscontinuityBuffer {
     fn index(&mut self, region: &PixelRect, aa: usize, points: &[FilterSample], glossy: &[[Vec3; 2]]) {
         self.paths.clear();
         self.layers.clear();
-        self.cells.clear();
         self.edge_cells.clear();
         self.edge_glossy.clear();
         let mut last: Option<(u32, u32)> = None;
@@ -263,7 +267,6 @@ impl DiscontinuityBuffer {
             let g = glossy.get(i).copied();
             let slot = &mut self.grids[layer as usize][p.pixel as usize];
             if p.whole_pixel {
-                self.cells.push(p.pixel);
                 *slot = cell;
                 if let Some(g) = g {
                     self.glossy_grids[layer as usize][p.pixel as usize] = g;
@@ -277,7 +280,6 @@ impl DiscontinuityBuffer {
                 self.edge_glossy.resize(self.edge_glossy.len() + aa, [Vec3::ZERO; 2]);
             }
             let at = (slot.material & !EDGE) as usize * aa + p.sample as usize;
-            self.cells.push(EDGE | at as u32);
             self.edge_cells[at] = cell;
             if let Some(g) = g {
                 self.edge_glossy[at] = g;

@@ -357,36 +357,51 @@ fn rmse(a: &Film, b: &Film) -> f32 {
     (sum / (3 * a.pixels().len()) as f64).sqrt() as f32
 }
 
+/// The built-in Cornell box and a `size`² frame of it at the default clamp (the clamp's bias is
+/// the same in every image), aa 1 (every frame sees the same pixel-centre points; with jittered
+/// samples the aliasing of the light's edge would dominate the error) and the paper's single
+/// filter level.
+fn cornell_box_frame(size: u32) -> (PreparedScene, igi_render::FrameState) {
+    let scene = igi_scene::builtin("cornell-box").expect("built-in cornell-box");
+    let cam = scene.camera.expect("camera");
+    let prepared = PreparedScene::new(scene);
+    let mut frame = igi_frame(cam, size, size);
+    frame.settings.clamp = IgiSettings::clamp_for(prepared.bounds().diagonal());
+    frame.settings.aa = 1;
+    frame.settings.coarse_interleave = 1;
+    (prepared, frame)
+}
+
+/// The mean of 256 independent still frames of `frame` (seeds 1000..1255), not
+/// `render_accumulated`: progressive frames jitter their rays inside the pixel, still frames
+/// with aa 1 use the centres.
+fn mean_of_256_frames(
+    renderer: &FrameRenderer,
+    prepared: &mut PreparedScene,
+    frame: &igi_render::FrameState,
+) -> Film {
+    let mut frame = frame.clone();
+    let (w, h) = (frame.settings.width, frame.settings.height);
+    let mut sum = vec![glam::Vec3::ZERO; (w * h) as usize];
+    for seed in 1000..1256 {
+        frame.seed = seed;
+        let one = renderer.render(prepared, &frame, &|_, _| {}).expect("valid").image.into_film().unwrap();
+        sum.iter_mut().zip(one.pixels()).for_each(|(a, b)| *a += *b);
+    }
+    Film::from_pixels(w, h, sum.into_iter().map(|p| p / 256.0).collect())
+}
+
 #[test]
 fn one_filtered_frame_is_closer_to_the_converged_image_than_one_unfiltered_frame() {
-    // The Cornell box at the default clamp (the clamp's bias is the same in every image) and
-    // aa 1 (every frame sees the same pixel-centre points; with jittered samples the aliasing
-    // of the light's edge would dominate the error): the comparison is about the VPL noise.
+    // The Cornell box ([`cornell_box_frame`]): the comparison is about the VPL noise.
     // Reference: 256 unfiltered frames (its own noise is 1/16 of one frame's). One frame with
     // and without the filter, same seed (same VPLs), same 12 VPLs per pixel: the filter
     // combines the 9 interleaved sets, so in smooth regions its noise drops by up to 3×, while
     // pixels at edges keep fewer neighbours.
-    let scene = igi_scene::builtin("cornell-box").expect("built-in cornell-box");
-    let cam = scene.camera.expect("camera");
-    let mut prepared = PreparedScene::new(scene);
+    let (mut prepared, mut frame) = cornell_box_frame(48);
     let renderer = FrameRenderer::new(2);
-    let (w, h) = (48, 48);
-    let mut frame = igi_frame(cam, w, h);
-    frame.settings.clamp = IgiSettings::clamp_for(prepared.bounds().diagonal());
     frame.settings.filter = None;
-    frame.settings.aa = 1;
-    // The paper's single level (the coarse level has its own test below).
-    frame.settings.coarse_interleave = 1;
-    // Independent still frames (seeds 1000..1255), not `render_accumulated`: progressive
-    // frames jitter their rays inside the pixel, still frames with aa 1 use the centres.
-    let mut sum = vec![glam::Vec3::ZERO; (w * h) as usize];
-    for seed in 1000..1256 {
-        frame.seed = seed;
-        let one =
-            renderer.render(&mut prepared, &frame, &|_, _| {}).expect("valid").image.into_film().unwrap();
-        sum.iter_mut().zip(one.pixels()).for_each(|(a, b)| *a += *b);
-    }
-    let reference = Film::from_pixels(w, h, sum.into_iter().map(|p| p / 256.0).collect());
+    let reference = mean_of_256_frames(&renderer, &mut prepared, &frame);
     let mut ratios = Vec::new();
     for seed in 0..4 {
         frame.seed = seed;
@@ -418,23 +433,9 @@ fn the_coarse_level_brings_one_frame_closer_to_the_converged_image() {
     // 9 times the VPLs, and the second filter level merges them. Reference: the mean of 256
     // one-level frames, filtered (the filter's own blur over 3 pixels is in it, the second
     // level's over 9 is not: the test counts that blur against the coarse level).
-    let scene = igi_scene::builtin("cornell-box").expect("built-in cornell-box");
-    let cam = scene.camera.expect("camera");
-    let mut prepared = PreparedScene::new(scene);
+    let (mut prepared, mut frame) = cornell_box_frame(96);
     let renderer = FrameRenderer::new(2);
-    let (w, h) = (96, 96);
-    let mut frame = igi_frame(cam, w, h);
-    frame.settings.clamp = IgiSettings::clamp_for(prepared.bounds().diagonal());
-    frame.settings.aa = 1;
-    frame.settings.coarse_interleave = 1;
-    let mut sum = vec![glam::Vec3::ZERO; (w * h) as usize];
-    for seed in 1000..1256 {
-        frame.seed = seed;
-        let one =
-            renderer.render(&mut prepared, &frame, &|_, _| {}).expect("valid").image.into_film().unwrap();
-        sum.iter_mut().zip(one.pixels()).for_each(|(a, b)| *a += *b);
-    }
-    let reference = Film::from_pixels(w, h, sum.into_iter().map(|p| p / 256.0).collect());
+    let reference = mean_of_256_frames(&renderer, &mut prepared, &frame);
     let mut ratios = Vec::new();
     for seed in 0..4 {
         frame.seed = seed;
