@@ -45,7 +45,7 @@ mod validate;
 use std::path::Path;
 
 pub use animation::{Animation, Pose, Track};
-pub use builtin::{builtin, builtin_names};
+pub use builtin::{MAX_GENERATED_TRIANGLES, builtin, builtin_names, builtin_spec};
 pub use environment::Environment;
 pub use error::{Location, SceneError};
 use format::{Format, format_of};
@@ -118,8 +118,8 @@ pub fn load_named_with_report(spec: &str) -> Result<(Scene, LoadReport), SceneEr
 
 /// Like [`load_named_with_report`], with `options`.
 pub fn load_named_with(spec: &str, options: &LoadOptions) -> Result<(Scene, LoadReport), SceneError> {
-    if let Some(scene) = builtin(spec) {
-        return Ok((scene, LoadReport::default()));
+    if let Some(scene) = builtin_spec(spec) {
+        return Ok((scene?, LoadReport::default()));
     }
     let path = Path::new(spec);
     if format_of(path).is_none() {

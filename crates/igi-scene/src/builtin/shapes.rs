@@ -1,7 +1,7 @@
 //! Geometry helpers for the built-in scenes: quads, boxes and spheres as [`Part`]s, and the
 //! assembly of parts into a one-mesh [`Scene`].
 
-use std::f32::consts::{PI, TAU};
+use std::f32::consts::{FRAC_PI_2, PI, TAU};
 
 use glam::{Affine3A, Quat, Vec3};
 
@@ -81,6 +81,189 @@ pub(super) fn sphere(centre: Vec3, radius: f32, segments: u32, rings: u32, mater
         triangles,
         material,
     }
+}
+
+/// A parallelepiped from corner `origin` spanned by edge vectors `x`, `y` and `z` (a
+/// right-handed triple), six flat quads facing out: boxes, steps, sloped stair stringers.
+pub(super) fn parallelepiped(origin: Vec3, x: Vec3, y: Vec3, z: Vec3, material: u32) -> Part {
+    let corner = |i: u32, j: u32, k: u32| origin + x * i as f32 + y * j as f32 + z * k as f32;
+    // Each face counter-clockwise seen from outside, as (corners, outward normal).
+    let faces = [
+        ([corner(0, 0, 0), corner(0, 0, 1), corner(0, 1, 1), corner(0, 1, 0)], -x),
+        ([corner(1, 0, 0), corner(1, 1, 0), corner(1, 1, 1), corner(1, 0, 1)], x),
+        ([corner(0, 0, 0), corner(1, 0, 0), corner(1, 0, 1), corner(0, 0, 1)], -y),
+        ([corner(0, 1, 0), corner(0, 1, 1), corner(1, 1, 1), corner(1, 1, 0)], y),
+        ([corner(0, 0, 0), corner(0, 1, 0), corner(1, 1, 0), corner(1, 0, 0)], -z),
+        ([corner(0, 0, 1), corner(1, 0, 1), corner(1, 1, 1), corner(0, 1, 1)], z),
+    ];
+    let mut part = Part { material, normals: Some(Vec::with_capacity(24)), ..Part::default() };
+    for (corners, outward) in faces {
+        let base = part.positions.len() as u32;
+        // The normal of the face's plane (x, y, z need not be orthogonal), turned outward.
+        let plane = (corners[1] - corners[0]).cross(corners[3] - corners[0]).normalize();
+        let normal = if plane.dot(outward) >= 0.0 { plane } else { -plane };
+        part.positions.extend(corners);
+        part.normals.as_mut().unwrap().extend([normal; 4]);
+        part.triangles.extend([[base, base + 1, base + 2], [base, base + 2, base + 3]]);
+    }
+    part
+}
+
+/// Unit vectors u, v perpendicular to the unit vector `axis` with u × v = `axis`: the frame in
+/// which the round shapes below lay out their circles, counter-clockwise about `axis`.
+fn frame(axis: Vec3) -> (Vec3, Vec3) {
+    let u = axis.any_orthonormal_vector();
+    (u, axis.cross(u))
+}
+
+/// The side of a cylinder or cone frustum from `a` (radius `ra`) to `b` (radius `rb`):
+/// `around` segments, `along` rings of quads, smooth normals, open ends.
+pub(super) fn tube(a: Vec3, b: Vec3, [ra, rb]: [f32; 2], around: u32, along: u32, material: u32) -> Part {
+    let length = a.distance(b);
+    let axis = (b - a) / length;
+    let (u, v) = frame(axis);
+    let mut part = Part { material, normals: Some(Vec::new()), ..Part::default() };
+    let normals = part.normals.as_mut().unwrap();
+    for ring in 0..=along {
+        let t = ring as f32 / along as f32;
+        let (centre, radius) = (a.lerp(b, t), ra + (rb - ra) * t);
+        for segment in 0..around {
+            let (sin, cos) = (TAU * segment as f32 / around as f32).sin_cos();
+            let radial = u * cos + v * sin;
+            part.positions.push(centre + radial * radius);
+            // A frustum's normal leans toward its narrow end by the slope (ra - rb) / length.
+            normals.push((radial * length + axis * (ra - rb)).normalize());
+        }
+    }
+    part.triangles = grid_triangles(around, along);
+    part
+}
+
+/// A bent tube: the part of a torus of radii `major` (to the tube's centre line) and `minor`
+/// around `centre`, sweeping `angle` radians from direction `from` toward the perpendicular
+/// direction `toward` (both unit); `around` segments round the tube, `along` along the bend.
+/// A pipe's elbow.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn torus_arc(
+    centre: Vec3,
+    [from, toward]: [Vec3; 2],
+    [major, minor]: [f32; 2],
+    angle: f32,
+    around: u32,
+    along: u32,
+    material: u32,
+) -> Part {
+    // Circles laid out counter-clockwise about the direction the bend advances in.
+    let binormal = toward.cross(from);
+    let mut part = Part { material, normals: Some(Vec::new()), ..Part::default() };
+    let normals = part.normals.as_mut().unwrap();
+    for ring in 0..=along {
+        let (sin, cos) = (angle * ring as f32 / along as f32).sin_cos();
+        let outward = from * cos + toward * sin;
+        let spine = centre + outward * major;
+        for segment in 0..around {
+            let (s, c) = (TAU * segment as f32 / around as f32).sin_cos();
+            let radial = outward * c + binormal * s;
+            part.positions.push(spine + radial * minor);
+            normals.push(radial);
+        }
+    }
+    part.triangles = grid_triangles(around, along);
+    part
+}
+
+/// The triangles of `along` rings of quads between `along + 1` circles of `around` vertices
+/// each (vertex `ring * around + segment`), closed round the circle; counter-clockwise seen
+/// from outside when the circles are laid out counter-clockwise about the direction the
+/// rings advance in.
+fn grid_triangles(around: u32, along: u32) -> Vec<[u32; 3]> {
+    let at = |ring: u32, segment: u32| ring * around + segment % around;
+    let mut triangles = Vec::with_capacity(2 * (around * along) as usize);
+    for ring in 0..along {
+        for s in 0..around {
+            let (a, b, c, d) = (at(ring, s), at(ring, s + 1), at(ring + 1, s + 1), at(ring + 1, s));
+            triangles.push([a, b, c]);
+            triangles.push([a, c, d]);
+        }
+    }
+    triangles
+}
+
+/// A flat ring (an annulus, or a disc if `inner` is zero) around `centre` facing `normal`,
+/// between radii `inner` and `outer`, in `around` segments: a tank's bottom, a flange's face.
+pub(super) fn annulus(
+    centre: Vec3,
+    normal: Vec3,
+    [inner, outer]: [f32; 2],
+    around: u32,
+    material: u32,
+) -> Part {
+    let (u, v) = frame(normal);
+    let mut part = Part { material, ..Part::default() };
+    for radius in [inner, outer] {
+        for segment in 0..around {
+            let (sin, cos) = (TAU * segment as f32 / around as f32).sin_cos();
+            part.positions.push(centre + (u * cos + v * sin) * radius);
+        }
+    }
+    let at = |ring: u32, segment: u32| ring * around + segment % around;
+    for s in 0..around {
+        // u × v = normal, so segments advance counter-clockwise seen from the normal's side.
+        part.triangles.push([at(0, s), at(1, s), at(1, s + 1)]);
+        if inner > 0.0 {
+            part.triangles.push([at(0, s), at(1, s + 1), at(0, s + 1)]);
+        }
+    }
+    part.normals = Some(vec![normal; part.positions.len()]);
+    part
+}
+
+/// A hemisphere of `radius` on `centre`, bulging along the unit `axis`: `around` segments and
+/// `rings` rings from its rim to its pole, smooth normals. A tank's or a drum's end.
+pub(super) fn dome(centre: Vec3, axis: Vec3, radius: f32, around: u32, rings: u32, material: u32) -> Part {
+    let (u, v) = frame(axis);
+    let mut part = Part { material, normals: Some(Vec::new()), ..Part::default() };
+    let normals = part.normals.as_mut().unwrap();
+    for ring in 0..rings {
+        let (sin_lat, cos_lat) = (FRAC_PI_2 * ring as f32 / rings as f32).sin_cos();
+        for segment in 0..around {
+            let (sin, cos) = (TAU * segment as f32 / around as f32).sin_cos();
+            let n = (u * cos + v * sin) * cos_lat + axis * sin_lat;
+            part.positions.push(centre + n * radius);
+            normals.push(n);
+        }
+    }
+    let pole = part.positions.len() as u32;
+    part.positions.push(centre + axis * radius);
+    normals.push(axis);
+    part.triangles = grid_triangles(around, rings - 1);
+    let last = (rings - 1) * around;
+    part.triangles.extend((0..around).map(|s| [last + s, last + (s + 1) % around, pole]));
+    part
+}
+
+/// A surface of revolution about the vertical line through `base`: the `profile`'s
+/// (radius, height) points joined ring to ring from the first to the last, `around` segments,
+/// smooth normals from the profile's slope. A cooling tower's shell.
+pub(super) fn lathe(base: Vec3, profile: &[[f32; 2]], around: u32, material: u32) -> Part {
+    let (u, v) = frame(Vec3::Y);
+    let mut part = Part { material, normals: Some(Vec::new()), ..Part::default() };
+    let normals = part.normals.as_mut().unwrap();
+    let last = profile.len() - 1;
+    for (i, &[radius, height]) in profile.iter().enumerate() {
+        // The profile's tangent by central differences, turned a quarter outward.
+        let [r0, y0] = profile[i.saturating_sub(1)];
+        let [r1, y1] = profile[(i + 1).min(last)];
+        let (dr, dy) = (r1 - r0, y1 - y0);
+        for segment in 0..around {
+            let (sin, cos) = (TAU * segment as f32 / around as f32).sin_cos();
+            let radial = u * cos + v * sin;
+            part.positions.push(base + radial * radius + Vec3::Y * height);
+            normals.push((radial * dy - Vec3::Y * dr).normalize());
+        }
+    }
+    part.triangles = grid_triangles(around, last as u32);
+    part
 }
 
 /// One mesh of all `parts`, placed once, with the given materials and camera.
