@@ -7,6 +7,7 @@
 
 mod animated_room;
 mod cornell_box;
+mod displaced_sphere;
 mod maple_tree;
 mod power_plant;
 mod procedural_room;
@@ -30,7 +31,11 @@ const NAMES: &[&str] = &[
     "two-rooms",
     "power-plant",
     "maple-tree",
+    "displaced-sphere",
 ];
+
+/// The built-in scenes generated to a size, as a list for messages.
+const GENERATED: &str = "power-plant, maple-tree, displaced-sphere";
 
 /// Most triangles a generated scene's `triangles=` may ask for (about 6 GB of mesh and BVH).
 pub const MAX_GENERATED_TRIANGLES: usize = 100_000_000;
@@ -55,13 +60,16 @@ pub const MAX_GENERATED_TRIANGLES: usize = 100_000_000;
 ///   (pipes, tanks, steel, a cooling tower) under a sun and a sky, 50 million triangles (the
 ///   paper's Figure 1, centre);
 /// - `maple-tree`: a generated tree of 1.5 million triangles, mostly leaves, over a meadow
-///   under a sun and a sky (the paper's Figure 1, right).
+///   under a sun and a sky (the paper's Figure 1, right);
+/// - `displaced-sphere`: a bumpy sphere of a million flat triangles over a floor under a
+///   point light, the scene of `igi bench scale`.
 ///
-/// The two generated scenes take their default size here; [`builtin_spec`] sets it.
+/// The three generated scenes take their default size here; [`builtin_spec`] sets it.
 pub fn builtin(name: &str) -> Option<Scene> {
     match name {
         "power-plant" => Some(power_plant::scene(power_plant::DEFAULT_TRIANGLES)),
         "maple-tree" => Some(maple_tree::scene(maple_tree::DEFAULT_TRIANGLES)),
+        "displaced-sphere" => Some(displaced_sphere::scene(displaced_sphere::DEFAULT_TRIANGLES)),
         "cornell-box" => Some(cornell_box::scene()),
         "shirley-room" => Some(shirley_room::scene()),
         "procedural-room" => Some(procedural_room::scene()),
@@ -79,7 +87,8 @@ pub fn builtin_names() -> &'static [&'static str] {
 
 /// The built-in scene `spec` asks for, if its name (before any `:`) is one of
 /// [`builtin_names`]: a plain name as [`builtin`] gives it, or a generated scene's name with
-/// its triangle count, `power-plant:triangles=N` or `maple-tree:triangles=N` (N a whole
+/// its triangle count, `power-plant:triangles=N`, `maple-tree:triangles=N` or
+/// `displaced-sphere:triangles=N` (N a whole
 /// number, or with a `k` or `M` suffix: `500k`, `12.5M`). For the power plant N counts one of
 /// its four instances. An error names what is wrong with the parameter.
 pub fn builtin_spec(spec: &str) -> Option<Result<Scene, SceneError>> {
@@ -94,10 +103,10 @@ pub fn builtin_spec(spec: &str) -> Option<Result<Scene, SceneError>> {
     let minimum = match name {
         "power-plant" => power_plant::minimum_triangles(),
         "maple-tree" => maple_tree::minimum_triangles(),
+        "displaced-sphere" => displaced_sphere::MINIMUM_TRIANGLES,
         _ => {
-            return Some(Err(error(format!(
-                "`{name}` takes no parameters (only power-plant and maple-tree do)"
-            ))));
+            let message = format!("`{name}` takes no parameters (only the generated scenes do: {GENERATED})");
+            return Some(Err(error(message)));
         }
     };
     let triangles = match parameters.strip_prefix("triangles=").map(parse_count) {
@@ -121,7 +130,8 @@ pub fn builtin_spec(spec: &str) -> Option<Result<Scene, SceneError>> {
     }
     Some(Ok(match name {
         "power-plant" => power_plant::scene(triangles),
-        _ => maple_tree::scene(triangles),
+        "maple-tree" => maple_tree::scene(triangles),
+        _ => displaced_sphere::scene(triangles),
     }))
 }
 

@@ -43,7 +43,7 @@ fn cornell_box_matches_the_shared_obj() {
 #[test]
 fn names_load_through_load_named() {
     for name in builtin_names() {
-        if matches!(*name, "power-plant" | "maple-tree") {
+        if matches!(*name, "power-plant" | "maple-tree" | "displaced-sphere") {
             // Their default size takes seconds and gigabytes; a smaller one through its spec.
             let spec = format!("{name}:triangles=700k");
             let scene = load_named(&spec).unwrap();

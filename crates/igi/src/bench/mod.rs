@@ -4,13 +4,15 @@
 //! workload of `../shared/tools/embree-bench`, so the two can be compared ray for ray.
 //! `igi bench cluster` measures frames of a cluster job as its render nodes grow. `igi bench
 //! quality` measures one frame and accumulated frames against a path-traced reference (FLIP,
-//! RMSE) and the flicker of an animation.
+//! RMSE) and the flicker of an animation. `igi bench scale` measures how the cost of a ray grows
+//! with the triangle count.
 
 pub mod cluster;
 pub mod frame;
 mod json_report;
 pub mod quality;
 pub mod rays;
+pub mod scale;
 mod workload;
 
 use clap::Subcommand;
@@ -27,6 +29,9 @@ pub enum BenchCommand {
     /// Image error of one frame and of accumulated frames against a path-traced reference
     /// (mean FLIP, RMSE), and the flicker of an animation.
     Quality(quality::QualityBenchArgs),
+    /// Build time, memory and time per primary and shadow ray as the same view's triangle count
+    /// grows by tenfold steps (10^4 to 10^7 unique, then instanced to 10^8).
+    Scale(scale::ScaleArgs),
 }
 
 /// Runs one benchmark.
@@ -36,5 +41,6 @@ pub fn run(cmd: BenchCommand) -> anyhow::Result<()> {
         BenchCommand::Rays(args) => rays::run(&args),
         BenchCommand::Cluster(args) => cluster::run(&args),
         BenchCommand::Quality(args) => quality::run(&args),
+        BenchCommand::Scale(args) => scale::run(&args),
     }
 }

@@ -63,7 +63,7 @@ pub struct RaysArgs {
 /// Largest `--reps` (as `igi bench frame --frames`).
 const MAX_REPS: usize = 100_000;
 
-fn parse_res(s: &str) -> Result<(u32, u32), String> {
+pub(super) fn parse_res(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s.split_once('x').ok_or_else(|| format!("resolution {s:?} is not WxH"))?;
     let p = |v: &str| v.parse::<u32>().ok().filter(|&v| (1..=MAX_SIDE).contains(&v));
     match (p(w), p(h)) {
@@ -107,20 +107,31 @@ struct Report {
 
 /// A primary hit as the shadow pass needs it: the position, or none.
 #[derive(Clone, Copy, Debug, Default)]
-struct HitRec {
+pub(super) struct HitRec {
     p: Vec3,
     valid: bool,
 }
 
 /// The image cut into square tiles handed out to threads on demand.
-struct Tiling {
+pub(super) struct Tiling {
     size: u32,
     cols: u32,
     rows: u32,
 }
 
 impl Tiling {
-    fn count(&self) -> usize {
+    /// Tiles of 16·`sets` pixels (whole 4x2 packets of every interleaved set) over the image.
+    pub(super) fn new(cam: &PinholeCamera, sets: usize) -> Self {
+        let size = 16 * sets as u32;
+        Self { size, cols: cam.width.div_ceil(size), rows: cam.height.div_ceil(size) }
+    }
+
+    /// Pixels of one tile.
+    pub(super) fn pixels(&self) -> usize {
+        (self.size * self.size) as usize
+    }
+
+    pub(super) fn count(&self) -> usize {
         (self.cols * self.rows) as usize
     }
     fn origin(&self, tile: usize) -> (u32, u32) {
@@ -131,7 +142,11 @@ impl Tiling {
 /// Runs `work` over all tiles on `threads` threads pulling tiles from an atomic counter; thread
 /// start and join are inside the timed region (as in embree-bench). Returns seconds and the sum
 /// of the per-tile (rays, hits) counts.
-fn timed_tiles(threads: usize, tiles: usize, work: &(dyn Fn(usize) -> (u64, u64) + Sync)) -> (f64, u64, u64) {
+pub(super) fn timed_tiles(
+    threads: usize,
+    tiles: usize,
+    work: &(dyn Fn(usize) -> (u64, u64) + Sync),
+) -> (f64, u64, u64) {
     let next = AtomicUsize::new(0);
     let start = Instant::now();
     let (rays, hits) = std::thread::scope(|s| {
@@ -160,7 +175,7 @@ fn timed_tiles(threads: usize, tiles: usize, work: &(dyn Fn(usize) -> (u64, u64)
 }
 
 /// Median seconds over `reps` timed runs after one warm-up run.
-fn median_run(reps: usize, mut f: impl FnMut() -> (f64, u64, u64)) -> (f64, u64, u64) {
+pub(super) fn median_run(reps: usize, mut f: impl FnMut() -> (f64, u64, u64)) -> (f64, u64, u64) {
     let warm = f();
     let mut times: Vec<f64> = (0..reps.max(1)).map(|_| f().0).collect();
     times.sort_by(f64::total_cmp);
@@ -271,9 +286,8 @@ pub fn run(args: &RaysArgs) -> Result<()> {
     );
     for &(w, h) in &args.res {
         let cam = PinholeCamera::new(&camera, w, h);
-        let size = 16 * args.sets as u32;
-        let tiling = Tiling { size, cols: w.div_ceil(size), rows: h.div_ceil(size) };
-        let tile_px = (size * size) as usize;
+        let tiling = Tiling::new(&cam, args.sets);
+        let tile_px = tiling.pixels();
         let hits: Vec<Mutex<Vec<HitRec>>> =
             (0..tiling.count()).map(|_| Mutex::new(vec![HitRec::default(); tile_px])).collect();
         for &threads in &args.threads {
@@ -362,7 +376,7 @@ pub fn run(args: &RaysArgs) -> Result<()> {
 }
 
 /// One primary ray per pixel, traced one at a time.
-fn primary_single(
+pub(super) fn primary_single(
     accel: &Accel,
     cam: &PinholeCamera,
     tiling: &Tiling,
@@ -386,7 +400,7 @@ fn primary_single(
 }
 
 /// Primary rays as 8-ray packets of 4x2 pixel blocks.
-fn primary_packet8(
+pub(super) fn primary_packet8(
     accel: &Accel,
     cam: &PinholeCamera,
     tiling: &Tiling,
@@ -423,21 +437,23 @@ fn primary_packet8(
     (rays, hits)
 }
 
-struct ShadowCtx<'a> {
-    accel: &'a Accel,
-    cam: &'a PinholeCamera,
-    tiling: &'a Tiling,
-    vpls: &'a [BenchVpl],
-    k: usize,
-    g: u32,
-    eps_abs: f32,
+/// What the shadow kernels share: the scene, the image and its tiles, and the VPLs of every
+/// interleaved set (`k` per set, `g` × `g` sets).
+pub(super) struct ShadowCtx<'a> {
+    pub accel: &'a Accel,
+    pub cam: &'a PinholeCamera,
+    pub tiling: &'a Tiling,
+    pub vpls: &'a [BenchVpl],
+    pub k: usize,
+    pub g: u32,
+    pub eps_abs: f32,
 }
 
 /// Shadow-ray tnear/tfar convention of embree-bench: tfar = distance · (1 - 1e-4).
 const SHADOW_TFAR_SCALE: f32 = 1.0 - 1e-4;
 
 /// Every valid pixel to each VPL of its interleaved set, one ray at a time.
-fn shadow_single(c: &ShadowCtx, tile: usize, hits: &[HitRec]) -> (u64, u64) {
+pub(super) fn shadow_single(c: &ShadowCtx, tile: usize, hits: &[HitRec]) -> (u64, u64) {
     let (x0, y0) = c.tiling.origin(tile);
     let (mut rays, mut blocked) = (0, 0);
     for y in y0..(y0 + c.tiling.size).min(c.cam.height) {
@@ -523,7 +539,7 @@ fn shadow_packet8(c: &ShadowCtx, tile: usize, hits: &[HitRec]) -> (u64, u64) {
 
 /// The same shadow rays grouped as the renderer traces them: VPL by VPL, each VPL's packets in
 /// pixel order with its shadow cache (`igi_bvh::ShadowCache`; ARCHITECTURE.md).
-fn shadow_cached8(c: &ShadowCtx, tile: usize, hits: &[HitRec]) -> (u64, u64) {
+pub(super) fn shadow_cached8(c: &ShadowCtx, tile: usize, hits: &[HitRec]) -> (u64, u64) {
     let (mut rays, mut blocked) = (0, 0);
     for set in (0..c.g).flat_map(|sy| (0..c.g).map(move |sx| (sx, sy))) {
         let packets = set_packets(c, tile, hits, set);

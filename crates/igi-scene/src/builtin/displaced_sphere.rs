@@ -1,0 +1,103 @@
+//! `displaced-sphere`: the scene of the scale benchmark (`igi bench scale`, issue 17): a bumpy
+//! unit sphere over a floor, lit by a point light, tessellated into as many triangles as asked
+//! for. Its outline and its shading hardly change with the tessellation, so a view of it costs
+//! what the ray tracer pays for the triangle count and nothing else.
+
+use std::f32::consts::{PI, TAU};
+
+use glam::{Affine3A, Vec3};
+
+use super::shapes::quad;
+use crate::animation::Animation;
+use crate::light::Light;
+use crate::model::{Camera, Instance, Material, Scene};
+use crate::validate::{MeshBuilder, Part};
+
+/// Triangles of the sphere unless asked otherwise.
+pub(super) const DEFAULT_TRIANGLES: usize = 1_000_000;
+/// The fewest triangles it can have: eight segments round, four rings.
+pub(super) const MINIMUM_TRIANGLES: usize = 48;
+
+const SPHERE: u32 = 0;
+const FLOOR: u32 = 1;
+
+/// The bumps: the radius along the unit direction `d`, between about 0.9 and 1.1.
+fn radius(d: Vec3) -> f32 {
+    1.0 + 0.06 * (9.0 * d.x).sin() * (8.0 * d.y).sin() * (7.0 * d.z).sin()
+        + 0.03 * (23.0 * d.x + 1.0).sin() * (19.0 * d.z + 2.0).sin()
+}
+
+/// The displaced sphere as one part of about `triangles` flat-shaded triangles: a UV sphere of
+/// `rings` rings and twice as many segments round, 2 · segments · (rings − 1) triangles.
+fn sphere(triangles: usize) -> Part {
+    let gaps = ((triangles as f64 / 4.0).sqrt().round() as u32).max(3);
+    let segments = ((triangles as f64 / (2.0 * gaps as f64)).round() as u32).max(8);
+    let rings = gaps + 1;
+    let mut positions = vec![Vec3::Y * radius(Vec3::Y)];
+    for ring in 1..rings {
+        let theta = PI * ring as f32 / rings as f32;
+        for segment in 0..segments {
+            let phi = TAU * segment as f32 / segments as f32;
+            let d = Vec3::new(theta.sin() * phi.cos(), theta.cos(), -theta.sin() * phi.sin());
+            positions.push(d * radius(d));
+        }
+    }
+    positions.push(Vec3::NEG_Y * radius(Vec3::NEG_Y));
+    let bottom = positions.len() as u32 - 1;
+    let at = |ring: u32, segment: u32| 1 + (ring - 1) * segments + segment % segments;
+    let mut indices = Vec::with_capacity(2 * (segments * gaps) as usize);
+    for s in 0..segments {
+        indices.push([0, at(1, s), at(1, s + 1)]);
+        indices.push([bottom, at(rings - 1, s + 1), at(rings - 1, s)]);
+    }
+    for ring in 1..rings - 1 {
+        for s in 0..segments {
+            let (a, b) = (at(ring, s), at(ring, s + 1));
+            let (c, d) = (at(ring + 1, s), at(ring + 1, s + 1));
+            indices.extend([[a, c, d], [a, d, b]]);
+        }
+    }
+    Part { positions, triangles: indices, material: SPHERE, ..Part::default() }
+}
+
+/// The sphere of about `triangles` triangles (mesh 0) over a 6 m floor (mesh 1) with a point
+/// light above and in front of it and a camera in which it fills about a third of the frame.
+pub(super) fn scene(triangles: usize) -> Scene {
+    let mut sphere_mesh = MeshBuilder::new("displaced-sphere");
+    sphere_mesh.add(sphere(triangles)).expect("finite sphere");
+    let mut floor = MeshBuilder::new("floor");
+    floor.add(quad(Vec3::NEG_Y * 1.1, Vec3::Z * 3.0, Vec3::X * 3.0, FLOOR)).expect("a finite quad");
+    let diffuse = |name: &str, diffuse: Vec3| Material { name: name.into(), diffuse, ..Material::default() };
+    Scene {
+        meshes: vec![sphere_mesh.finish().mesh, floor.finish().mesh],
+        instances: [0, 1].map(|mesh| Instance { mesh, transform: Affine3A::IDENTITY }).to_vec(),
+        materials: vec![diffuse("sphere", Vec3::new(0.7, 0.55, 0.4)), diffuse("floor", Vec3::splat(0.6))],
+        textures: Vec::new(),
+        lights: vec![Light::Point { position: Vec3::new(1.5, 2.5, 2.0), intensity: Vec3::splat(8.0) }],
+        environment: None,
+        camera: Some(Camera {
+            position: Vec3::new(0.0, 0.3, 3.4),
+            target: Vec3::new(0.0, -0.05, 0.0),
+            up: Vec3::Y,
+            fov_y_deg: 45.0,
+        }),
+        front: None,
+        animation: Animation::default(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tessellated_to_about_the_count_asked_for() {
+        for asked in [MINIMUM_TRIANGLES, 10_000, 123_456] {
+            let made = sphere(asked).triangles.len();
+            assert!((made as f64 - asked as f64).abs() <= 0.01 * asked as f64 + 8.0, "{made} for {asked}");
+        }
+        let scene = scene(20_000);
+        let bounds = scene.meshes[0].bounds();
+        assert!(bounds.min.cmpgt(Vec3::splat(-1.1)).all() && bounds.max.cmplt(Vec3::splat(1.1)).all());
+    }
+}
