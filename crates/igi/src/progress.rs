@@ -1,5 +1,5 @@
 //! [`LateProgress`]: the progress bar of long renders (`igi render`, the reference of `igi
-//! bench quality`).
+//! bench quality`); [`StageSpinner`]: what a viewer does before its first frame.
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -39,6 +39,37 @@ impl LateProgress {
 
     /// Clears the bar.
     pub fn finish(&self) {
+        self.bar.finish_and_clear();
+    }
+}
+
+/// A spinner on the terminal naming the stage a viewer is in before its window or page can show
+/// anything (loading the scene, building the BVH), with the time it has taken: the power plant
+/// takes tens of seconds. Nothing is drawn when stderr is not a terminal.
+pub struct StageSpinner {
+    bar: ProgressBar,
+}
+
+impl StageSpinner {
+    /// A spinner showing `stage`.
+    pub fn new(stage: String) -> Self {
+        let bar = ProgressBar::new_spinner();
+        if let Ok(style) = ProgressStyle::with_template("{spinner} {msg} ({elapsed})") {
+            bar.set_style(style);
+        }
+        bar.set_message(stage);
+        bar.enable_steady_tick(Duration::from_millis(120));
+        Self { bar }
+    }
+
+    /// Moves on to `stage`.
+    pub fn stage(&self, stage: String) {
+        self.bar.set_message(stage);
+    }
+}
+
+impl Drop for StageSpinner {
+    fn drop(&mut self) {
         self.bar.finish_and_clear();
     }
 }

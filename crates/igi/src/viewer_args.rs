@@ -3,6 +3,7 @@
 
 use crate::cluster::{ClusterArgs, Rank};
 use crate::frame_args::FrameArgs;
+use crate::progress::StageSpinner;
 use anyhow::{Context, Result};
 use clap::Args;
 use igi_render::tonemap::DEFAULT_KEY;
@@ -40,6 +41,7 @@ impl ViewerArgs {
     /// Loads the scene and starts a session with these options (errors name the flag).
     /// `None` on a render node of a cluster job, once the job is over.
     pub fn session(&self) -> Result<Option<Session>> {
+        let spinner = StageSpinner::new(format!("loading {}", self.scene));
         let (scene, source) = if self.cluster.cluster {
             match crate::cluster::start(&self.cluster, &self.scene, &self.frame)? {
                 Rank::Root(root) => {
@@ -50,7 +52,9 @@ impl ViewerArgs {
         } else {
             (igi_scene::load_named(&self.scene).context("cannot load scene")?, None)
         };
+        spinner.stage(format!("building the BVH of {}", self.scene));
         let prepared = self.frame.prepare(scene);
+        drop(spinner);
         let mut frame = self.frame.frame_state(&prepared)?;
         frame.settings.aa = self.frame.aa.unwrap_or(VIEWER_AA);
         let s = &frame.settings;
