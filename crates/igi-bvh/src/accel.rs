@@ -14,7 +14,7 @@
 //! test (chosen once per instance visit), so opaque geometry pays nothing.
 
 use crate::aabb::Aabb;
-use crate::build::{BuildParams, build_binned_sah};
+use crate::build::{BuildParams, build_binned_sah, build_binned_sah_by};
 use crate::bvh::Bvh;
 use crate::node::Node;
 use crate::ray::{Hit, HitPacket8, INVALID_ID, Ray, RayPacket8};
@@ -122,9 +122,8 @@ impl Accel {
         let mut orders = Vec::with_capacity(meshes.len());
         let mut blas = Vec::with_capacity(meshes.len());
         for mesh in &mut meshes {
-            let bounds: Vec<Aabb> =
-                (0..mesh.indices.len() as u32).map(|p| triangle_bounds(mesh, p)).collect();
-            let Bvh { nodes, prim_order } = build_binned_sah(&bounds, &params);
+            let Bvh { nodes, prim_order } =
+                build_binned_sah_by(mesh.indices.len(), |p| triangle_bounds(mesh, p as u32), &params);
             // The triangles themselves move into leaf order, so the bottom level needs no
             // permutation of its own; the caller gets it to reorder its per-triangle data.
             mesh.indices = prim_order.iter().map(|&p| mesh.indices[p as usize]).collect();

@@ -17,7 +17,7 @@ mod triangle;
 
 pub use aabb::Aabb;
 pub use accel::{Accel, HitFilter, ShadowCache, TriangleMesh};
-pub use build::{BuildParams, build_binned_sah, build_sweep_sah};
+pub use build::{BuildParams, build_binned_sah, build_binned_sah_by, build_sweep_sah};
 pub use bvh::Bvh;
 pub use node::Node;
 pub use offset::offset_ray_origin;

@@ -14,8 +14,6 @@
 //! Both bound the tree's depth by the size of the traversal stacks,
 //! [`TRAVERSAL_STACK_SIZE`](crate::traverse::TRAVERSAL_STACK_SIZE), whatever the input: where a split could lead deeper, they split at the median instead.
 
-use crate::aabb::Aabb;
-
 mod binned_sah;
 mod bins;
 mod box3a;
@@ -25,7 +23,7 @@ mod refit;
 mod small_subtree;
 mod sweep_sah;
 
-pub use binned_sah::build_binned_sah;
+pub use binned_sah::{build_binned_sah, build_binned_sah_by};
 pub use sweep_sah::build_sweep_sah;
 
 /// Parameters shared by the builders.
@@ -87,9 +85,8 @@ impl BuildParams {
 
 /// The checks both builders start with (their `# Panics`): the number of primitives, or `None`
 /// for an empty input, whose BVH is empty.
-fn prim_count(prim_bounds: &[Aabb], params: &BuildParams) -> Option<usize> {
+fn prim_count(n: usize, params: &BuildParams) -> Option<usize> {
     params.assert_valid();
-    let n = prim_bounds.len();
     assert!(n < 1 << 31, "a BVH holds fewer than 2^31 primitives, got {n}");
     (n > 0).then_some(n)
 }

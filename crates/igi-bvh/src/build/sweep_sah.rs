@@ -21,7 +21,7 @@ use crate::traverse::TRAVERSAL_STACK_SIZE;
 /// # Panics
 /// If `params` is out of range (see [`BuildParams`]) or there are 2³¹ primitives or more.
 pub fn build_sweep_sah(prim_bounds: &[Aabb], params: &BuildParams) -> Bvh {
-    let Some(n) = prim_count(prim_bounds, params) else { return Bvh::default() };
+    let Some(n) = prim_count(prim_bounds.len(), params) else { return Bvh::default() };
 
     let boxes: Vec<Box3A> = prim_bounds.iter().map(Box3A::from).collect();
     let centroids: Vec<Vec3A> = boxes.iter().map(Box3A::centroid).collect();
