@@ -9,11 +9,11 @@
 //! relative to the part it was found in and the loader turns it into a
 //! [`SceneError`](crate::SceneError) with its own location.
 
-use std::collections::HashMap;
 use std::fmt;
 use std::path::Path;
 
 use glam::{Affine3A, DVec3, Vec2, Vec3};
+use rayon::prelude::*;
 
 use crate::error::{Location, SceneError};
 use crate::model::{Instance, Material, Mesh, Scene};
@@ -145,8 +145,10 @@ impl Built {
 pub(crate) struct MeshBuilder {
     name: String,
     positions: Vec<Vec3>,
-    /// Normals of every vertex so far; zero for parts that had none (see `normals_missing`).
+    /// Normals of the vertices up to the last part that had them (zero for vertices of parts
+    /// without), empty until one had.
     normals: Vec<Vec3>,
+    /// Texture coordinates, as `normals`.
     uvs: Vec<Vec2>,
     indices: Vec<[u32; 3]>,
     material_ids: Vec<u32>,
@@ -174,40 +176,49 @@ impl MeshBuilder {
         if let Some(uvs) = &part.uvs {
             check_finite("uv", uvs, |uv| uv.is_finite())?;
         }
-        for (triangle, tri) in part.triangles.iter().enumerate() {
-            if let Some(&index) = tri.iter().find(|&&i| i as usize >= count) {
-                return Err(Defect::IndexOutOfRange { triangle, index, vertex_count: count });
-            }
+        let out_of_range = part.triangles.par_iter().enumerate().find_map_first(|(triangle, tri)| {
+            tri.iter().find(|&&i| i as usize >= count).map(|&index| (triangle, index))
+        });
+        if let Some((triangle, index)) = out_of_range {
+            return Err(Defect::IndexOutOfRange { triangle, index, vertex_count: count });
         }
         let base = u32::try_from(self.positions.len())
             .ok()
             .filter(|base| u32::try_from(count).is_ok_and(|n| base.checked_add(n).is_some()))
             .ok_or(Defect::TooManyVertices)?;
 
-        let kept: Vec<[u32; 3]> =
-            part.triangles.iter().copied().filter(|&tri| has_area(&part.positions, tri)).collect();
-        self.degenerate += part.triangles.len() - kept.len();
+        let mut triangles = part.triangles;
+        // Checked in parallel first: files rarely have zero-area triangles, and then the
+        // triangles are kept as they are, not copied.
+        if !triangles.par_iter().all(|&tri| has_area(&part.positions, tri)) {
+            let before = triangles.len();
+            triangles.retain(|&tri| has_area(&part.positions, tri));
+            self.degenerate += before - triangles.len();
+        }
 
+        // Normals and uvs are stored only once some part has them; the parts before are
+        // padded with zeros then, and the parts after on arrival or in `finish`.
+        let vertices_before = self.positions.len();
         match part.normals {
             Some(normals) => {
                 self.normals_present = true;
-                self.normals.extend(unit_normals(normals, &part.positions, &kept));
+                self.normals.resize(vertices_before, Vec3::ZERO);
+                append(&mut self.normals, unit_normals(normals, &part.positions, &triangles));
             }
-            None => {
-                self.normals_missing = true;
-                self.normals.resize(self.normals.len() + count, Vec3::ZERO);
-            }
+            None => self.normals_missing = true,
         }
-        match part.uvs {
-            Some(uvs) => {
-                self.uvs_present = true;
-                self.uvs.extend(uvs);
-            }
-            None => self.uvs.resize(self.uvs.len() + count, Vec2::ZERO),
+        if let Some(uvs) = part.uvs {
+            self.uvs_present = true;
+            self.uvs.resize(vertices_before, Vec2::ZERO);
+            append(&mut self.uvs, uvs);
         }
-        self.positions.extend(part.positions);
-        self.material_ids.extend(std::iter::repeat_n(part.material, kept.len()));
-        self.indices.extend(kept.into_iter().map(|t| t.map(|i| i + base)));
+        append(&mut self.positions, part.positions);
+        self.material_ids.extend(std::iter::repeat_n(part.material, triangles.len()));
+        if base == 0 {
+            append(&mut self.indices, triangles);
+        } else {
+            self.indices.extend(triangles.into_iter().map(|t| t.map(|i| i + base)));
+        }
         Ok(())
     }
 
@@ -216,11 +227,14 @@ impl MeshBuilder {
     /// triangles' own normals are dropped. Both matter for memory: a Minecraft-style scene
     /// (lost-empire) has a unique `v/vt/vn` triple at almost every quad corner, but its normals
     /// are all flat, and without them half of the vertices turn out to be duplicates.
-    pub fn finish(self) -> Built {
+    pub fn finish(mut self) -> Built {
         let normals_dropped = self.normals_present && self.normals_missing;
         let keep_normals = self.normals_present
             && !self.normals_missing
             && !all_flat(&self.normals, &self.positions, &self.indices);
+        if self.uvs_present {
+            self.uvs.resize(self.positions.len(), Vec2::ZERO);
+        }
         let mut mesh = Mesh {
             name: self.name,
             positions: self.positions,
@@ -234,6 +248,16 @@ impl MeshBuilder {
     }
 }
 
+/// Appends `values` to `to`, moving them when `to` is empty (the first part of a mesh, or
+/// its only one) instead of copying.
+fn append<T>(to: &mut Vec<T>, mut values: Vec<T>) {
+    if to.is_empty() {
+        *to = values;
+    } else {
+        to.append(&mut values);
+    }
+}
+
 fn check_attribute<T>(name: &'static str, values: Option<&[T]>, expected: usize) -> Result<(), Defect> {
     match values {
         Some(values) if values.len() != expected => {
@@ -243,8 +267,12 @@ fn check_attribute<T>(name: &'static str, values: Option<&[T]>, expected: usize)
     }
 }
 
-fn check_finite<T>(name: &'static str, values: &[T], finite: impl Fn(&T) -> bool) -> Result<(), Defect> {
-    match values.iter().position(|v| !finite(v)) {
+fn check_finite<T: Sync>(
+    name: &'static str,
+    values: &[T],
+    finite: impl Fn(&T) -> bool + Sync,
+) -> Result<(), Defect> {
+    match values.par_iter().position_first(|v| !finite(v)) {
         Some(vertex) => Err(Defect::NonFinite { attribute: name, vertex }),
         None => Ok(()),
     }
@@ -297,7 +325,7 @@ fn unit_normals(mut normals: Vec<Vec3>, positions: &[Vec3], triangles: &[[u32; 3
 /// so that interpolating them reproduces the flat geometric normal everywhere.
 fn all_flat(normals: &[Vec3], positions: &[Vec3], triangles: &[[u32; 3]]) -> bool {
     const COS_TOLERANCE: f64 = 0.999_998_5;
-    triangles.iter().all(|&[a, b, c]| {
+    triangles.par_iter().all(|&[a, b, c]| {
         let [pa, pb, pc] = [a, b, c].map(|i| positions[i as usize].as_dvec3());
         let geometric = (pb - pa).cross(pc - pa).normalize_or_zero();
         [a, b, c].iter().all(|&i| normals[i as usize].as_dvec3().dot(geometric) >= COS_TOLERANCE)
@@ -307,44 +335,161 @@ fn all_flat(normals: &[Vec3], positions: &[Vec3], triangles: &[[u32; 3]]) -> boo
 /// Renumbers vertices in order of first use by the triangles, dropping unused ones and
 /// merging bit-identical ones.
 fn weld(mesh: &mut Mesh) {
-    type Key = ([u32; 3], [u32; 2], [u32; 3]);
-    let key = |i: usize| -> Key {
-        (
-            mesh.positions[i].to_array().map(f32::to_bits),
-            mesh.uvs.as_ref().map_or([0; 2], |uv| uv[i].to_array().map(f32::to_bits)),
-            mesh.normals.as_ref().map_or([0; 3], |n| n[i].to_array().map(f32::to_bits)),
-        )
-    };
-    let mut remap = vec![u32::MAX; mesh.positions.len()];
-    let mut first_use: HashMap<Key, u32> = HashMap::with_capacity(mesh.positions.len());
-    let mut order: Vec<usize> = Vec::with_capacity(mesh.positions.len());
-    let mut indices = std::mem::take(&mut mesh.indices);
-    for tri in &mut indices {
-        for index in tri.iter_mut() {
-            let old = *index as usize;
-            if remap[old] == u32::MAX {
-                let next = order.len() as u32;
-                remap[old] = *first_use.entry(key(old)).or_insert_with(|| {
-                    order.push(old);
-                    next
-                });
-            }
-            *index = remap[old];
+    let first = first_of_key(mesh);
+    // Indexed by the first vertex of a key: its new index, once a triangle has used it.
+    let mut new_index = vec![u32::MAX; mesh.positions.len()];
+    let mut order: Vec<u32> = Vec::new();
+    for index in mesh.indices.as_flattened_mut() {
+        let first = first[*index as usize];
+        let new = &mut new_index[first as usize];
+        if *new == u32::MAX {
+            // At most one per vertex, and the builder keeps the vertex count within `u32`.
+            *new = order.len() as u32;
+            order.push(first);
         }
+        *index = *new;
     }
-    mesh.indices = indices;
-    mesh.positions = order.iter().map(|&i| mesh.positions[i]).collect();
+    drop(new_index);
+    mesh.positions = order.iter().map(|&i| mesh.positions[i as usize]).collect();
     if let Some(uvs) = &mut mesh.uvs {
-        *uvs = order.iter().map(|&i| uvs[i]).collect();
+        *uvs = order.iter().map(|&i| uvs[i as usize]).collect();
     }
     if let Some(normals) = &mut mesh.normals {
-        *normals = order.iter().map(|&i| normals[i]).collect();
+        *normals = order.iter().map(|&i| normals[i as usize]).collect();
     }
+}
+
+/// The bits that make two vertices the same: position, uv and normal (zero when absent).
+type VertexKey = [u32; 8];
+
+fn vertex_key(mesh: &Mesh, i: usize) -> VertexKey {
+    let [x, y, z] = mesh.positions[i].to_array().map(f32::to_bits);
+    let [u, v] = mesh.uvs.as_ref().map_or([0; 2], |uv| uv[i].to_array().map(f32::to_bits));
+    let [nx, ny, nz] = mesh.normals.as_ref().map_or([0; 3], |n| n[i].to_array().map(f32::to_bits));
+    [x, y, z, u, v, nx, ny, nz]
+}
+
+/// A 64-bit hash of a key (FxHash's multiply-rotate over two words at a time). Equal hashes
+/// are only a hint: keys are compared in full, so collisions cost time, never correctness.
+fn key_hash(key: &VertexKey) -> u64 {
+    const K: u64 = 0xf135_7aea_2e62_a9c5;
+    let mut hash = 0u64;
+    for pair in key.chunks_exact(2) {
+        let word = u64::from(pair[0]) | (u64::from(pair[1]) << 32);
+        hash = (hash.rotate_left(26) ^ word).wrapping_mul(K);
+    }
+    hash ^ (hash >> 29)
+}
+
+/// For every vertex, the smallest index of a vertex with the same key.
+///
+/// The vertices are sorted by hash and index in parallel (hash in the high and index in the
+/// low bits of one `u128`, so the order is total and the result the same at any thread
+/// count); a run of equal hashes is then sorted by key, stably, so each group of equal keys
+/// starts with its smallest index. The cost is O(n log n) whatever the keys, where a hash map
+/// of 32-byte keys took most of a large file's load time.
+fn first_of_key(mesh: &Mesh) -> Vec<u32> {
+    let count = mesh.positions.len();
+    // The builder keeps the vertex count within `u32`.
+    let mut sorted: Vec<u128> = Vec::with_capacity(count);
+    (0..count)
+        .into_par_iter()
+        .map(|i| (u128::from(key_hash(&vertex_key(mesh, i))) << 64) | i as u128)
+        .collect_into_vec(&mut sorted);
+    sorted.par_sort_unstable();
+    let vertex = |entry: u128| entry as u32;
+    let mut first: Vec<u32> = (0..count as u32).collect();
+    for run in sorted.chunk_by_mut(|a, b| a >> 64 == b >> 64) {
+        if run.len() == 1 {
+            continue;
+        }
+        run.sort_by_key(|&entry| vertex_key(mesh, vertex(entry) as usize));
+        for group in run
+            .chunk_by(|&a, &b| vertex_key(mesh, vertex(a) as usize) == vertex_key(mesh, vertex(b) as usize))
+        {
+            let smallest = vertex(group[0]);
+            for &entry in &group[1..] {
+                first[vertex(entry) as usize] = smallest;
+            }
+        }
+    }
+    first
 }
 
 #[cfg(test)]
 mod tests {
+    use proptest::prelude::*;
+
     use super::*;
+
+    /// `weld` as first written: a hash map from key to new index, filled in order of first use.
+    fn reference_weld(mesh: &mut Mesh) {
+        let mut new_of_key = std::collections::HashMap::new();
+        let mut order = Vec::new();
+        let mut indices = std::mem::take(&mut mesh.indices);
+        for index in indices.as_flattened_mut() {
+            let old = *index as usize;
+            let next = order.len() as u32;
+            *index = *new_of_key.entry(vertex_key(mesh, old)).or_insert_with(|| {
+                order.push(old);
+                next
+            });
+        }
+        mesh.indices = indices;
+        mesh.positions = order.iter().map(|&i| mesh.positions[i]).collect();
+        if let Some(uvs) = &mut mesh.uvs {
+            *uvs = order.iter().map(|&i| uvs[i]).collect();
+        }
+        if let Some(normals) = &mut mesh.normals {
+            *normals = order.iter().map(|&i| normals[i]).collect();
+        }
+    }
+
+    /// Meshes with many duplicate and unused vertices: coordinates from a handful of values
+    /// (with both zeros, whose bits differ), attributes present or not.
+    fn duplicated_mesh() -> impl Strategy<Value = Mesh> {
+        let value = prop::sample::select(vec![0.0f32, -0.0, 1.0, 2.5, -3.0]);
+        let vertex = (
+            prop::array::uniform3(value.clone()),
+            prop::array::uniform2(value.clone()),
+            prop::array::uniform3(value),
+        );
+        (
+            prop::collection::vec(vertex, 1..60),
+            any::<bool>(),
+            any::<bool>(),
+            prop::collection::vec(any::<prop::sample::Index>(), 0..120),
+        )
+            .prop_map(|(vertices, with_uvs, with_normals, corners)| {
+                let count = vertices.len();
+                Mesh {
+                    positions: vertices.iter().map(|v| Vec3::from(v.0)).collect(),
+                    uvs: with_uvs.then(|| vertices.iter().map(|v| Vec2::from(v.1)).collect()),
+                    normals: with_normals.then(|| vertices.iter().map(|v| Vec3::from(v.2)).collect()),
+                    indices: corners
+                        .chunks_exact(3)
+                        .map(|c| [0, 1, 2].map(|k| c[k].index(count) as u32))
+                        .collect(),
+                    ..Mesh::default()
+                }
+            })
+    }
+
+    proptest! {
+        #[test]
+        fn weld_matches_the_reference(mesh in duplicated_mesh()) {
+            let mut welded = mesh.clone();
+            weld(&mut welded);
+            let mut expected = mesh;
+            reference_weld(&mut expected);
+            prop_assert_eq!(welded.indices, expected.indices);
+            let bits = |v: &[Vec3]| v.iter().map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<_>>();
+            prop_assert_eq!(bits(&welded.positions), bits(&expected.positions));
+            prop_assert_eq!(welded.normals.as_deref().map(bits), expected.normals.as_deref().map(bits));
+            let uv_bits = |v: &[Vec2]| v.iter().map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<_>>();
+            prop_assert_eq!(welded.uvs.as_deref().map(uv_bits), expected.uvs.as_deref().map(uv_bits));
+        }
+    }
 
     fn quad_part() -> Part {
         Part {
