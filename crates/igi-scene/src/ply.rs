@@ -11,7 +11,10 @@
 //!
 //! The header is checked against the file size before any payload is read: a 100-byte file
 //! claiming 4·10⁹ vertices is rejected on the spot instead of looping or allocating. Elements
-//! are streamed one at a time, so memory follows the data actually present.
+//! are streamed one at a time, so memory follows the data actually present. In a binary file
+//! the bulk (vertices of scalar properties, index lists, elements read past) is read straight
+//! from the bytes by [`binary`]; `ply-rs-bw` reads the header, ascii payloads and whatever the
+//! fast path stops at, so errors read the same either way.
 
 use std::io::BufRead;
 use std::path::Path;
@@ -26,6 +29,8 @@ use crate::error::{Location, SceneError};
 use crate::model::{Material, Scene};
 use crate::report::LoadReport;
 use crate::validate::{MeshBuilder, Part};
+
+mod binary;
 
 /// Parses a PLY file held in memory; `name` is used in messages and as the mesh name.
 pub fn parse(bytes: &[u8], name: &str, report: &mut LoadReport) -> Result<Scene, SceneError> {
@@ -57,12 +62,30 @@ pub(crate) fn parse_file(bytes: &[u8], file: &Path, report: &mut LoadReport) -> 
             def,
             file,
             first_line: header_lines + lines_read,
+            start: 0,
+        };
+        let big_endian = match header.encoding {
+            Encoding::Ascii => None,
+            Encoding::BinaryBigEndian => Some(true),
+            Encoding::BinaryLittleEndian => Some(false),
         };
         match def.name.as_str() {
             "vertex" => {
                 vertex_lines = Some(stream.first_line);
                 let layout = VertexLayout::of(def, file)?;
-                positions.reserve(def.count);
+                let fields = big_endian.zip(binary::VertexFields::of(def, layout.normals, layout.uvs));
+                if let Some((big_endian, fields)) = fields {
+                    stream.start = binary::read_vertices(
+                        stream.payload,
+                        def.count,
+                        &fields,
+                        big_endian,
+                        &mut positions,
+                        &mut normals,
+                        &mut uvs,
+                    );
+                }
+                positions.reserve(def.count - stream.start);
                 stream.each(|_, v: Vertex| {
                     positions.push(Vec3::from(v.position));
                     if layout.normals {
@@ -75,19 +98,24 @@ pub(crate) fn parse_file(bytes: &[u8], file: &Path, report: &mut LoadReport) -> 
                 })?;
             }
             "face" => {
+                if let Some(layout) =
+                    big_endian.and_then(|big_endian| binary::ListLayout::face(def, big_endian))
+                {
+                    stream.start = layout.read_faces(
+                        stream.payload,
+                        def.count,
+                        &mut triangles,
+                        &mut short_faces,
+                        |index| bad_index(file, index),
+                    )?;
+                }
                 stream.each(|index, face: Face| {
                     let corners = face
                         .indices
                         .iter()
                         .map(|&i| u32::try_from(i))
                         .collect::<Result<Vec<u32>, _>>()
-                        .map_err(|_| {
-                            SceneError::invalid(
-                                file,
-                                Location::Element { name: "face".into(), index },
-                                "negative or too large vertex index",
-                            )
-                        })?;
+                        .map_err(|_| bad_index(file, index))?;
                     if corners.len() < 3 {
                         short_faces += 1;
                     }
@@ -97,7 +125,12 @@ pub(crate) fn parse_file(bytes: &[u8], file: &Path, report: &mut LoadReport) -> 
                     Ok(())
                 })?;
             }
-            _ => stream.each(|_, _: Skip| Ok(()))?,
+            _ => {
+                if let Some(big_endian) = big_endian {
+                    stream.start = binary::ListLayout::other(def, big_endian).skip(stream.payload, def.count);
+                }
+                stream.each(|_, _: Skip| Ok(()))?;
+            }
         }
         if header.encoding == Encoding::Ascii {
             lines_read += def.count;
@@ -126,6 +159,15 @@ pub(crate) fn parse_file(bytes: &[u8], file: &Path, report: &mut LoadReport) -> 
     let built = builder.finish();
     report.degenerate(file, short_faces + built.degenerate);
     Ok(built.into_scene(vec![Material::default()], file, report))
+}
+
+/// The error of a face whose vertex index does not fit a `u32`.
+fn bad_index(file: &Path, index: usize) -> SceneError {
+    SceneError::invalid(
+        file,
+        Location::Element { name: "face".into(), index },
+        "negative or too large vertex index",
+    )
 }
 
 /// `ply-rs-bw` messages start with "Line N:" when they know a line; the line goes into the
@@ -206,6 +248,8 @@ struct ElementStream<'a, 'b> {
     file: &'a Path,
     /// Lines before this element's first line (ascii only).
     first_line: usize,
+    /// The first element to read (those before were read by the binary fast path).
+    start: usize,
 }
 
 impl ElementStream<'_, '_> {
@@ -215,7 +259,7 @@ impl ElementStream<'_, '_> {
     ) -> Result<(), SceneError> {
         let parser = Parser::<E>::new();
         let mut line = String::new();
-        for index in 0..self.def.count {
+        for index in self.start..self.def.count {
             let at = || match self.encoding {
                 Encoding::Ascii => Location::Line(self.first_line + index + 1),
                 _ => Location::Element { name: self.def.name.clone(), index },
@@ -454,6 +498,180 @@ mod tests {
             assert_eq!(mesh.positions[1], Vec3::X);
             assert_eq!(mesh.normals.as_ref().unwrap()[0], Vec3::new(0.0, 0.6, 0.8));
         }
+    }
+
+    /// A value of a property as written in a file: its PLY type and its number.
+    type Value = (&'static str, f64);
+
+    /// A file of the given `format` holding `elements` (name, property declarations, and the
+    /// values of each element; a list is written as its length followed by its items).
+    fn file(format: &str, elements: &[(&str, &str, Vec<Vec<Value>>)]) -> Vec<u8> {
+        let mut bytes = format!("ply\nformat {format} 1.0\n").into_bytes();
+        for (name, properties, rows) in elements {
+            bytes.extend(format!("element {name} {}\n{properties}", rows.len()).bytes());
+        }
+        bytes.extend(b"end_header\n");
+        for row in elements.iter().flat_map(|(_, _, rows)| rows) {
+            if format == "ascii" {
+                let text: Vec<String> = row.iter().map(|(_, v)| v.to_string()).collect();
+                bytes.extend(format!("{}\n", text.join(" ")).bytes());
+                continue;
+            }
+            let big = format == "binary_big_endian";
+            for &(ty, v) in row {
+                let raw: Vec<u8> = match ty {
+                    "char" => vec![v as i8 as u8],
+                    "uchar" => vec![v as u8],
+                    "short" => {
+                        if big {
+                            (v as i16).to_be_bytes().into()
+                        } else {
+                            (v as i16).to_le_bytes().into()
+                        }
+                    }
+                    "ushort" => {
+                        if big {
+                            (v as u16).to_be_bytes().into()
+                        } else {
+                            (v as u16).to_le_bytes().into()
+                        }
+                    }
+                    "int" => {
+                        if big {
+                            (v as i32).to_be_bytes().into()
+                        } else {
+                            (v as i32).to_le_bytes().into()
+                        }
+                    }
+                    "uint" => {
+                        if big {
+                            (v as u32).to_be_bytes().into()
+                        } else {
+                            (v as u32).to_le_bytes().into()
+                        }
+                    }
+                    "float" => {
+                        if big {
+                            (v as f32).to_be_bytes().into()
+                        } else {
+                            (v as f32).to_le_bytes().into()
+                        }
+                    }
+                    _ => {
+                        if big {
+                            v.to_be_bytes().into()
+                        } else {
+                            v.to_le_bytes().into()
+                        }
+                    }
+                };
+                bytes.extend(raw);
+            }
+        }
+        bytes
+    }
+
+    /// Every scalar type, lists of every length type, polygons, a short face and an element
+    /// read past between the vertices and the faces.
+    fn mixed(format: &str) -> Vec<u8> {
+        let vertices = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [2.0, 2.0, 0.5], [0.0, 2.0, 0.0], [1.0, 3.0, -1.0]];
+        let vertex_rows = vertices
+            .iter()
+            .enumerate()
+            .map(|(i, &[x, y, z])| {
+                let k = i as f64;
+                vec![
+                    ("double", x),
+                    ("char", -3.0),
+                    ("float", y),
+                    ("short", z * 2.0),
+                    ("float", 0.25 * k),
+                    ("uchar", 1.0),
+                    ("float", 0.5),
+                    ("ushort", 3.0),
+                    ("int", -4.0),
+                    ("double", 0.125 * k),
+                    ("uint", 7.0),
+                ]
+            })
+            .collect();
+        let edges = vec![
+            vec![("short", 2.0), ("int", 0.0), ("int", 1.0), ("uchar", 9.0)],
+            vec![("short", 0.0), ("uchar", 9.0)],
+        ];
+        let face = |indices: &[f64], count: &'static str, item: &'static str| {
+            let mut row = vec![("float", 0.75), (count, indices.len() as f64)];
+            row.extend(indices.iter().map(|&i| (item, i)));
+            row.extend([("uint", 2.0), ("float", 0.1), ("float", 0.2)]);
+            row
+        };
+        let faces = vec![
+            face(&[0.0, 1.0, 2.0, 3.0], "char", "ushort"),
+            face(&[1.0, 2.0, 4.0], "char", "ushort"),
+            face(&[0.0, 1.0], "char", "ushort"),
+        ];
+        file(
+            format,
+            &[
+                (
+                    "vertex",
+                    "property double x\nproperty char flags\nproperty float y\nproperty short z\nproperty float s\nproperty uchar nx\nproperty float ny\nproperty ushort nz\nproperty int unused\nproperty double t\nproperty uint more\n",
+                    vertex_rows,
+                ),
+                ("edge", "property list short int vertex\nproperty uchar colour\n", edges),
+                (
+                    "face",
+                    "property float quality\nproperty list char ushort vertex_indices\nproperty list uint float texcoord\n",
+                    faces,
+                ),
+            ],
+        )
+    }
+
+    #[test]
+    fn binary_reads_as_ascii() {
+        let (ascii, ascii_report) = parse_bytes(&mixed("ascii")).unwrap();
+        let mesh = &ascii.meshes[0];
+        assert_eq!(mesh.indices.len(), 3);
+        assert_eq!(ascii_report.degenerate_dropped, 1, "the two-vertex face");
+        assert!(mesh.normals.is_some() && mesh.uvs.is_some());
+        for format in ["binary_little_endian", "binary_big_endian"] {
+            let (binary, report) = parse_bytes(&mixed(format)).unwrap();
+            assert_eq!(binary.digest(), ascii.digest(), "{format}");
+            assert_eq!(report.degenerate_dropped, 1, "{format}");
+        }
+    }
+
+    #[test]
+    fn binary_errors_read_as_before() {
+        let vertex = "property float x\nproperty float y\nproperty float z\n";
+        let vertices: Vec<Vec<Value>> = (0..3)
+            .map(|i| vec![("float", f64::from(i)), ("float", f64::from(i * i)), ("float", 1.0)])
+            .collect();
+        let faces = |indices: Vec<Value>| {
+            vec![vec![("uchar", 3.0), ("int", 0.0), ("int", 1.0), ("int", 2.0)], indices]
+        };
+        let read = |face: &str, rows: Vec<Vec<Value>>| {
+            let bytes =
+                file("binary_little_endian", &[("vertex", vertex, vertices.clone()), ("face", face, rows)]);
+            parse_bytes(&bytes).map(|_| ()).unwrap_err().to_string()
+        };
+        let list = "property list char int vertex_indices\n";
+        assert_eq!(
+            read(list, faces(vec![("char", -1.0), ("int", 0.0), ("int", 0.0), ("int", 0.0)])),
+            "t.ply: face 1: List length cannot be negative (i8)."
+        );
+        assert_eq!(
+            read(list, faces(vec![("char", 3.0), ("int", 0.0), ("int", -1.0), ("int", 0.0)])),
+            "t.ply: face 1: negative or too large vertex index"
+        );
+        assert_eq!(
+            read(list, faces(vec![("char", 3.0), ("int", 0.0), ("int", 1.0), ("int", 7.0)])),
+            "t.ply: triangle 1 refers to vertex 7, but there are only 3 vertices"
+        );
+        let floats = "property list uchar float vertex_indices\n";
+        let err = read(floats, faces(vec![("uchar", 3.0), ("float", 0.0), ("float", 1.0), ("float", 2.0)]));
+        assert!(err.starts_with("t.ply: face 0: PLY property 'vertex_indices'"), "{err}");
     }
 
     #[test]
