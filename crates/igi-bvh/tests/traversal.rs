@@ -5,7 +5,7 @@
 
 use glam::{Affine3A, Quat, Vec3};
 use igi_bvh::{
-    Accel, Hit, HitFilter, HitPacket8, INVALID_ID, Ray, RayPacket8, ShadowCache, TriangleMesh,
+    Aabb, Accel, Hit, HitFilter, HitPacket8, INVALID_ID, Ray, RayPacket8, ShadowCache, TriangleMesh,
     intersect_triangle, offset_ray_origin,
 };
 use igi_simd::M32x8;
@@ -411,4 +411,34 @@ fn the_shadow_cache_changes_no_answer() {
         }
     }
     assert!(blocked > 1000 && free > 1000, "{blocked} blocked and {free} free lanes");
+}
+
+/// The top level bounds a turned instance by its BVH's placed boxes a few levels down: every
+/// placed vertex inside, and tighter than the placed box of the whole mesh's box.
+#[test]
+fn instance_bounds_hold_every_placed_vertex_and_hug_a_turned_mesh() {
+    let mut rng = Rng(11);
+    // A ring of small triangles round the y axis, turned 45° about it: its extent stays a
+    // 20 x 20 square while the placed box of its local box grows to 28 x 28.
+    let mut mesh = soup(&mut rng, 2000, 0.05);
+    for (i, p) in mesh.positions.iter_mut().enumerate() {
+        let angle = (i / 3) as f32 * 0.0031;
+        *p = Vec3::new(10.0 * angle.cos(), 0.0, 10.0 * angle.sin()) + (*p - Vec3::splat(0.0)) * 0.01;
+    }
+    let m = Affine3A::from_rotation_translation(Quat::from_rotation_y(0.785), Vec3::new(3.0, -2.0, 1.0));
+    let (accel, _) = Accel::build(vec![mesh.clone()], &[(0, m)]);
+    let bounds = accel.bounds();
+    for &p in &mesh.positions {
+        let q = m.transform_point3(p);
+        assert!(q.cmpge(bounds.min).all() && q.cmple(bounds.max).all(), "{q} outside {bounds:?}");
+    }
+    let whole = Aabb::from_points(
+        Aabb::from_points(mesh.positions.iter().copied()).corners().map(|c| m.transform_point3(c)),
+    );
+    assert!(
+        bounds.half_area() < 0.7 * whole.half_area(),
+        "{} against {}",
+        bounds.half_area(),
+        whole.half_area()
+    );
 }
