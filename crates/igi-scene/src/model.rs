@@ -178,6 +178,11 @@ impl Default for Material {
 }
 
 impl Material {
+    /// A Lambertian material called `name` of reflectance `diffuse`.
+    pub fn diffuse(name: &str, diffuse: Vec3) -> Self {
+        Self { name: name.into(), diffuse, ..Self::default() }
+    }
+
     /// True if triangles with this material are area lights.
     pub fn is_emissive(&self) -> bool {
         self.emission.max_element() > 0.0

@@ -3,11 +3,9 @@
 //! for. Its outline and its shading hardly change with the tessellation, so a view of it costs
 //! what the ray tracer pays for the triangle count and nothing else.
 
-use std::f32::consts::{PI, TAU};
-
 use glam::{Affine3A, Vec3};
 
-use super::shapes::quad;
+use super::shapes::{self, quad};
 use crate::animation::Animation;
 use crate::light::Light;
 use crate::model::{Camera, Instance, Material, Scene};
@@ -28,36 +26,17 @@ fn radius(d: Vec3) -> f32 {
 }
 
 /// The displaced sphere as one part of about `triangles` flat-shaded triangles: a UV sphere of
-/// `rings` rings and twice as many segments round, 2 · segments · (rings − 1) triangles.
+/// `rings` rings and twice as many segments round, 2 · segments · (rings − 1) triangles, each
+/// vertex pushed out to [`radius`] along its direction.
 fn sphere(triangles: usize) -> Part {
     let gaps = ((triangles as f64 / 4.0).sqrt().round() as u32).max(3);
     let segments = ((triangles as f64 / (2.0 * gaps as f64)).round() as u32).max(8);
-    let rings = gaps + 1;
-    let mut positions = vec![Vec3::Y * radius(Vec3::Y)];
-    for ring in 1..rings {
-        let theta = PI * ring as f32 / rings as f32;
-        for segment in 0..segments {
-            let phi = TAU * segment as f32 / segments as f32;
-            let d = Vec3::new(theta.sin() * phi.cos(), theta.cos(), -theta.sin() * phi.sin());
-            positions.push(d * radius(d));
-        }
+    let mut part = shapes::sphere(Vec3::ZERO, 1.0, segments, gaps + 1, SPHERE);
+    for p in &mut part.positions {
+        *p *= radius(*p);
     }
-    positions.push(Vec3::NEG_Y * radius(Vec3::NEG_Y));
-    let bottom = positions.len() as u32 - 1;
-    let at = |ring: u32, segment: u32| 1 + (ring - 1) * segments + segment % segments;
-    let mut indices = Vec::with_capacity(2 * (segments * gaps) as usize);
-    for s in 0..segments {
-        indices.push([0, at(1, s), at(1, s + 1)]);
-        indices.push([bottom, at(rings - 1, s + 1), at(rings - 1, s)]);
-    }
-    for ring in 1..rings - 1 {
-        for s in 0..segments {
-            let (a, b) = (at(ring, s), at(ring, s + 1));
-            let (c, d) = (at(ring + 1, s), at(ring + 1, s + 1));
-            indices.extend([[a, c, d], [a, d, b]]);
-        }
-    }
-    Part { positions, triangles: indices, material: SPHERE, ..Part::default() }
+    part.normals = None;
+    part
 }
 
 /// The sphere of about `triangles` triangles (mesh 0) over a 6 m floor (mesh 1) with a point
@@ -67,7 +46,7 @@ pub(super) fn scene(triangles: usize) -> Scene {
     sphere_mesh.add(sphere(triangles)).expect("finite sphere");
     let mut floor = MeshBuilder::new("floor");
     floor.add(quad(Vec3::NEG_Y * 1.1, Vec3::Z * 3.0, Vec3::X * 3.0, FLOOR)).expect("a finite quad");
-    let diffuse = |name: &str, diffuse: Vec3| Material { name: name.into(), diffuse, ..Material::default() };
+    let diffuse = Material::diffuse;
     Scene {
         meshes: vec![sphere_mesh.finish().mesh, floor.finish().mesh],
         instances: [0, 1].map(|mesh| Instance { mesh, transform: Affine3A::IDENTITY }).to_vec(),

@@ -33,11 +33,7 @@ const GRASS: u32 = 1;
 const LEAVES: [u32; 3] = [2, 3, 4];
 
 fn materials() -> Vec<Material> {
-    let diffuse = |name: &str, diffuse: [f32; 3]| Material {
-        name: name.into(),
-        diffuse: Vec3::from(diffuse),
-        ..Material::default()
-    };
+    let diffuse = |name: &str, rgb: [f32; 3]| Material::diffuse(name, Vec3::from(rgb));
     vec![
         diffuse("bark", [0.22, 0.17, 0.13]),
         diffuse("grass", [0.2, 0.32, 0.1]),

@@ -46,11 +46,7 @@ const CHIMNEY: u32 = 11;
 const SAFETY: u32 = 12;
 
 fn materials() -> Vec<Material> {
-    let diffuse = |name: &str, diffuse: [f32; 3]| Material {
-        name: name.into(),
-        diffuse: Vec3::from(diffuse),
-        ..Material::default()
-    };
+    let diffuse = |name: &str, rgb: [f32; 3]| Material::diffuse(name, Vec3::from(rgb));
     vec![
         diffuse("concrete", [0.42, 0.41, 0.39]),
         diffuse("steel frame", [0.2, 0.3, 0.45]),

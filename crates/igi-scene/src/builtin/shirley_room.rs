@@ -22,7 +22,7 @@ const GLOSSY: u32 = 4;
 const LIGHT: u32 = 5;
 
 fn materials() -> Vec<Material> {
-    let diffuse = |name: &str, diffuse: Vec3| Material { name: name.into(), diffuse, ..Material::default() };
+    let diffuse = Material::diffuse;
     vec![
         diffuse("white", Vec3::splat(0.75)),
         diffuse("red", Vec3::new(0.63, 0.1, 0.08)),

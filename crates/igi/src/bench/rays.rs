@@ -182,6 +182,22 @@ pub(super) fn median_run(reps: usize, mut f: impl FnMut() -> (f64, u64, u64)) ->
     (times[times.len() / 2], warm.1, warm.2)
 }
 
+/// Milliseconds to build `scene`'s acceleration structure as embree-bench times it: copying the
+/// vertex and index buffers plus building the whole two-level structure (per-mesh BVHs and the
+/// top level).
+pub(super) fn build_ms(scene: &igi_scene::Scene) -> f64 {
+    let instances: Vec<(u32, glam::Affine3A)> =
+        scene.instances.iter().map(|i| (i.mesh, i.transform)).collect();
+    let start = Instant::now();
+    let meshes = scene
+        .meshes
+        .iter()
+        .map(|m| TriangleMesh { positions: m.positions.clone(), indices: m.indices.clone() })
+        .collect();
+    drop(Accel::build(meshes, &instances));
+    start.elapsed().as_secs_f64() * 1e3
+}
+
 fn hit_record(ray: &Ray, t: f32) -> HitRec {
     HitRec { p: ray.at(t), valid: true }
 }
@@ -209,24 +225,7 @@ pub fn run(args: &RaysArgs) -> Result<()> {
         .transpose()?;
     let scene = igi_scene::load_named(&args.scene).context("cannot load scene")?;
 
-    // Build time, as embree-bench times it: copying the vertex and index buffers plus building
-    // the whole two-level structure (per-mesh BVHs and the top level), median of 5.
-    let instances: Vec<(u32, glam::Affine3A)> =
-        scene.instances.iter().map(|i| (i.mesh, i.transform)).collect();
-    let mut build_ms: Vec<f64> = (0..5)
-        .map(|_| {
-            let t = Instant::now();
-            let meshes = scene
-                .meshes
-                .iter()
-                .map(|m| TriangleMesh { positions: m.positions.clone(), indices: m.indices.clone() })
-                .collect();
-            let accel = Accel::build(meshes, &instances);
-            let ms = t.elapsed().as_secs_f64() * 1e3;
-            drop(accel);
-            ms
-        })
-        .collect();
+    let mut build_ms: Vec<f64> = (0..5).map(|_| build_ms(&scene)).collect();
     build_ms.sort_by(f64::total_cmp);
     let build_ms = build_ms[build_ms.len() / 2];
     let prepared = PreparedScene::new(scene);

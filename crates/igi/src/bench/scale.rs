@@ -7,18 +7,18 @@
 //! primary ray (8-ray packets) and per shadow ray (8-ray packets VPL by VPL with the shadow
 //! cache, as the renderer traces them), on all threads; a table, and JSON with `--json`.
 
-use super::rays::{HitRec, ShadowCtx, Tiling, median_run, primary_packet8, shadow_cached8, timed_tiles};
+use super::rays::{
+    HitRec, ShadowCtx, Tiling, build_ms, median_run, primary_packet8, shadow_cached8, timed_tiles,
+};
 use super::workload::{WalkSource, random_walk_vpls};
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use glam::{Affine3A, Vec3};
-use igi_bvh::{Accel, TriangleMesh};
 use igi_render::{PinholeCamera, PreparedScene};
 use igi_scene::{Instance, Light, Scene};
 use serde::Serialize;
 use std::path::PathBuf;
 use std::sync::Mutex;
-use std::time::Instant;
 
 /// Arguments of `igi bench scale`.
 #[derive(Debug, Args)]
@@ -105,15 +105,7 @@ fn family_scene(triangles: u64, wall: bool) -> Result<Scene> {
 
 /// Measures one scene of the family.
 fn measure(args: &ScaleArgs, threads: usize, scene: Scene) -> Result<Step> {
-    let instances: Vec<(u32, Affine3A)> = scene.instances.iter().map(|i| (i.mesh, i.transform)).collect();
-    let start = Instant::now();
-    let meshes = scene
-        .meshes
-        .iter()
-        .map(|m| TriangleMesh { positions: m.positions.clone(), indices: m.indices.clone() })
-        .collect();
-    drop(Accel::build(meshes, &instances));
-    let build_ms = start.elapsed().as_secs_f64() * 1e3;
+    let build_ms = build_ms(&scene);
 
     let Some(&Light::Point { position: light, .. }) = scene.lights.first() else {
         bail!("displaced-sphere has lost its point light");
