@@ -40,6 +40,7 @@ fn check_invariants(bvh: &Bvh, prims: &[Aabb], params: &BuildParams, context: &s
         reached: vec![false; bvh.nodes.len()],
         covered: vec![false; n],
         leaves: 0,
+        next_pair: 1,
     };
     let (_, depth) = walk.node(0, 1);
     assert!(walk.reached.iter().all(|&r| r), "{context}: unreachable nodes");
@@ -61,6 +62,9 @@ struct Walk<'a> {
     reached: Vec<bool>,
     covered: Vec<bool>,
     leaves: usize,
+    /// Where the next child pair must be in the depth-first layout: after the pairs of all the
+    /// inner nodes walked so far.
+    next_pair: usize,
 }
 
 impl Walk<'_> {
@@ -86,6 +90,8 @@ impl Walk<'_> {
         } else {
             let children = node.offset as usize;
             assert!(children > i, "{context}: node {i} has children {children} before it");
+            assert_eq!(children, self.next_pair, "{context}: node {i}'s children are not depth first");
+            self.next_pair += 2;
             assert!(children + 1 < self.bvh.nodes.len(), "{context}: node {i} children out of bounds");
             let mut union = Aabb::EMPTY;
             let mut deepest = 0;

@@ -3,7 +3,8 @@
 //!
 //! Primitive boxes are copied once into a compact [`PrimBox`] array with a parallel index array;
 //! every node partitions its range of both arrays in place, so a node's primitives are always
-//! contiguous and no node allocates. Large nodes bin in parallel chunks, and large subtrees build
+//! contiguous and no node allocates. Nodes are written once, into one array (see
+//! [`SparseNodes`]). Large nodes bin in parallel chunks, and large subtrees build
 //! as parallel `rayon::join` tasks. Neither changes the result: bins merge exactly, and every
 //! subtree's nodes are laid out by the tree alone (depth first), never by the order in which
 //! tasks finish. The output is identical at any thread count.
@@ -12,6 +13,7 @@ use rayon::prelude::*;
 
 use super::bins::{BinMapping, BinSplit, Bins};
 use super::box3a::Box3A;
+use super::node_region::{NodeRegion, SparseNodes, descendant_capacity};
 use super::partition::{partition_at_median, partition_at_plane};
 use super::prim_box::PrimBox;
 use super::small_subtree::{SMALL_NODE_MAX, build_small_subtree};
@@ -61,17 +63,10 @@ pub fn build_binned_sah_by(n: usize, bounds: impl Fn(usize) -> Aabb + Sync, para
 
     let builder = Builder { params: *params };
     let root = Task { boxes: &mut boxes, ids: &mut ids, first: 0, depth: 1, bounds, centroid_bounds };
-    let mut nodes = Vec::with_capacity(node_capacity(n));
-    nodes.push(Node::default());
-    nodes[0] = builder.subtree(root, &mut nodes, &mut Bins::new());
-    nodes.shrink_to_fit();
-    Bvh { nodes, prim_order: ids }
-}
-
-/// The most nodes a subtree over `n` primitives can have, `2n - 1`, so that node arrays never
-/// grow. Pages beyond the nodes actually built are never touched, and the final array is shrunk.
-fn node_capacity(n: usize) -> usize {
-    2 * n - 1
+    let mut nodes = SparseNodes::new(n);
+    let root = builder.subtree(root, &mut nodes.below_root(), &mut Bins::new());
+    drop(boxes);
+    Bvh { nodes: nodes.into_compact(root), prim_order: ids }
 }
 
 /// The primitives of one node, contiguous in leaf order from `first`: their boxes and input
@@ -103,13 +98,12 @@ struct Builder {
 }
 
 impl Builder {
-    /// Builds the subtree over `task` and returns its root node. The other nodes are pushed onto
+    /// Builds the subtree over `task` and returns its root node. The other nodes are written to
     /// `nodes` depth first: the root's two children as a pair, then the left child's subtree,
-    /// then the right child's. Every index in the returned nodes refers to `nodes`, and children
-    /// always come after their parent. Large subtrees build the right child's subtree in a
-    /// parallel task into a separate array, appended and re-indexed afterwards: same layout.
-    /// `bins` is scratch space, reused by every node of a task.
-    fn subtree(&self, task: Task, nodes: &mut Vec<Node>, bins: &mut Bins) -> Node {
+    /// then the right child's, so children always come after their parent. Large subtrees build
+    /// their children's subtrees as parallel tasks, each in its own part of the region (see
+    /// [`SparseNodes`]). `bins` is scratch space, reused by every node of a task.
+    fn subtree(&self, task: Task, nodes: &mut NodeRegion, bins: &mut Bins) -> Node {
         let n = task.boxes.len();
         let bounds = task.bounds;
         if n <= SMALL_NODE_MAX {
@@ -129,24 +123,19 @@ impl Builder {
             Decision::Median(axis) => task.split_at_median(axis),
         };
 
-        let pair = nodes.len();
-        nodes.extend([Node::default(); 2]);
-        if n >= PARALLEL_SUBTREE_MIN {
-            let (left_root, (right_root, right_nodes)) = rayon::join(
-                || self.subtree(left, nodes, bins),
-                || {
-                    let mut right_nodes = Vec::with_capacity(node_capacity(right.boxes.len()));
-                    (self.subtree(right, &mut right_nodes, &mut Bins::new()), right_nodes)
-                },
-            );
-            let base = nodes.len() as u32;
-            nodes[pair] = left_root;
-            nodes[pair + 1] = reindexed(right_root, base);
-            nodes.extend(right_nodes.iter().map(|&node| reindexed(node, base)));
+        let pair = nodes.push_pair();
+        let (left_root, right_root) = if n >= PARALLEL_SUBTREE_MIN {
+            let (mut left_nodes, mut right_nodes) = nodes.split_unused(descendant_capacity(left.boxes.len()));
+            rayon::join(
+                || self.subtree(left, &mut left_nodes, bins),
+                || self.subtree(right, &mut right_nodes, &mut Bins::new()),
+            )
         } else {
-            nodes[pair] = self.subtree(left, nodes, bins);
-            nodes[pair + 1] = self.subtree(right, nodes, bins);
-        }
+            let left_root = self.subtree(left, nodes, bins);
+            (left_root, self.subtree(right, nodes, bins))
+        };
+        nodes.set(pair, left_root);
+        nodes.set(pair + 1, right_root);
         bounds.inner(pair as u32)
     }
 
@@ -195,15 +184,6 @@ fn fill_bins(bins: &mut Bins, boxes: &[PrimBox], mapping: &BinMapping) {
         bins.clear(mapping.count());
         bins.add(boxes, mapping);
     }
-}
-
-/// `node` moved from its own array into a larger one at `base`.
-#[inline]
-fn reindexed(mut node: Node, base: u32) -> Node {
-    if !node.is_leaf() {
-        node.offset += base;
-    }
-    node
 }
 
 impl<'a> Task<'a> {

@@ -17,6 +17,7 @@
 mod binned_sah;
 mod bins;
 mod box3a;
+mod node_region;
 mod partition;
 mod prim_box;
 mod refit;

@@ -7,6 +7,7 @@
 //! and better: K bins can only approximate the best of the n - 1 object splits.
 
 use super::box3a::Box3A;
+use super::node_region::NodeRegion;
 use super::prim_box::PrimBox;
 use super::{BuildParams, levels_to_split};
 use crate::node::Node;
@@ -17,7 +18,7 @@ pub(crate) const SMALL_NODE_MAX: usize = 16;
 
 /// Builds the subtree over a node of 1 ..= [`SMALL_NODE_MAX`] primitives at `depth` (the root
 /// has depth 1), whose boxes' union is `bounds` and whose leaf-order range starts at `first`.
-/// Returns its root and pushes the other nodes onto `nodes` depth first; `boxes` and `ids` are
+/// Returns its root and writes the other nodes to `nodes` depth first; `boxes` and `ids` are
 /// reordered into leaf order. Leaf, split and depth rules are those of the binned builder.
 pub(crate) fn build_small_subtree(
     params: &BuildParams,
@@ -26,7 +27,7 @@ pub(crate) fn build_small_subtree(
     first: u32,
     depth: usize,
     bounds: Box3A,
-    nodes: &mut Vec<Node>,
+    nodes: &mut NodeRegion,
 ) -> Node {
     let n = boxes.len();
     debug_assert!((1..=SMALL_NODE_MAX).contains(&n));
@@ -94,7 +95,7 @@ struct SmallSubtree<'a> {
 
 impl SmallSubtree<'_> {
     /// Builds the subtree over the positions `lo .. hi` at `depth` with box `bounds`.
-    fn node(&mut self, lo: usize, hi: usize, depth: usize, bounds: Box3A, nodes: &mut Vec<Node>) -> Node {
+    fn node(&mut self, lo: usize, hi: usize, depth: usize, bounds: Box3A, nodes: &mut NodeRegion) -> Node {
         let n = hi - lo;
         let max_leaf = self.params.max_leaf_size as usize;
         let leaf_allowed = n <= max_leaf;
@@ -123,10 +124,11 @@ impl SmallSubtree<'_> {
         let mid = lo + split.left_count;
         let left_bounds = self.union(split.axis, lo, mid);
         let right_bounds = self.union(split.axis, mid, hi);
-        let pair = nodes.len();
-        nodes.extend([Node::default(); 2]);
-        nodes[pair] = self.node(lo, mid, depth + 1, left_bounds, nodes);
-        nodes[pair + 1] = self.node(mid, hi, depth + 1, right_bounds, nodes);
+        let pair = nodes.push_pair();
+        let left = self.node(lo, mid, depth + 1, left_bounds, nodes);
+        nodes.set(pair, left);
+        let right = self.node(mid, hi, depth + 1, right_bounds, nodes);
+        nodes.set(pair + 1, right);
         bounds.inner(pair as u32)
     }
 
