@@ -197,7 +197,16 @@ impl PreparedScene {
             });
         }
         let placements: Vec<(u32, Affine3A)> = instances.iter().map(|i| (i.mesh, i.transform)).collect();
+        let start = std::time::Instant::now();
         let (accel, orders) = Accel::build(geometry, &placements);
+        tracing::info!(
+            "BVH over {} stored triangles in {} meshes and {} instances built in {:.3} s ({:.1} MiB with the meshes)",
+            accel.meshes().iter().map(|m| m.indices.len()).sum::<usize>(),
+            accel.meshes().len(),
+            placements.len(),
+            start.elapsed().as_secs_f64(),
+            (accel.triangle_bytes() + accel.bvh_bytes()) as f64 / f64::from(1 << 20)
+        );
         for (mesh, order) in shading.iter_mut().zip(&orders) {
             mesh.material_ids = order.iter().map(|&i| mesh.material_ids[i as usize]).collect();
         }

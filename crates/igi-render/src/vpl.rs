@@ -141,6 +141,7 @@ use igi_scene::Light;
 use igi_shade::brdf::{Bsdf, cosine_hemisphere};
 use rayon::prelude::*;
 use std::f32::consts::PI;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Light paths of the pilot that measures the expected VPLs per path.
 pub const PILOT_PATHS: u32 = 256;
@@ -248,11 +249,21 @@ impl VplSets {
             // The float-to-int cast saturates; the clamp keeps at least one path per set.
             let wanted = (target as f32 * set_count as f32 / expected_vpls_per_path).round() as u32;
             if wanted > max_paths {
-                tracing::warn!(
-                    "{} VPLs per pixel need {wanted} light paths per frame; using {max_paths}, the most one \
-                     sequence of {MAX_SAMPLES} samples holds for {set_count} sets",
+                // Once per process: a viewer would repeat it every frame.
+                static WARNED: AtomicBool = AtomicBool::new(false);
+                let got = (max_paths as f32 * expected_vpls_per_path / set_count as f32).round();
+                let message = format!(
+                    "{} VPLs per pixel would take {wanted} light paths per frame in this scene (most \
+                     paths leave it without a bounce), more than one frame's {MAX_SAMPLES} samples \
+                     hold for {set_count} VPL sets: about {got} per pixel instead; a smaller \
+                     interleave (fewer VPL sets) or fewer VPLs per pixel avoids this",
                     frame.settings.vpls_per_pixel,
                 );
+                if WARNED.swap(true, Ordering::Relaxed) {
+                    tracing::debug!("{message}");
+                } else {
+                    tracing::warn!("{message}");
+                }
             }
             wanted.clamp(set_count, max_paths)
         } else {

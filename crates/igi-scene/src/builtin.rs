@@ -85,6 +85,19 @@ pub fn builtin_names() -> &'static [&'static str] {
     NAMES
 }
 
+/// The built-in scene name closest to `spec` (its part before any `:`), if one is close enough
+/// to be what was meant: a Jaro-Winkler similarity of at least 0.8, ignoring case (as
+/// `cornel-box`, `Maple-Tree` or `shirley` are to theirs).
+pub fn closest_builtin(spec: &str) -> Option<&'static str> {
+    let name = spec.split(':').next().unwrap_or(spec).to_lowercase();
+    NAMES
+        .iter()
+        .map(|&candidate| (strsim::jaro_winkler(&name, candidate), candidate))
+        .filter(|&(similarity, _)| similarity >= 0.8)
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, candidate)| candidate)
+}
+
 /// The built-in scene `spec` asks for, if its name (before any `:`) is one of
 /// [`builtin_names`]: a plain name as [`builtin`] gives it, or a generated scene's name with
 /// its triangle count, `power-plant:triangles=N`, `maple-tree:triangles=N` or

@@ -72,17 +72,21 @@ pub enum SceneError {
         missing: PathBuf,
     },
     /// The file name's extension is not one of the supported formats.
-    #[error(
-        "{}: unsupported file type (expected .obj, .gltf, .glb, .ply or .toml){}",
-        file.display(),
-        if *builtin_hint { " and not a built-in scene name" } else { "" }
-    )]
+    #[error("{}: unsupported file type (expected .obj, .gltf, .glb, .ply or .toml)", file.display())]
     UnknownFormat {
         /// The file.
         file: PathBuf,
-        /// True if the name was given where a built-in scene name would also have been
-        /// accepted (see [`crate::load_named`]).
-        builtin_hint: bool,
+    },
+    /// What was given where a built-in scene or a scene file is accepted ([`crate::load_named`])
+    /// is neither: a mistyped name, a folder, a file of another type.
+    #[error("{}", unknown_scene_message(name, closest, folder.as_deref()))]
+    UnknownScene {
+        /// What was given.
+        name: String,
+        /// The built-in scene whose name is closest to it, if one is close.
+        closest: Option<&'static str>,
+        /// If it is a folder: the scene files directly in it (file names, sorted, at most 8).
+        folder: Option<Vec<String>>,
     },
     /// The file is not well-formed in its format (syntax, truncation, bad header).
     #[error("{}: {at}{message}", file.display())]
@@ -136,5 +140,30 @@ impl SceneError {
     /// Shorthand for [`SceneError::Io`].
     pub(crate) fn io(file: impl Into<PathBuf>, source: std::io::Error) -> Self {
         Self::Io { file: file.into(), source }
+    }
+}
+
+/// The message of [`SceneError::UnknownScene`]: what was wrong, what was probably meant, and
+/// what would have been accepted.
+fn unknown_scene_message(name: &str, closest: &Option<&'static str>, folder: Option<&[String]>) -> String {
+    let builtins = crate::builtin_names().join(", ");
+    match folder {
+        Some([]) => format!(
+            "{name} is a folder with no scene file (.obj, .gltf, .glb, .ply or .toml) in it; \
+             built-in scenes: {builtins}"
+        ),
+        Some(files) => {
+            format!(
+                "{name} is a folder: give one of its scene files ({}) or a built-in scene",
+                files.join(", ")
+            )
+        }
+        None => {
+            let hint = closest.map(|c| format!(" Did you mean {c}?")).unwrap_or_default();
+            format!(
+                "{name}: neither a built-in scene nor a scene file (.obj, .gltf, .glb, .ply or \
+                 .toml).{hint} Built-in scenes: {builtins}"
+            )
+        }
     }
 }

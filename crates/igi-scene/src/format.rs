@@ -51,7 +51,7 @@ pub(crate) fn load_model_file(
     report: &mut LoadReport,
 ) -> Result<Scene, SceneError> {
     let Some(Format::Mesh(format)) = format_of(path) else {
-        return Err(SceneError::UnknownFormat { file: path.to_path_buf(), builtin_hint: false });
+        return Err(SceneError::UnknownFormat { file: path.to_path_buf() });
     };
     let bytes = resources::read(path, report)?;
     let base_dir = resources::base_dir(path);

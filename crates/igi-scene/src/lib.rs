@@ -45,7 +45,7 @@ mod validate;
 use std::path::Path;
 
 pub use animation::{Animation, Pose, Track};
-pub use builtin::{MAX_GENERATED_TRIANGLES, builtin, builtin_names, builtin_spec};
+pub use builtin::{MAX_GENERATED_TRIANGLES, builtin, builtin_names, builtin_spec, closest_builtin};
 pub use environment::Environment;
 pub use error::{Location, SceneError};
 use format::{Format, format_of};
@@ -118,12 +118,45 @@ pub fn load_named_with_report(spec: &str) -> Result<(Scene, LoadReport), SceneEr
 
 /// Like [`load_named_with_report`], with `options`.
 pub fn load_named_with(spec: &str, options: &LoadOptions) -> Result<(Scene, LoadReport), SceneError> {
-    if let Some(scene) = builtin_spec(spec) {
-        return Ok((scene?, LoadReport::default()));
-    }
-    let path = Path::new(spec);
-    if format_of(path).is_none() {
-        return Err(SceneError::UnknownFormat { file: path.to_path_buf(), builtin_hint: true });
-    }
-    load_with(path, options)
+    let start = std::time::Instant::now();
+    let (scene, report) = if let Some(scene) = builtin_spec(spec) {
+        (scene?, LoadReport::default())
+    } else {
+        let path = Path::new(spec);
+        if format_of(path).is_none() {
+            let folder = path.is_dir().then(|| scene_files_in(path));
+            let closest = if folder.is_some() { None } else { closest_builtin(spec) };
+            return Err(SceneError::UnknownScene { name: spec.to_string(), closest, folder });
+        }
+        load_with(path, options)?
+    };
+    tracing::info!(
+        "{spec}: {} triangles ({} stored in {} meshes), {} materials, {} textures ({:.1} MiB), {} point, spot or directional lights, \
+         loaded in {:.3} s",
+        scene.triangle_count(),
+        scene.meshes.iter().map(|m| m.indices.len()).sum::<usize>(),
+        scene.meshes.len(),
+        scene.materials.len(),
+        scene.textures.len(),
+        scene.texel_bytes() as f64 / f64::from(1 << 20),
+        scene.lights.len(),
+        start.elapsed().as_secs_f64()
+    );
+    Ok((scene, report))
+}
+
+/// The names of the scene files directly in `folder`, sorted, at most 8 (for a message).
+fn scene_files_in(folder: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(folder)
+        .map(|entries| {
+            entries
+                .filter_map(Result::ok)
+                .filter(|e| e.path().is_file() && format_of(&e.path()).is_some())
+                .map(|e| e.file_name().to_string_lossy().into_owned())
+                .collect()
+        })
+        .unwrap_or_default();
+    names.sort();
+    names.truncate(8);
+    names
 }

@@ -4,7 +4,7 @@ mod common;
 
 use common::scenes_dir;
 use glam::Vec3;
-use igi_scene::{Scene, builtin, builtin_names, builtin_spec, load, load_named};
+use igi_scene::{Scene, builtin, builtin_names, builtin_spec, closest_builtin, load, load_named};
 
 /// Every instanced triangle as (material name, corners), each rotated to start at its
 /// smallest corner so that the winding is kept but the starting vertex does not matter.
@@ -58,6 +58,38 @@ fn names_load_through_load_named() {
         assert_eq!(scene.triangle_count(), builtin(name).unwrap().triangle_count());
     }
     assert_eq!(builtin("shirley-room").unwrap().triangle_count(), 722);
-    let err = load_named("no-such-scene").unwrap_err();
-    assert!(err.to_string().contains("not a built-in scene name"), "{err}");
+    let err = load_named("no-such-scene").unwrap_err().to_string();
+    assert!(err.contains("neither a built-in scene nor a scene file"), "{err}");
+    assert!(!err.contains("Did you mean"), "nothing is close to no-such-scene: {err}");
+    assert!(builtin_names().iter().all(|n| err.contains(n)), "the message lists the built-ins: {err}");
+}
+
+#[test]
+fn a_mistyped_name_gets_the_closest_built_in() {
+    for (typed, meant) in [
+        ("cornel-box", "cornell-box"),
+        ("Cornell-Box", "cornell-box"),
+        ("maple-tre:triangles=1M", "maple-tree"),
+        ("powerplant", "power-plant"),
+        ("shirley", "shirley-room"),
+        ("two-room", "two-rooms"),
+    ] {
+        assert_eq!(closest_builtin(typed), Some(meant), "{typed}");
+        let err = load_named(typed).unwrap_err().to_string();
+        assert!(err.contains(&format!("Did you mean {meant}?")), "{typed}: {err}");
+    }
+    assert_eq!(closest_builtin("sponza.fbx"), None);
+}
+
+#[test]
+fn a_folder_gets_its_scene_files_listed() {
+    let dir = tempfile::tempdir().unwrap();
+    let err = load_named(dir.path().to_str().unwrap()).unwrap_err().to_string();
+    assert!(err.contains("is a folder with no scene file"), "{err}");
+    assert!(err.contains("cornell-box"), "an empty folder's message lists the built-ins: {err}");
+    for file in ["b.obj", "a.gltf", "notes.txt"] {
+        std::fs::write(dir.path().join(file), "").unwrap();
+    }
+    let err = load_named(dir.path().to_str().unwrap()).unwrap_err().to_string();
+    assert!(err.contains("give one of its scene files (a.gltf, b.obj)"), "{err}");
 }

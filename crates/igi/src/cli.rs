@@ -4,6 +4,7 @@
 use crate::{bench, cmd_info, cmd_render, cmd_serve, cmd_view, cmd_worker};
 use anyhow::Result;
 use clap::{Parser, Subcommand};
+use std::io::IsTerminal;
 
 /// Interactive global illumination (Benthin, Wald & Slusallek 2003) on the CPU.
 #[derive(Debug, Parser)]
@@ -27,9 +28,20 @@ pub enum Command {
     Serve(cmd_serve::ServeArgs),
     /// Render tiles for rank 0 of an MPI job (the split launch of a cluster viewer).
     Worker(cmd_worker::WorkerArgs),
-    /// Measure throughput (`igi bench frame`, `igi bench rays`, `igi bench cluster`).
+    /// Measure: frame rate (`bench frame`), ray throughput (`bench rays`), image quality
+    /// (`bench quality`), cost against scene size (`bench scale`), cluster scaling (`bench
+    /// cluster`).
     #[command(subcommand)]
     Bench(bench::BenchCommand),
+}
+
+/// The built-in scenes, for the end of the help of the commands that take a scene.
+pub fn scenes_help() -> String {
+    format!(
+        "Built-in scenes: {}. The generated ones take a size: power-plant:triangles=2M, \
+         maple-tree:triangles=300k.",
+        igi_scene::builtin_names().join(", ")
+    )
 }
 
 /// Runs one subcommand.
@@ -44,11 +56,19 @@ pub fn dispatch(command: Command) -> Result<()> {
     }
 }
 
-/// Logs to stderr, filtered by `RUST_LOG` (default: warnings and errors).
+/// Logs to stderr, filtered by `RUST_LOG` (default: warnings and errors). On a terminal with
+/// colours and times; into a pipe or a file as plain `LEVEL message` lines, which is what a log
+/// file or a CI transcript wants.
 pub fn init_logging() {
     let filter = tracing_subscriber::EnvFilter::try_from_default_env()
         .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("warn"));
-    tracing_subscriber::fmt().with_env_filter(filter).with_writer(std::io::stderr).with_target(false).init();
+    let terminal = std::io::stderr().is_terminal();
+    let log = tracing_subscriber::fmt()
+        .with_env_filter(filter)
+        .with_writer(std::io::stderr)
+        .with_target(false)
+        .with_ansi(terminal);
+    if terminal { log.init() } else { log.without_time().init() }
 }
 
 #[cfg(test)]

@@ -11,8 +11,9 @@ use std::time::Instant;
 
 /// Arguments of `igi info`.
 #[derive(Debug, Args)]
+#[command(after_help = crate::cli::scenes_help())]
 pub struct InfoArgs {
-    /// Built-in scene name (e.g. cornell-box) or scene file.
+    /// Built-in scene (listed below) or scene file (.obj, .ply, .gltf, .glb, .toml).
     pub scene: String,
 }
 

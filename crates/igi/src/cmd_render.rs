@@ -30,38 +30,39 @@ pub enum Mode {
 
 /// Arguments of `igi render`.
 #[derive(Debug, Args)]
+#[command(after_help = crate::cli::scenes_help())]
 pub struct RenderArgs {
-    /// Built-in scene name (e.g. cornell-box) or scene file (.obj, .ply, .gltf, .glb, .toml).
+    /// Built-in scene (listed below) or scene file (.obj, .ply, .gltf, .glb, .toml).
     pub scene: String,
     /// Output image: .png (tone-mapped sRGB) or .exr (linear radiance).
-    #[arg(short, long)]
+    #[arg(short, long, help_heading = "Output")]
     pub output: PathBuf,
     /// Rendering method.
-    #[arg(long, value_enum, default_value_t = Mode::Igi)]
+    #[arg(long, value_enum, default_value_t = Mode::Igi, help_heading = "Sampling")]
     pub mode: Mode,
     /// IGI: frames averaged, each with fresh VPLs (progressive convergence to the unclamped
     /// solution: with more than one frame the clamp's bias is compensated).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, help_heading = "Sampling")]
     pub frames: u32,
     /// Path tracer: samples per pixel.
-    #[arg(long, default_value_t = 64)]
+    #[arg(long, default_value_t = 64, help_heading = "Sampling")]
     pub spp: u32,
     /// Fixed exposure in stops for PNG output (default: automatic, Reinhard key 0.18).
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, help_heading = "Output")]
     pub exposure: Option<f32>,
     /// IGI: render this many frames of the scene's animation, `--fps` apart from `--time` on,
     /// into OUTPUT-0000.png, OUTPUT-0001.png, … Each PNG after the first is tone-mapped with
     /// the previous frame's statistics, as the viewers do (paper 3.4).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, help_heading = "Animation")]
     pub sequence: u32,
     /// Frames per second of scene time for `--sequence`.
-    #[arg(long, default_value_t = 24.0)]
+    #[arg(long, default_value_t = 24.0, help_heading = "Animation")]
     pub fps: f32,
     /// Frame options.
     #[command(flatten)]
     pub frame: FrameArgs,
     /// Cluster options.
-    #[command(flatten)]
+    #[command(flatten, next_help_heading = "Cluster")]
     pub cluster: ClusterArgs,
 }
 
@@ -182,6 +183,13 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         build.as_secs_f64(),
         args.output.display()
     );
+    if args.mode == Mode::Igi && args.frames == 1 {
+        outln!(
+            "one frame with fresh VPLs, as the viewers show it; `--frames 64` averages 64 of them into a \
+             converged image (about {:.1} s here)",
+            64.0 * elapsed.as_secs_f64()
+        );
+    }
     Ok(())
 }
 

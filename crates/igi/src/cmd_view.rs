@@ -7,6 +7,7 @@ use std::path::PathBuf;
 
 /// Arguments of `igi view`.
 #[derive(Debug, Args)]
+#[command(after_help = crate::cli::scenes_help())]
 pub struct ViewArgs {
     /// Write a screenshot of the window (PNG) after `--exit-after-frames` frames, then exit.
     #[arg(long, requires = "exit_after_frames")]

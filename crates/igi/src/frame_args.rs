@@ -18,74 +18,79 @@ pub const DEFAULT_AA: u32 = 4;
 #[derive(Debug, Args)]
 pub struct FrameArgs {
     /// Image width in pixels.
-    #[arg(long, default_value_t = 640)]
+    #[arg(long, default_value_t = 640, help_heading = "Output")]
     pub width: u32,
     /// Image height in pixels.
-    #[arg(long, default_value_t = 480)]
+    #[arg(long, default_value_t = 480, help_heading = "Output")]
     pub height: u32,
     /// VPLs per pixel: the size of one interleaved VPL set (point, spot and directional
     /// lights count towards it).
-    #[arg(long, default_value_t = 12)]
+    #[arg(long, default_value_t = 12, help_heading = "Instant radiosity")]
     pub vpls: u32,
     /// Interleave pattern NxM: the frame has N·M VPL sets, one per pixel of every NxM block.
-    #[arg(long, default_value = "3x3", value_parser = parse_interleave)]
+    #[arg(long, default_value = "3x3", value_parser = parse_interleave, help_heading = "Instant radiosity")]
     pub interleave: [u32; 2],
     /// Wide filter: a second level of interleaving K times coarser, merged by a second filter
     /// level over K×K blocks of NxM pixels, so each pixel's light is averaged from N·M·K² VPL
     /// sets instead of N·M at the same VPLs per pixel (less of the blotchy low-frequency noise
     /// of one frame, ARCHITECTURE.md "Two levels of interleaving"). 1 turns it off.
-    #[arg(long, default_value_t = IgiSettings::default().coarse_interleave)]
+    #[arg(long, default_value_t = IgiSettings::default().coarse_interleave, help_heading = "Filter")]
     pub coarse_interleave: u32,
     /// Primary rays per pixel (interleaved super-sampling: a pixel whose rays all see one
     /// surface is shaded once, with all its VPLs; across an edge each ray is lit by its share
     /// of them). Default 4; 1 in the interactive viewers (`view`, `serve`).
-    #[arg(long)]
+    #[arg(long, help_heading = "Sampling")]
     pub aa: Option<u32>,
     /// Show the raw interleaved image: no discontinuity filter.
-    #[arg(long)]
+    #[arg(long, help_heading = "Filter")]
     pub no_filter: bool,
     /// Filter: smallest cosine between the normals of pixels averaged together.
-    #[arg(long, default_value_t = FilterSettings::default().min_normal_cos, allow_hyphen_values = true)]
+    #[arg(
+        long,
+        default_value_t = FilterSettings::default().min_normal_cos,
+        allow_hyphen_values = true,
+        help_heading = "Filter"
+    )]
     pub filter_normal: f32,
     /// Filter: largest relative depth difference of pixels averaged together.
-    #[arg(long, default_value_t = FilterSettings::default().max_depth_ratio)]
+    #[arg(long, default_value_t = FilterSettings::default().max_depth_ratio, help_heading = "Filter")]
     pub filter_depth: f32,
     /// d_min of the VPL contribution 1/max(d², d_min²) in scene units; 0 turns clamping off.
     /// Default: 2 % of the scene's bounding-box diagonal (5 % with the bias compensation of
     /// `render --frames` above 1, so accumulation converges to the unclamped solution).
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, help_heading = "Instant radiosity")]
     pub clamp: Option<f32>,
     /// Recover the light the clamp removes with short path-traced rays (bias compensation):
     /// nearly unbiased at the clamp's low noise, for about one ray more per pixel. On by
     /// default for `render --frames` above 1.
-    #[arg(long)]
+    #[arg(long, help_heading = "Instant radiosity")]
     pub compensate: bool,
     /// Largest number of mirror and glass bounces followed from the camera.
     // `--specular-depth` is the flag's former name, kept so existing command lines work.
-    #[arg(long, alias = "specular-depth", default_value_t = 5)]
+    #[arg(long, alias = "specular-depth", default_value_t = 5, help_heading = "Instant radiosity")]
     pub specular_bounces: u32,
     /// Largest number of bounces of a light path (each leaves a VPL): 0 is direct light only,
     /// 1 adds one bounce of indirect light.
-    #[arg(long, default_value_t = igi_render::frame::limits::MAX_BOUNCES)]
+    #[arg(long, default_value_t = igi_render::frame::limits::MAX_BOUNCES, help_heading = "Instant radiosity")]
     pub bounces: u32,
     /// Seed of the VPLs and sample patterns (same seed, same image).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, help_heading = "Sampling")]
     pub seed: u32,
     /// Worker threads (0: one per core).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, help_heading = "Performance")]
     pub threads: usize,
     /// Tile edge length in pixels (the image does not depend on it).
-    #[arg(long, default_value_t = 64)]
+    #[arg(long, default_value_t = 64, help_heading = "Performance")]
     pub tile_size: u32,
     /// Scene clock in seconds: animated instances and lights take their pose at this time.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, help_heading = "Animation")]
     pub time: f32,
     /// Do not add a light to a scene whose own lights show nothing of the view (by default a
     /// sun and a sky where the camera stands in the open, else a light at the camera).
-    #[arg(long)]
+    #[arg(long, help_heading = "Instant radiosity")]
     pub no_default_light: bool,
     /// Camera overrides.
-    #[command(flatten)]
+    #[command(flatten, next_help_heading = "Camera")]
     pub camera: crate::camera_args::CameraArgs,
 }
 

@@ -15,25 +15,25 @@ const VIEWER_AA: u32 = 1;
 /// Options of `igi view` and `igi serve`.
 #[derive(Debug, Args)]
 pub struct ViewerArgs {
-    /// Built-in scene name or scene file.
+    /// Built-in scene (listed below) or scene file (.obj, .ply, .gltf, .glb, .toml).
     pub scene: String,
     /// Fixed exposure in stops instead of Reinhard's operator.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, help_heading = "Output")]
     pub exposure: Option<f32>,
     /// Start with the animation clock stopped.
-    #[arg(long)]
+    #[arg(long, help_heading = "Animation")]
     pub paused: bool,
     /// Animation speed: scene seconds per second.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, help_heading = "Animation")]
     pub speed: f32,
     /// Show single frames only (no progressive accumulation while the view is still).
-    #[arg(long)]
+    #[arg(long, help_heading = "Sampling")]
     pub no_accumulate: bool,
     /// Frame options (as for `igi render`; `--aa` defaults to 1 here).
     #[command(flatten)]
     pub frame: FrameArgs,
     /// Cluster options.
-    #[command(flatten)]
+    #[command(flatten, next_help_heading = "Cluster")]
     pub cluster: ClusterArgs,
 }
 

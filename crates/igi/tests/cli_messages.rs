@@ -1,0 +1,119 @@
+//! What the command line tells a new user (issue 18): `render -h` grouped with the built-in
+//! scenes listed, the top-level help naming every command, "did you mean" for a mistyped
+//! built-in and the scene files of a folder, `--listen` with a bare port, logs without colour
+//! codes or times into a pipe, and a single render saying how to converge.
+
+use std::process::{Command, Output};
+
+const IGI: &str = env!("CARGO_BIN_EXE_igi");
+
+fn igi(args: &[&str]) -> Output {
+    // Not a terminal: stdout and stderr are pipes here, as in a script or CI.
+    Command::new(IGI).args(args).output().unwrap()
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8(bytes.to_vec()).unwrap()
+}
+
+#[test]
+fn render_help_is_grouped_and_lists_the_built_in_scenes() {
+    let out = igi(&["render", "-h"]);
+    assert!(out.status.success());
+    let help = text(&out.stdout);
+    let headings =
+        ["Output:", "Sampling:", "Animation:", "Instant radiosity:", "Filter:", "Camera:", "Cluster:"];
+    let mut at = 0;
+    for heading in headings {
+        let found = help[at..]
+            .find(&format!("\n{heading}\n"))
+            .unwrap_or_else(|| panic!("{heading} in order:\n{help}"));
+        at += found + 1;
+    }
+    for (option, heading) in
+        [("--vpls", "Instant radiosity:"), ("--filter-normal", "Filter:"), ("--fov", "Camera:")]
+    {
+        let section = &help[help.find(&format!("\n{heading}\n")).unwrap()..];
+        let section = &section[..section[1..].find("\n\n").map_or(section.len(), |e| e + 1)];
+        assert!(section.contains(option), "{option} under {heading}:\n{help}");
+    }
+    for name in ["cornell-box", "power-plant", "maple-tree", "two-rooms"] {
+        assert!(help.contains(name), "{name} listed:\n{help}");
+    }
+}
+
+#[test]
+fn top_level_help_names_every_command_and_benchmark() {
+    let help = text(&igi(&["--help"]).stdout);
+    for command in ["render", "info", "view", "serve", "worker", "bench"] {
+        assert!(help.contains(&format!("\n  {command} ")), "{command}:\n{help}");
+    }
+    for bench in ["bench frame", "bench rays", "bench quality", "bench scale", "bench cluster"] {
+        assert!(help.contains(bench), "{bench}:\n{help}");
+    }
+}
+
+#[test]
+fn a_mistyped_built_in_gets_did_you_mean_and_the_list() {
+    let out = igi(&["render", "cornel-box", "-o", "unused.png"]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = text(&out.stderr);
+    assert!(err.contains("Did you mean cornell-box?"), "{err}");
+    assert!(err.contains("Built-in scenes: cornell-box, shirley-room"), "{err}");
+    assert_eq!(err.lines().count(), 1, "one line: {err}");
+}
+
+#[test]
+fn a_folder_gets_its_scene_files() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("room.obj"), "v 0 0 0\n").unwrap();
+    let out = igi(&["info", dir.path().to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = text(&out.stderr);
+    assert!(err.contains("is a folder: give one of its scene files (room.obj)"), "{err}");
+}
+
+#[test]
+fn listen_takes_a_bare_port_and_explains_a_bad_one() {
+    let out = igi(&["serve", "cornell-box", "--listen", "localhost"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = text(&out.stderr);
+    assert!(err.contains("expected a port (8080), host:port (localhost:8080)"), "{err}");
+}
+
+#[test]
+fn logs_into_a_pipe_have_no_colour_codes_or_times_and_a_render_says_how_to_converge() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("two-rooms.png");
+    // two-rooms has a light, so no warning; RUST_LOG=info makes the loaders and renderer talk.
+    let out = Command::new(IGI)
+        .args(["render", "two-rooms", "--width", "64", "--height", "48", "-o", png.to_str().unwrap()])
+        .env("RUST_LOG", "info")
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let log = text(&out.stderr);
+    assert!(!log.is_empty(), "RUST_LOG=info logs something");
+    assert!(!log.contains('\u{1b}'), "no ANSI codes into a pipe: {log:?}");
+    for line in log.lines() {
+        assert!(
+            line.trim_start().starts_with("INFO") || line.trim_start().starts_with("WARN"),
+            "no time: {line}"
+        );
+    }
+    let summary = text(&out.stdout);
+    assert!(summary.contains("`--frames 64` averages 64"), "{summary}");
+    let converged = igi(&[
+        "render",
+        "two-rooms",
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--frames",
+        "2",
+        "-o",
+        png.to_str().unwrap(),
+    ]);
+    assert!(!text(&converged.stdout).contains("--frames 64"), "no advice once frames are averaged");
+}
