@@ -61,6 +61,8 @@ pub async fn handle(
     mut frames: watch::Receiver<Option<Arc<EncodedFrame>>>,
     budget: FrameBudget,
 ) {
+    // The session renders while at least one viewer is connected.
+    let _watching = render_loop.watch();
     let (mut sink, mut stream) = socket.split();
     let pending = Arc::new(Mutex::new(Pending::default()));
     // The newest frame goes out at once to a new viewer.

@@ -205,7 +205,8 @@ pub fn run(session: Session, listen: SocketAddr, limits: Limits) -> anyhow::Resu
                 "listening on {address}: anyone who can reach it can watch and steer this session"
             );
         }
-        let render_loop = Arc::new(RenderLoop::spawn(session));
+        // Nothing is rendered while no browser is connected.
+        let render_loop = Arc::new(RenderLoop::spawn_on_demand(session));
         serve(render_loop, listener, limits, stop_signal()).await.context("the server failed")
     })
 }

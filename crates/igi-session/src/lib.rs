@@ -24,6 +24,6 @@ pub mod settings;
 pub use camera_control::CameraController;
 pub use frame_source::{FrameSource, SourceError};
 pub use input::{Button, CameraMode, Input, Key};
-pub use render_loop::{LatestFrame, RenderLoop};
+pub use render_loop::{LatestFrame, RenderLoop, Watching};
 pub use session::{Frame, FrameStats, Session};
 pub use settings::ViewSettings;

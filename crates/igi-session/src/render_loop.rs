@@ -9,6 +9,9 @@
 //! length finish (a user dragging the view still sees every frame), while a frame of minutes
 //! that new settings started gives way to the next input within a tile. Dropping the loop
 //! cancels the frame in progress the same way.
+//!
+//! A loop started with [`RenderLoop::spawn_on_demand`] renders only while someone watches
+//! ([`RenderLoop::watch`]): a server with no browser connected does not spend its cores.
 
 use crate::frame_source::SourceError;
 use crate::input::Input;
@@ -83,6 +86,8 @@ struct State {
     frame: Option<FrameInFlight>,
     /// The loop waits for input with nothing to render.
     idle: bool,
+    /// Viewers watching a loop that renders on demand; `None` for a loop that always renders.
+    watchers: Option<usize>,
     /// The loop is asked to end.
     stop: bool,
     /// The render thread has ended (and dropped the session).
@@ -102,10 +107,46 @@ impl Shared {
     }
 }
 
+/// A viewer watching a [`RenderLoop`]; the loop stops rendering when the last one is dropped.
+#[derive(Debug)]
+pub struct Watching {
+    shared: Arc<Shared>,
+}
+
+impl Drop for Watching {
+    fn drop(&mut self) {
+        if let Some(n) = &mut self.shared.lock().watchers {
+            *n -= 1;
+        }
+        self.shared.changed.notify_all();
+    }
+}
+
 impl RenderLoop {
     /// Starts rendering `session` on a new thread.
     pub fn spawn(session: Session) -> Self {
+        Self::start(session, None)
+    }
+
+    /// Starts `session` on a new thread that renders only while at least one [`Watching`]
+    /// from [`RenderLoop::watch`] is alive. Inputs are taken all the same, so a viewer that
+    /// comes sees the session as the others left it.
+    pub fn spawn_on_demand(session: Session) -> Self {
+        Self::start(session, Some(0))
+    }
+
+    /// Marks a viewer as watching until the returned guard is dropped.
+    pub fn watch(&self) -> Watching {
+        if let Some(n) = &mut self.shared.lock().watchers {
+            *n += 1;
+        }
+        self.shared.changed.notify_all();
+        Watching { shared: self.shared.clone() }
+    }
+
+    fn start(session: Session, watchers: Option<usize>) -> Self {
         let shared = Arc::new(Shared::default());
+        shared.lock().watchers = watchers;
         let latest = Arc::new(LatestFrame::default());
         let thread = {
             let (shared, latest) = (shared.clone(), latest.clone());
@@ -141,7 +182,8 @@ impl RenderLoop {
     }
 
     /// True while the loop waits for input with nothing to render (a still view whose
-    /// accumulation is off or complete): no newer frame comes until an input arrives.
+    /// accumulation is off or complete, or nobody watching a loop that renders on demand): no
+    /// newer frame comes until an input or a viewer arrives.
     pub fn is_idle(&self) -> bool {
         self.shared.lock().idle
     }
@@ -196,11 +238,14 @@ fn run(mut session: Session, shared: &Shared, latest: &LatestFrame) {
             state = shared.lock();
             continue;
         }
-        if !session.needs_frame() {
+        let needs_frame = session.needs_frame();
+        if !needs_frame || state.watchers == Some(0) {
             state.idle = true;
             state = shared
                 .changed
-                .wait_while(state, |s| s.inputs.is_empty() && !s.stop)
+                .wait_while(state, |s| {
+                    s.inputs.is_empty() && !s.stop && !(needs_frame && s.watchers != Some(0))
+                })
                 .unwrap_or_else(|e| e.into_inner());
             state.idle = false;
             // Idle time is not animation time.

@@ -172,6 +172,35 @@ fn the_render_loop_delivers_newest_frames_with_their_inputs() {
     assert!(errors.iter().any(|e| e.contains("aa")), "{errors:?}");
 }
 
+#[test]
+fn an_on_demand_loop_renders_only_while_watched() {
+    // The animated room playing without accumulation: an always-rendering loop never idles.
+    let session = session("animated-room", |s| {
+        s.accumulate = false;
+        s.playing = true;
+    });
+    let render_loop = RenderLoop::spawn_on_demand(session);
+    assert!(render_loop.latest().wait_newer(0, Duration::from_millis(500)).is_none(), "nobody watches yet");
+    let watching = render_loop.watch();
+    let first = render_loop.latest().wait_newer(0, Duration::from_secs(30)).expect("a frame once watched");
+    let later =
+        render_loop.latest().wait_newer(first.stats.id, Duration::from_secs(30)).expect("frames go on");
+    // Inputs are taken while nobody watches; the frame in flight may still come.
+    drop(watching);
+    let last = render_loop.latest().wait_newer(later.stats.id, Duration::from_millis(500)).unwrap_or(later);
+    assert!(
+        render_loop.latest().wait_newer(last.stats.id, Duration::from_millis(500)).is_none(),
+        "no frames once the last viewer has gone"
+    );
+    assert!(render_loop.is_idle());
+    let again = render_loop.watch();
+    render_loop
+        .latest()
+        .wait_newer(last.stats.id, Duration::from_secs(30))
+        .expect("frames when a viewer comes back");
+    drop(again);
+}
+
 /// The probe's settings, whose frame takes minutes on two threads: 3840x2160 pixels, each with
 /// 64 primary rays and 4096 VPLs (about 2 · 10¹⁰ rays on the Cornell box, 57 Mrays/s per idle
 /// core; one 64-pixel tile is 1/2040 of it).

@@ -52,7 +52,7 @@ pub fn start_with(width: u32, height: u32, limits: igi_serve::Limits) -> TestSer
         runtime.block_on(async move {
             let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
             ready.send(listener.local_addr().unwrap()).unwrap();
-            let render_loop = Arc::new(RenderLoop::spawn(session));
+            let render_loop = Arc::new(RenderLoop::spawn_on_demand(session));
             igi_serve::serve(render_loop, listener, limits, async {
                 let _ = stopped.await;
             })
