@@ -3,7 +3,8 @@
 // The server (started by crates/igi-serve/tests/browser.rs) shows the animated room paused,
 // without accumulation, so a frame changes only when an input changes it.
 //
-// Checks: a non-blank frame arrives; a mouse drag over the image turns the view (the next
+// Checks: on a 1920x1080 page the image fills the area beside the panel, rendered at that
+// size times the resolution scale (auto, full, 1/4); a non-blank frame arrives; a mouse drag over the image turns the view (the next
 // frame differs); a setting changed in the side panel comes back in the frames' settings and
 // changes the image (the filter off; the wide filter's strength K 3 -> 1); and, with the
 // animation playing, the latency from an input event to the first frame drawn with it is at
@@ -26,7 +27,8 @@ const browser = await chromium.launch({
 const fail = async (e) => { console.error(e); await browser.close(); process.exit(1); };
 process.on("unhandledRejection", fail);
 
-const page = await browser.newPage();
+// A full-HD page: the image must fill the area beside the panel (issue 18).
+const page = await browser.newPage({ viewport: { width: 1920, height: 1080 } });
 page.on("console", (m) => console.log(`page: ${m.text()}`));
 await page.goto(url);
 
@@ -43,8 +45,29 @@ const pixels = () => page.evaluate(() => {
 });
 const waitFor = (predicate, arg) => page.waitForFunction(predicate, arg, { timeout: 30000 });
 
-// 1. A non-blank frame.
+// 1. A non-blank frame that fills the view: rendered at the view's size times the resolution
+// scale ("auto": half of 1650x1064 here), drawn over the whole area beside the panel.
 await waitFor(() => window.__igi.frames > 0);
+const fill = async () => {
+  await waitFor(() => window.__igi.wanted !== null &&
+    window.__igi.header.stats.width === window.__igi.wanted[0] && window.__igi.header.stats.height === window.__igi.wanted[1]);
+  return page.evaluate(() => {
+    const v = document.getElementById("view").getBoundingClientRect();
+    const c = document.getElementById("image").getBoundingClientRect();
+    return { view: [v.width, v.height], shown: [c.width, c.height], frame: window.__igi.wanted };
+  });
+};
+let fit = await fill();
+console.log(`1920x1080 page: view ${fit.view}, image shown at ${fit.shown}, rendered at ${fit.frame}`);
+assert.ok(fit.shown[0] >= fit.view[0] - 24 && fit.shown[1] >= fit.view[1] - 24, "the image fills the view");
+assert.ok(fit.frame[0] >= 400 && fit.frame[0] * fit.frame[1] <= 640 * 480 * 2, "auto scale: large, within its pixel bound");
+await page.locator("#scale").selectOption("1");
+fit = await fill();
+assert.ok(Math.abs(fit.frame[0] - fit.shown[0]) <= 2, `full resolution: one image pixel per screen pixel (${fit.frame} shown at ${fit.shown})`);
+// A quarter of it for the rest of the test: fast frames on a 2-core machine.
+await page.locator("#scale").selectOption("0.25");
+fit = await fill();
+assert.ok(Math.abs(4 * fit.frame[0] - fit.shown[0]) <= 8, `1/4: ${fit.frame} shown at ${fit.shown}`);
 const first = await pixels();
 assert.ok(first.spread > 5, `the first frame is not blank (spread ${first.spread})`);
 console.log(`first frame ${first.width}x${first.height}, spread ${first.spread.toFixed(1)}`);
