@@ -1,7 +1,9 @@
 //! [`ViewerApp`]: the eframe application. The UI thread never renders: a small waker thread
 //! waits for the render loop's next frame and asks egui to repaint, and a repaint uploads the
 //! newest frame into one texture. So the window shows every frame it can and the renderer
-//! never waits for the display.
+//! never waits for the display. The frame fills the area beside the panel; when that area or
+//! the resolution changes and stays so for [`RESIZE_SETTLE`], the session is asked for frames
+//! of the new size.
 
 use crate::ViewOptions;
 use crate::panel::{self, Panel};
@@ -10,10 +12,14 @@ use igi_session::{Button, Frame, Input, RenderLoop};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 /// Wheel points per scroll notch (egui reports a notch of a line as 50 points).
 const POINTS_PER_NOTCH: f32 = 50.0;
+
+/// How long a new image-area size must hold before the session renders at it: dragging a
+/// window's edge passes through many sizes, and each new size restarts the frame.
+const RESIZE_SETTLE: Duration = Duration::from_millis(120);
 
 /// The window.
 pub struct ViewerApp {
@@ -29,6 +35,9 @@ pub struct ViewerApp {
     closing: bool,
     panel: Panel,
     waker_stop: Arc<AtomicBool>,
+    /// The render size asked for last, and the size waiting to settle with when it was seen.
+    asked: Option<[u32; 2]>,
+    settling: Option<([u32; 2], Instant)>,
 }
 
 impl ViewerApp {
@@ -55,15 +64,46 @@ impl ViewerApp {
         }
         Self {
             render_loop,
-            options,
             texture: None,
             shown: None,
             frames_shown: 0,
             first_shown: None,
             screenshot_requested: false,
             closing: false,
-            panel: Panel::default(),
+            panel: Panel::new(options.resolution),
+            options,
             waker_stop,
+            asked: None,
+            settling: None,
+        }
+    }
+
+    /// Asks the session for frames of the size the image area and the resolution call for,
+    /// once that size has held for [`RESIZE_SETTLE`].
+    fn follow_area(&mut self, ctx: &egui::Context, area: egui::Vec2) {
+        let Some(frame) = &self.shown else { return };
+        let wanted = self.panel.resolution.render_size([area.x, area.y]);
+        let current = [frame.stats.settings.width, frame.stats.settings.height];
+        if self.asked.unwrap_or(current) == wanted {
+            self.settling = None;
+            return;
+        }
+        match self.settling {
+            Some((size, since)) if size == wanted && since.elapsed() >= RESIZE_SETTLE => {
+                let settings = igi_session::ViewSettings {
+                    width: wanted[0],
+                    height: wanted[1],
+                    ..frame.stats.settings.clone()
+                };
+                self.render_loop.send(Input::Settings { settings });
+                self.asked = Some(wanted);
+                self.settling = None;
+            }
+            Some((size, _)) if size == wanted => ctx.request_repaint_after(RESIZE_SETTLE),
+            _ => {
+                self.settling = Some((wanted, Instant::now()));
+                ctx.request_repaint_after(RESIZE_SETTLE);
+            }
         }
     }
 
@@ -75,9 +115,11 @@ impl ViewerApp {
         }
         let size = [frame.stats.width as usize, frame.stats.height as usize];
         let image = ColorImage::from_rgb(size, frame.image.srgb8());
+        // Scaled up (a resolution below full), the image is interpolated; at full resolution
+        // one texel is one window pixel either way.
         match &mut self.texture {
-            Some(texture) => texture.set(image, TextureOptions::NEAREST),
-            None => self.texture = Some(ctx.load_texture("frame", image, TextureOptions::NEAREST)),
+            Some(texture) => texture.set(image, TextureOptions::LINEAR),
+            None => self.texture = Some(ctx.load_texture("frame", image, TextureOptions::LINEAR)),
         }
         self.frames_shown += 1;
         self.first_shown.get_or_insert_with(std::time::Instant::now);
@@ -101,9 +143,12 @@ impl ViewerApp {
             }
         }
         if response.clicked() {
-            if let Some(pos) = response.interact_pointer_pos() {
+            if let (Some(pos), Some(frame)) = (response.interact_pointer_pos(), &self.shown) {
+                // Window pixels to image pixels: the image is scaled to the rectangle.
                 let p = pos - response.rect.min;
-                send(Input::Pick { x: p.x, y: p.y });
+                let x = p.x * frame.stats.width as f32 / response.rect.width();
+                let y = p.y * frame.stats.height as f32 / response.rect.height();
+                send(Input::Pick { x, y });
             }
         }
         if response.hovered() {
@@ -171,6 +216,12 @@ impl ViewerApp {
     /// True once `--exit-after-frames` frames were shown, or fewer if the renderer has
     /// nothing more to render (a still view without accumulation renders one frame).
     fn enough_frames(&self, ctx: &egui::Context) -> bool {
+        // A frame of the image area's size is on its way.
+        let shown = self.shown.as_ref().map(|f| [f.stats.width, f.stats.height]);
+        if self.settling.is_some() || self.asked.is_some_and(|size| Some(size) != shown) {
+            ctx.request_repaint_after(Duration::from_millis(50));
+            return false;
+        }
         let wanted = self.options.exit_after_frames.unwrap_or(1);
         if self.frames_shown >= wanted {
             return true;
@@ -206,13 +257,16 @@ impl ViewerApp {
             return;
         };
         let rgb: Vec<u8> = shot.pixels.iter().flat_map(|c| [c.r(), c.g(), c.b()]).collect();
+        let frame = self.shown.as_ref().map_or([0, 0], |f| [f.stats.width, f.stats.height]);
         match save_png(&path, &rgb, shot.size[0] as u32, shot.size[1] as u32) {
             Ok(()) => println!(
-                "image at {},{} size {}x{} in window screenshot {}x{} -> {}",
-                image_rect.min.x.round(),
-                image_rect.min.y.round(),
-                image_rect.width().round(),
-                image_rect.height().round(),
+                "image at {},{} size {}x{} from a {}x{} frame in window screenshot {}x{} -> {}",
+                image_rect.min.x.round() as i32,
+                image_rect.min.y.round() as i32,
+                image_rect.width().round() as i32,
+                image_rect.height().round() as i32,
+                frame[0],
+                frame[1],
                 shot.size[0],
                 shot.size[1],
                 path.display()
@@ -238,13 +292,21 @@ impl eframe::App for ViewerApp {
             }
         });
         let mut image_rect = egui::Rect::NOTHING;
+        let mut area = egui::Vec2::ZERO;
         egui::CentralPanel::default().frame(egui::Frame::NONE).show(ctx, |ui| {
+            area = ui.available_size();
             if let Some(texture) = &self.texture {
-                let response = ui.add(egui::Image::new(texture).sense(Sense::click_and_drag()));
+                // The frame scaled to fill the area, keeping its aspect (it has the area's
+                // once a frame of the new size comes).
+                let size = texture.size_vec2();
+                let fit = size * (area.x / size.x).min(area.y / size.y);
+                let image = egui::Image::new(texture).fit_to_exact_size(fit.floor());
+                let response = ui.add(image.sense(Sense::click_and_drag()));
                 image_rect = response.rect;
                 self.handle_input(ctx, &response);
             }
         });
+        self.follow_area(ctx, area);
         self.screenshot(ctx, image_rect);
         if self.options.screenshot.is_none()
             && self.options.exit_after_frames.is_some()

@@ -1,15 +1,18 @@
 //! `igi view`: a native window on an [`igi_session::Session`], with eframe/egui on OpenGL
 //! (glow). The session renders on its own thread ([`igi_session::RenderLoop`]); the window
-//! shows the newest frame 1:1 at its top-left corner, turns mouse and keys into
+//! shows the newest frame over the area beside the panel, rendered at that area's size times
+//! the [`resolution::Resolution`], turns mouse and keys into
 //! [`igi_session::Input`]s, and has a side panel with the settings, the statistics and a
 //! frame-time plot.
 //!
 //! - [`app`]: the eframe application (image, input, screenshots, F12 snapshots).
 //! - [`panel`]: the side panel (settings widgets, statistics, plot).
+//! - [`resolution`]: the render size for the image area.
 //! - `signals` (Unix): SIGINT and SIGTERM close the window.
 
 pub mod app;
 pub mod panel;
+pub mod resolution;
 #[cfg(unix)]
 pub mod signals;
 
@@ -17,6 +20,10 @@ use anyhow::{Context, Result, bail};
 use igi_session::{RenderLoop, Session};
 use std::path::PathBuf;
 use std::sync::Arc;
+
+/// The default inner size of the window: the whole panel shows, and the image area beside it
+/// is 920x760.
+pub const DEFAULT_WINDOW: [u32; 2] = [1200, 760];
 
 /// How `igi view` runs.
 #[derive(Clone, Debug, Default)]
@@ -28,6 +35,11 @@ pub struct ViewOptions {
     pub exit_after_frames: Option<u32>,
     /// The window title.
     pub title: String,
+    /// The window's inner size in pixels; `None`: the default, [`DEFAULT_WINDOW`] or larger to
+    /// hold the session's starting image beside the panel.
+    pub window_size: Option<[u32; 2]>,
+    /// The render size for the image area, until changed in the panel.
+    pub resolution: resolution::Resolution,
 }
 
 /// Opens the window on `session` and runs until it is closed (or SIGINT or SIGTERM closes it).
@@ -45,8 +57,11 @@ pub fn run(session: Session, options: ViewOptions) -> Result<()> {
         );
     }
     let settings = session.settings();
-    let size =
-        [(settings.width + panel::WIDTH as u32) as f32, settings.height.max(panel::MIN_HEIGHT as u32) as f32];
+    let size = options.window_size.unwrap_or([
+        (settings.width + panel::WIDTH as u32).max(DEFAULT_WINDOW[0]),
+        settings.height.max(DEFAULT_WINDOW[1]),
+    ]);
+    let size = size.map(|s| s as f32);
     let render_loop = Arc::new(RenderLoop::spawn(session));
     let native = eframe::NativeOptions {
         viewport: eframe::egui::ViewportBuilder::default().with_inner_size(size).with_title(&options.title),

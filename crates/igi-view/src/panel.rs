@@ -2,6 +2,7 @@
 //! change goes out as one [`Input::Settings`]), the camera mode, the statistics of the shown
 //! frame and a plot of the last frame times.
 
+use crate::resolution::Resolution;
 use eframe::egui::{self, DragValue, Ui};
 use igi_render::frame::limits::MAX_BOUNCES;
 use igi_session::{CameraMode, Frame, FrameStats, Input};
@@ -10,8 +11,6 @@ use std::time::Instant;
 
 /// Width of the panel, points.
 pub const WIDTH: f32 = 280.0;
-/// Smallest window height that shows the whole panel.
-pub const MIN_HEIGHT: f32 = 640.0;
 /// Frame times kept for the plot.
 const HISTORY: usize = 120;
 
@@ -20,11 +19,18 @@ const HISTORY: usize = 120;
 pub struct Panel {
     /// A line for the user (a saved snapshot, a refused setting).
     pub message: String,
+    /// The render size for the image area (the window's, not the session's).
+    pub resolution: Resolution,
     frame_ms: VecDeque<f32>,
     shown_at: VecDeque<Instant>,
 }
 
 impl Panel {
+    /// A panel starting at `resolution`.
+    pub fn new(resolution: Resolution) -> Self {
+        Self { resolution, ..Self::default() }
+    }
+
     /// Records a newly shown frame (for the plot and the window's frame rate).
     pub fn frame_shown(&mut self, stats: &FrameStats) {
         if self.frame_ms.len() == HISTORY {
@@ -105,6 +111,19 @@ impl Panel {
             }
             s.exposure = fixed.then_some(stops);
             ui.checkbox(&mut s.accumulate, "accumulate while still");
+            ui.horizontal(|ui| {
+                ui.label("resolution");
+                egui::ComboBox::from_id_salt("resolution").selected_text(self.resolution.to_string()).show_ui(
+                    ui,
+                    |ui| {
+                        for r in Resolution::ALL {
+                            ui.selectable_value(&mut self.resolution, r, r.to_string());
+                        }
+                    },
+                );
+            })
+            .response
+            .on_hover_text("the image is rendered at the size of the area beside the panel times this; auto: full, or less so that it has at most 614,400 pixels");
             ui.heading("Animation");
             ui.checkbox(&mut s.playing, "play");
             row(

@@ -28,7 +28,7 @@ pub struct FrameArgs {
     #[arg(long, default_value_t = 12, help_heading = "Instant radiosity")]
     pub vpls: u32,
     /// Interleave pattern NxM: the frame has N·M VPL sets, one per pixel of every NxM block.
-    #[arg(long, default_value = "3x3", value_parser = parse_interleave, help_heading = "Instant radiosity")]
+    #[arg(long, default_value = "3x3", value_parser = parse_nxm, help_heading = "Instant radiosity")]
     pub interleave: [u32; 2],
     /// Wide filter: a second level of interleaving K times coarser, merged by a second filter
     /// level over K×K blocks of NxM pixels, so each pixel's light is averaged from N·M·K² VPL
@@ -94,8 +94,8 @@ pub struct FrameArgs {
     pub camera: crate::camera_args::CameraArgs,
 }
 
-/// Parses `NxM` into `[N, M]`.
-pub fn parse_interleave(s: &str) -> Result<[u32; 2], String> {
+/// Parses `NxM` (an interleave pattern, a window size) into `[N, M]`.
+pub fn parse_nxm(s: &str) -> Result<[u32; 2], String> {
     let bad = || format!("{s:?} is not NxM with two whole numbers, e.g. 3x3");
     let (n, m) = s.split_once(['x', 'X']).ok_or_else(bad)?;
     let n = n.trim().parse::<u32>().map_err(|_| bad())?;
@@ -176,10 +176,10 @@ mod tests {
 
     #[test]
     fn interleave_patterns() {
-        assert_eq!(parse_interleave("3x3"), Ok([3, 3]));
-        assert_eq!(parse_interleave("4X2"), Ok([4, 2]));
-        assert!(parse_interleave("3").is_err());
-        assert!(parse_interleave("ax3").is_err());
-        assert!(parse_interleave("-1x3").is_err());
+        assert_eq!(parse_nxm("3x3"), Ok([3, 3]));
+        assert_eq!(parse_nxm("4X2"), Ok([4, 2]));
+        assert!(parse_nxm("3").is_err());
+        assert!(parse_nxm("ax3").is_err());
+        assert!(parse_nxm("-1x3").is_err());
     }
 }
