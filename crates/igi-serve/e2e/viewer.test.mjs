@@ -115,6 +115,45 @@ console.log(`wide filter K 3 -> 1: pixel sum ${wide.sum} -> ${narrow.sum}`);
 await waitFor(() => window.__igi.kind === "png");
 console.log("still view: lossless PNG frame received");
 
+// Help (issue 18): H shows the keys and mouse over the image, H again hides it; the camera
+// mode is always in sight.
+assert.match(await page.locator("#hint").textContent(), /^fly: WASD/);
+assert.equal(await page.locator("#help").isVisible(), false);
+await page.locator("#image").focus();
+await page.keyboard.press("h");
+assert.equal(await page.locator("#help").isVisible(), true, "H shows the help");
+assert.match(await page.locator("#help").textContent(), /right-drag\s*moves the selected object/);
+await page.keyboard.press("h");
+assert.equal(await page.locator("#help").isVisible(), false, "H hides it again");
+
+// Convergence (issue 18): accumulating with a target of 3 frames, the page says "converged"
+// and the session renders nothing more.
+await page.locator("#converge_frames").fill("3");
+await page.locator("#converge_frames").dispatchEvent("change");
+await waitFor(() => window.__igi.header.stats.settings.converge_frames === 3);
+await page.locator("#accumulate").click();
+await waitFor(() => window.__igi.header.stats.converged === true);
+const badge = await page.locator("#convergence").textContent();
+assert.match(badge, /^converged: 3 frames in /, badge);
+const convergedId = (await header()).stats.id;
+await page.waitForTimeout(600);
+assert.equal((await header()).stats.id, convergedId, "no frames once converged");
+console.log(`convergence: "${badge}", no frame after it`);
+
+// An invalid value in the panel: refused in the panel's words at once (the view is still, so
+// no frame would carry it), and gone once the value is fixed.
+await page.locator("#vpls_per_pixel").fill("0");
+await page.locator("#vpls_per_pixel").dispatchEvent("change");
+await waitFor(() => document.getElementById("status").textContent.startsWith("VPLs per pixel: "));
+const refusal = await page.locator("#status").textContent();
+await page.locator("#vpls_per_pixel").fill("12");
+await page.locator("#vpls_per_pixel").dispatchEvent("change");
+await page.waitForTimeout(300);
+assert.equal(await page.locator("#status").textContent(), "", "the message goes once the value is fixed");
+console.log(`invalid value: "${refusal}", cleared once fixed`);
+await page.locator("#accumulate").click();
+await waitFor(() => window.__igi.header.stats.settings.accumulate === false);
+
 // 4. Latency with the animation playing (the renderer is always busy with a frame).
 await page.locator("#playing").click();
 await waitFor(() => window.__igi.header.stats.settings.playing === true);

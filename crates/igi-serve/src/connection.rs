@@ -6,11 +6,11 @@ use crate::budget::FrameBudget;
 use crate::encoder::EncodedFrame;
 use axum::extract::ws::{CloseFrame, Message, WebSocket, close_code};
 use futures_util::{SinkExt, StreamExt};
-use igi_session::{FrameStats, Input, RenderLoop};
+use igi_session::{FrameStats, Input, RenderLoop, ViewSettings};
 use serde::{Deserialize, Serialize};
 use std::collections::VecDeque;
 use std::sync::{Arc, Mutex};
-use tokio::sync::watch;
+use tokio::sync::{Notify, watch};
 
 /// Longest message a client may send; input messages are a few hundred bytes.
 pub const MAX_MESSAGE_BYTES: usize = 16 * 1024;
@@ -65,11 +65,13 @@ pub async fn handle(
     let _watching = render_loop.watch();
     let (mut sink, mut stream) = socket.split();
     let pending = Arc::new(Mutex::new(Pending::default()));
+    let refusal = Arc::new(Notify::new());
     // The newest frame goes out at once to a new viewer.
     frames.mark_changed();
 
     let receive = {
         let pending = pending.clone();
+        let refusal = refusal.clone();
         async move {
             while let Some(message) = stream.next().await {
                 let text = match message {
@@ -96,11 +98,14 @@ pub async fn handle(
                 if let Input::Settings { settings } = &message.input {
                     // Refused here, so the error reaches the connection that sent them.
                     let refused = match settings.validate() {
-                        Err(e) => Some(e.to_string()),
+                        Err(e) => Some(ViewSettings::panel_message(&e)),
                         Ok(()) => budget.check(settings).err().map(|e| e.to_string()),
                     };
                     if let Some(why) = refused {
                         lock(&pending).errors.push(why);
+                        // Said at once, with the newest frame again: a still view renders
+                        // no frame that could carry it.
+                        refusal.notify_one();
                         continue;
                     }
                 }
@@ -118,7 +123,11 @@ pub async fn handle(
     };
 
     let send = async {
-        while frames.changed().await.is_ok() {
+        loop {
+            tokio::select! {
+                changed = frames.changed() => if changed.is_err() { return },
+                () = refusal.notified() => {}
+            }
             let Some(frame) = frames.borrow_and_update().clone() else { continue };
             let (acked, errors) = {
                 let mut p = lock(&pending);

@@ -232,7 +232,7 @@ fn run(mut session: Session, shared: &Shared, latest: &LatestFrame) {
             drop(state);
             for input in &inputs {
                 if let Err(e) = session.handle(input) {
-                    shared.lock().errors.push(e.to_string());
+                    shared.lock().errors.push(crate::ViewSettings::panel_message(&e));
                 }
             }
             state = shared.lock();

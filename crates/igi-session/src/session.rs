@@ -33,6 +33,12 @@ pub struct FrameStats {
     pub time: f32,
     /// Frames in the image's mean (1 right after a change).
     pub accumulated: u32,
+    /// Render time of the frames in the image's mean, seconds.
+    pub accumulated_seconds: f64,
+    /// The image is the mean of as many frames as the settings' convergence target asks
+    /// ([`ViewSettings::converge_frames`], [`ViewSettings::converge_seconds`]): nothing more
+    /// is rendered until something changes.
+    pub converged: bool,
     /// Wall time of this frame: posing the scene and rendering, ms.
     pub render_ms: f64,
     /// Frames per second of the session (a running average over the last frames).
@@ -51,6 +57,8 @@ pub struct FrameStats {
     pub height: u32,
     /// The selected instance.
     pub selected: Option<u32>,
+    /// Its mesh's name from the scene's file (`instance N` for a mesh without one).
+    pub selected_name: Option<String>,
     /// The settings the frame was rendered with.
     pub settings: ViewSettings,
     /// The camera mode.
@@ -77,6 +85,8 @@ pub struct Session {
     fly_speed: f32,
     settings: ViewSettings,
     progressive: Progressive,
+    /// Render time of the frames in `progressive`, seconds.
+    accumulated_seconds: f64,
     clock: f32,
     /// The selected instance and the distance at which it was picked (sets the drag scale).
     selected: Option<(u32, f32)>,
@@ -119,6 +129,7 @@ impl Session {
             home: camera,
             fly_speed,
             progressive: Progressive::new(settings.tone_map()),
+            accumulated_seconds: 0.0,
             settings,
             clock: 0.0,
             selected: None,
@@ -172,12 +183,23 @@ impl Session {
     }
 
     /// True if the next frame would show something new: a change is pending, something moves,
-    /// or the accumulation has not reached its end.
+    /// or the accumulation has not converged.
     pub fn needs_frame(&self) -> bool {
         self.changed
             || self.is_animating()
             || self.controller.is_moving()
-            || (self.settings.accumulate && self.progressive.frames() < MAX_ACCUMULATION)
+            || (self.settings.accumulate && !self.converged())
+    }
+
+    /// True once a still view has accumulated the frames, or the render time, its settings
+    /// ask for.
+    fn converged(&self) -> bool {
+        let s = &self.settings;
+        let frames = self.progressive.frames();
+        frames >= s.converge_frames.min(MAX_ACCUMULATION)
+            || (s.converge_seconds > 0.0
+                && frames > 0
+                && self.accumulated_seconds >= f64::from(s.converge_seconds))
     }
 
     /// Applies an input. Invalid settings are refused (the error names the field) and change
@@ -268,6 +290,7 @@ impl Session {
         let changed = std::mem::take(&mut self.changed);
         if changed {
             self.progressive.reset();
+            self.accumulated_seconds = 0.0;
         }
 
         let mut settings = self.settings.igi();
@@ -302,6 +325,7 @@ impl Session {
         let Shown { image, .. } = self.progressive.show();
 
         let elapsed = start.elapsed().as_secs_f64();
+        self.accumulated_seconds += elapsed;
         let now = Instant::now();
         if let Some(last) = self.last_frame_end.replace(now) {
             let interval = now.duration_since(last).as_secs_f64().max(1e-6);
@@ -321,6 +345,8 @@ impl Session {
             input_seq: self.inputs,
             time: self.clock,
             accumulated: self.progressive.frames().max(1),
+            accumulated_seconds: self.accumulated_seconds,
+            converged: self.settings.accumulate && !self.needs_frame(),
             render_ms: elapsed * 1e3,
             fps: self.fps,
             phases_ms,
@@ -330,6 +356,13 @@ impl Session {
             width: settings.width,
             height: settings.height,
             selected: self.selected.map(|(i, _)| i),
+            selected_name: self.selected.map(|(i, _)| {
+                let mesh = self.scene.accel().instance_mesh(i) as usize;
+                match self.scene.meshes().get(mesh).map(|m| m.name.as_str()) {
+                    Some(name) if !name.is_empty() => name.to_string(),
+                    _ => format!("instance {i}"),
+                }
+            }),
             settings: self.settings.clone(),
             mode: self.controller.mode(),
         };

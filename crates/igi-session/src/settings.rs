@@ -10,6 +10,11 @@ use serde::{Deserialize, Serialize};
 pub const MAX_SPEED: f32 = 100.0;
 /// Largest number of frames a still view accumulates (then rendering pauses).
 pub const MAX_ACCUMULATION: u32 = 4096;
+/// Default of [`ViewSettings::converge_frames`]: as many frames as `igi render --frames 64`
+/// averages for a converged image.
+pub const DEFAULT_CONVERGE_FRAMES: u32 = 64;
+/// Largest [`ViewSettings::converge_seconds`]: a day.
+pub const MAX_CONVERGE_SECONDS: f32 = 86_400.0;
 /// Largest image of a viewer (a 4K UHD frame): a viewer keeps a few images of this size.
 pub const MAX_PIXELS: u64 = 3840 * 2160;
 
@@ -49,6 +54,11 @@ pub struct ViewSettings {
     pub key: f32,
     /// Average frames while nothing changes (progressive convergence).
     pub accumulate: bool,
+    /// A still view is converged, and rendering stops, after this many frames
+    /// (1 ..= [`MAX_ACCUMULATION`]).
+    pub converge_frames: u32,
+    /// ... or once its frames took this many seconds to render (0: no time limit).
+    pub converge_seconds: f32,
     /// The animation clock runs.
     pub playing: bool,
     /// Clock speed: scene seconds per wall-clock second.
@@ -76,6 +86,8 @@ impl ViewSettings {
             exposure: None,
             key: igi_render::tonemap::DEFAULT_KEY,
             accumulate: true,
+            converge_frames: DEFAULT_CONVERGE_FRAMES,
+            converge_seconds: 0.0,
             playing: true,
             speed: 1.0,
         }
@@ -127,6 +139,44 @@ impl ViewSettings {
         if !(self.speed.is_finite() && (0.0..=MAX_SPEED).contains(&self.speed)) {
             return err("speed", format!("{} is not between 0 and {MAX_SPEED}", self.speed));
         }
+        if !(1..=MAX_ACCUMULATION).contains(&self.converge_frames) {
+            return err(
+                "converge-frames",
+                format!("{} is not between 1 and {MAX_ACCUMULATION}", self.converge_frames),
+            );
+        }
+        if !(self.converge_seconds.is_finite()
+            && (0.0..=MAX_CONVERGE_SECONDS).contains(&self.converge_seconds))
+        {
+            return err(
+                "converge-seconds",
+                format!("{} is not between 0 and {MAX_CONVERGE_SECONDS}", self.converge_seconds),
+            );
+        }
         Ok(())
+    }
+
+    /// `error` as the viewers' panels say it: the field by its label there, not by the
+    /// command-line flag `SettingsError` names.
+    pub fn panel_message(error: &SettingsError) -> String {
+        let label = match error.field {
+            "width" | "height" => "image size",
+            "vpls" => "VPLs per pixel",
+            "interleave" => "interleave n × m",
+            "coarse-interleave" => "wide filter K",
+            "aa" => "AA samples",
+            "clamp" => "clamp d_min",
+            "specular-bounces" => "specular bounces",
+            "bounces" => "light bounces",
+            "filter-normal" => "normal cosine",
+            "filter-depth" => "depth ratio",
+            "exposure" => "exposure (stops)",
+            "key" => "Reinhard key",
+            "speed" => "speed",
+            "converge-frames" => "converged after frames",
+            "converge-seconds" => "or after seconds",
+            other => other,
+        };
+        format!("{label}: {}", error.message)
     }
 }

@@ -6,6 +6,7 @@
 use glam::Vec3;
 use igi_render::path_tracer::render_path_traced;
 use igi_render::{CancelToken, Film, FrameOutput, FrameRenderer, FrameState, PreparedScene};
+use igi_session::settings::MAX_ACCUMULATION;
 use igi_session::{Button, FrameSource, Input, RenderLoop, Session, SourceError, ViewSettings};
 use std::time::Duration;
 
@@ -169,7 +170,10 @@ fn the_render_loop_delivers_newest_frames_with_their_inputs() {
         std::thread::sleep(Duration::from_millis(10));
         errors = render_loop.take_errors();
     }
-    assert!(errors.iter().any(|e| e.contains("aa")), "{errors:?}");
+    assert!(
+        errors.iter().any(|e| e.starts_with("AA samples: ") || e.starts_with("\"AA samples: ")),
+        "{errors:?}"
+    );
 }
 
 #[test]
@@ -199,6 +203,41 @@ fn an_on_demand_loop_renders_only_while_watched() {
         .wait_newer(last.stats.id, Duration::from_secs(30))
         .expect("frames when a viewer comes back");
     drop(again);
+}
+
+#[test]
+fn a_still_view_stops_at_its_convergence_target() {
+    let mut session = session("cornell-box", |s| s.converge_frames = 4);
+    let mut frames = Vec::new();
+    while session.needs_frame() {
+        frames.push(session.render(0.0).unwrap().stats);
+        assert!(frames.len() <= 4, "rendering goes on past the target of 4 frames");
+    }
+    assert_eq!(frames.len(), 4);
+    assert!(frames[..3].iter().all(|f| !f.converged), "converged early");
+    assert!(frames[3].converged && frames[3].accumulated == 4, "{:?}", frames[3]);
+    assert!(
+        frames[3].accumulated_seconds >= frames[..].iter().map(|f| f.render_ms).sum::<f64>() * 1e-3 * 0.5
+    );
+    // A time target ends the accumulation too; a change starts it over.
+    let mut timed = session.settings().clone();
+    timed.converge_frames = MAX_ACCUMULATION;
+    timed.converge_seconds = 0.05;
+    session.handle(&Input::Settings { settings: timed }).unwrap();
+    let mut last = None;
+    while session.needs_frame() {
+        last = Some(session.render(0.0).unwrap().stats);
+    }
+    let last = last.expect("the change renders");
+    assert!(last.converged && last.accumulated_seconds >= 0.05, "{last:?}");
+    assert!(last.accumulated < MAX_ACCUMULATION);
+    // Refused settings are named as the panels name them.
+    let mut bad = session.settings().clone();
+    bad.vpls_per_pixel = 0;
+    let error = session.handle(&Input::Settings { settings: bad }).unwrap_err();
+    let message = ViewSettings::panel_message(&error);
+    assert!(message.starts_with("VPLs per pixel: "), "{message}");
+    assert!(!session.needs_frame(), "a refused change renders nothing");
 }
 
 /// The probe's settings, whose frame takes minutes on two threads: 3840x2160 pixels, each with

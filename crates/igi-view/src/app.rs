@@ -9,7 +9,7 @@ use crate::ViewOptions;
 use crate::panel::{self, Panel};
 use eframe::egui::{self, ColorImage, Key, PointerButton, Sense, TextureHandle, TextureOptions};
 use igi_session::{Button, Frame, Input, RenderLoop};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
@@ -38,6 +38,8 @@ pub struct ViewerApp {
     /// The render size asked for last, and the size waiting to settle with when it was seen.
     asked: Option<[u32; 2]>,
     settling: Option<([u32; 2], Instant)>,
+    /// The key and mouse help is open (H or ?).
+    help: bool,
 }
 
 impl ViewerApp {
@@ -75,6 +77,7 @@ impl ViewerApp {
             waker_stop,
             asked: None,
             settling: None,
+            help: false,
         }
     }
 
@@ -180,7 +183,9 @@ impl ViewerApp {
         let Some(frame) = &self.shown else { return };
         let stamp =
             std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).unwrap_or_default().as_secs();
-        let base = PathBuf::from(format!("igi-{stamp}"));
+        // In the current folder, said with its full path.
+        let folder = std::env::current_dir().unwrap_or_default();
+        let base = folder.join(format!("igi-{stamp}"));
         let png = base.with_extension("png");
         let exr = base.with_extension("exr");
         let result =
@@ -283,11 +288,33 @@ impl eframe::App for ViewerApp {
         if ctx.input(|i| i.key_pressed(Key::F12)) {
             self.snapshot();
         }
+        if !ctx.wants_keyboard_input()
+            && ctx.input(|i| i.key_pressed(Key::H) || i.key_pressed(Key::Questionmark))
+        {
+            self.help = !self.help;
+        }
+        egui::Window::new("Keys and mouse (H or ? closes)").open(&mut self.help).collapsible(false).show(
+            ctx,
+            |ui| {
+                egui::Grid::new("help").num_columns(2).striped(true).show(ui, |ui| {
+                    for (what, how) in HELP {
+                        ui.strong(*what);
+                        ui.label(*how);
+                        ui.end_row();
+                    }
+                });
+            },
+        );
         for error in self.render_loop.take_errors() {
             self.panel.message = error;
         }
         egui::SidePanel::right("panel").exact_width(panel::WIDTH).resizable(false).show(ctx, |ui| {
             if let Some(input) = self.panel.show(ui, self.shown.as_deref()) {
+                // A refused value's message goes with the next edit (and comes back if the
+                // value is still wrong).
+                if matches!(input, Input::Settings { .. }) {
+                    self.panel.message.clear();
+                }
                 self.render_loop.send(input);
             }
         });
@@ -303,6 +330,22 @@ impl eframe::App for ViewerApp {
                 let image = egui::Image::new(texture).fit_to_exact_size(fit.floor());
                 let response = ui.add(image.sense(Sense::click_and_drag()));
                 image_rect = response.rect;
+                // The camera mode, always in sight.
+                if let Some(frame) = &self.shown {
+                    let hint = match frame.stats.mode {
+                        igi_session::CameraMode::Fly => "fly: WASD/QE move, drag looks, wheel speed · H help",
+                        igi_session::CameraMode::Orbit => "orbit: drag turns, wheel zooms · H help",
+                    };
+                    let at = image_rect.left_top() + egui::vec2(8.0, 8.0);
+                    let galley = ui.painter().layout_no_wrap(
+                        hint.into(),
+                        egui::FontId::proportional(13.0),
+                        egui::Color32::WHITE,
+                    );
+                    let back = egui::Rect::from_min_size(at, galley.size()).expand(4.0);
+                    ui.painter().rect_filled(back, 4.0, egui::Color32::from_black_alpha(140));
+                    ui.painter().galley(at, galley, egui::Color32::WHITE);
+                }
                 self.handle_input(ctx, &response);
             }
         });
@@ -323,6 +366,16 @@ impl eframe::App for ViewerApp {
         self.waker_stop.store(true, Ordering::SeqCst);
     }
 }
+
+/// The help window's lines: what, and how.
+const HELP: &[(&str, &str)] = &[
+    ("fly mode", "W A S D move, Q E down and up, drag looks around, the wheel sets the speed"),
+    ("orbit mode", "drag turns around the point in front of the camera, the wheel moves closer or away"),
+    ("click", "selects the object under the pointer (its name shows in the statistics)"),
+    ("right-drag", "moves the selected object in the view plane"),
+    ("F12", "saves the image as PNG and EXR in the current folder"),
+    ("H or ?", "this help"),
+];
 
 /// The fly-camera key of a keyboard key.
 fn fly_key(key: Key) -> Option<igi_session::Key> {

@@ -72,9 +72,7 @@ impl Panel {
             if ui.button("reset camera and objects").clicked() {
                 input = Some(Input::Reset);
             }
-            ui.small(
-                "fly: WASD/QE, drag to look; orbit: drag, scroll; click selects, right-drag moves; F12 saves",
-            );
+            ui.small("H or ?: keys and mouse; F12 saves the image");
 
             let mut s = stats.settings.clone();
             ui.heading("Lighting");
@@ -111,6 +109,18 @@ impl Panel {
             }
             s.exposure = fixed.then_some(stops);
             ui.checkbox(&mut s.accumulate, "accumulate while still");
+            row(
+                ui,
+                "converged after frames",
+                DragValue::new(&mut s.converge_frames).range(1..=igi_session::settings::MAX_ACCUMULATION),
+            );
+            row(
+                ui,
+                "or after seconds (0: none)",
+                DragValue::new(&mut s.converge_seconds)
+                    .range(0.0..=igi_session::settings::MAX_CONVERGE_SECONDS)
+                    .speed(0.1),
+            );
             ui.horizontal(|ui| {
                 ui.label("resolution");
                 egui::ComboBox::from_id_salt("resolution").selected_text(self.resolution.to_string()).show_ui(
@@ -135,6 +145,17 @@ impl Panel {
                 input = Some(Input::Settings { settings: s });
             }
 
+            if stats.converged {
+                ui.colored_label(
+                    egui::Color32::LIGHT_GREEN,
+                    format!("converged: {} frames in {:.1} s", stats.accumulated, stats.accumulated_seconds),
+                );
+            } else if stats.settings.accumulate && stats.accumulated > 1 {
+                ui.label(format!(
+                    "converging: {} of {} frames, {:.1} s",
+                    stats.accumulated, stats.settings.converge_frames, stats.accumulated_seconds
+                ));
+            }
             ui.heading("Statistics");
             let mut text = format!(
                 "render fps   {:.1}\nwindow fps   {:.1}\nframe        {:.1} ms\nMrays/s      {:.1}\n\
@@ -148,7 +169,7 @@ impl Panel {
                 stats.triangles,
                 stats.accumulated,
                 stats.time,
-                stats.selected.map_or("none".to_string(), |i| i.to_string()),
+                stats.selected_name.as_deref().unwrap_or("none"),
                 stats.width,
                 stats.height,
             );

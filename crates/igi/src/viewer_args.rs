@@ -7,6 +7,7 @@ use crate::progress::StageSpinner;
 use anyhow::{Context, Result};
 use clap::Args;
 use igi_render::tonemap::DEFAULT_KEY;
+use igi_session::settings::DEFAULT_CONVERGE_FRAMES;
 use igi_session::{Session, ViewSettings};
 
 /// Primary rays per pixel of the viewers: an interactive frame first.
@@ -29,6 +30,13 @@ pub struct ViewerArgs {
     /// Show single frames only (no progressive accumulation while the view is still).
     #[arg(long, help_heading = "Sampling")]
     pub no_accumulate: bool,
+    /// A still view is converged, and rendering stops, after this many accumulated frames
+    /// (also in the panel).
+    #[arg(long, default_value_t = DEFAULT_CONVERGE_FRAMES, help_heading = "Sampling")]
+    pub converge_frames: u32,
+    /// ... or once its accumulated frames took this many seconds to render (0: no limit).
+    #[arg(long, default_value_t = 0.0, help_heading = "Sampling")]
+    pub converge_seconds: f32,
     /// Frame options (as for `igi render`; `--aa` defaults to 1 here).
     #[command(flatten)]
     pub frame: FrameArgs,
@@ -75,6 +83,8 @@ impl ViewerArgs {
             exposure: self.exposure,
             key: DEFAULT_KEY,
             accumulate: !self.no_accumulate,
+            converge_frames: self.converge_frames,
+            converge_seconds: self.converge_seconds,
             playing: !self.paused,
             speed: self.speed,
         };
