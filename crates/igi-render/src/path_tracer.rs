@@ -93,7 +93,7 @@
 //! pixel) alone, the same bit for bit at any thread count and tile size.
 
 use crate::camera::PinholeCamera;
-use crate::cancel::CancelToken;
+use crate::cancel::{CancelToken, Cancelled};
 use crate::film::Film;
 use crate::frame::FrameState;
 use crate::lights::{self, SHADOW_SHORTEN};
@@ -394,6 +394,24 @@ pub fn render_path_traced(
     scheduler: &TileScheduler,
     progress: &(dyn Fn(u32, u32) + Sync),
 ) -> (Film, u64) {
+    let Ok(done) =
+        render_path_traced_cancellable(scene, frame, spp, scheduler, &CancelToken::new(), progress)
+    else {
+        unreachable!("nobody else holds the token")
+    };
+    done
+}
+
+/// [`render_path_traced`], unless `cancel` stops it between tiles (the viewers' reference
+/// mode: a frame gives way to the next input).
+pub fn render_path_traced_cancellable(
+    scene: &mut PreparedScene,
+    frame: &FrameState,
+    spp: u32,
+    scheduler: &TileScheduler,
+    cancel: &CancelToken,
+    progress: &(dyn Fn(u32, u32) + Sync),
+) -> Result<(Film, u64), Cancelled> {
     scene.pose(&frame.pose);
     let scene = &*scene;
     let tracer = PathTracer::new(scene, frame, spp);
@@ -401,7 +419,7 @@ pub fn render_path_traced(
     let grid = TileGrid::new(width, height, frame.settings.tile_size);
     let tiles = scheduler.run(
         &grid,
-        &CancelToken::new(),
+        cancel,
         || (),
         |(), tile| {
             let mut pixels = Vec::new();
@@ -409,15 +427,14 @@ pub fn render_path_traced(
             (pixels, rays)
         },
         progress,
-    );
-    let Ok(tiles) = tiles else { unreachable!("nobody else holds the token") };
+    )?;
     let mut film = Film::new(width, height);
     let mut rays = 0;
     for (tile, (pixels, n)) in grid.tiles().zip(&tiles) {
         film.write_tile(&tile, pixels);
         rays += n;
     }
-    (film, rays)
+    Ok((film, rays))
 }
 
 /// The solid-angle density p_l = p_A |x − y|² / cosθ_y with which next-event estimation picks

@@ -126,6 +126,19 @@ assert.match(await page.locator("#help").textContent(), /right-drag\s*moves the 
 await page.keyboard.press("h");
 assert.equal(await page.locator("#help").isVisible(), false, "H hides it again");
 
+// The path tracer (issue 18): switched on, the frames say so, carry no VPLs and show the
+// reference's noisy single sample; switched off, IGI again.
+const igiFrame = await pixels();
+await page.locator("#path_tracer").click();
+await waitFor(() => window.__igi.header.stats.settings.path_tracer === true && window.__igi.header.stats.vpls === 0);
+await page.waitForTimeout(200);
+const traced = await pixels();
+assert.ok(traced.spread > 5, "the path-traced frame is not blank");
+assert.notEqual(traced.sum, igiFrame.sum, "the path-traced frame differs");
+await page.locator("#path_tracer").click();
+await waitFor(() => window.__igi.header.stats.settings.path_tracer === false && window.__igi.header.stats.vpls > 0);
+console.log(`path tracer: pixel sum ${igiFrame.sum} -> ${traced.sum}, and back to IGI`);
+
 // Convergence (issue 18): accumulating with a target of 3 frames, the page says "converged"
 // and the session renders nothing more.
 await page.locator("#converge_frames").fill("3");

@@ -313,7 +313,12 @@ impl Session {
             frame: self.progressive.frames(),
             seed: self.seed,
         };
-        let out = match self.renderer.render_cancellable(&mut self.scene, &frame, cancel) {
+        let rendered = if self.settings.path_tracer {
+            self.renderer.render_path_traced(&mut self.scene, &frame, cancel)
+        } else {
+            self.renderer.render_cancellable(&mut self.scene, &frame, cancel)
+        };
+        let out = match rendered {
             Ok(out) => out,
             Err(e) => {
                 // The change still has to be shown.

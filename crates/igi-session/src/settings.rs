@@ -52,6 +52,9 @@ pub struct ViewSettings {
     pub exposure: Option<f32>,
     /// Reinhard key (middle grey), used without a fixed exposure.
     pub key: f32,
+    /// Render with the path tracer instead of instant radiosity: one path per pixel and
+    /// frame, averaged like IGI frames (the progressive reference).
+    pub path_tracer: bool,
     /// Average frames while nothing changes (progressive convergence).
     pub accumulate: bool,
     /// A still view is converged, and rendering stops, after this many frames
@@ -85,6 +88,7 @@ impl ViewSettings {
             bounces: igi.bounces,
             exposure: None,
             key: igi_render::tonemap::DEFAULT_KEY,
+            path_tracer: false,
             accumulate: true,
             converge_frames: DEFAULT_CONVERGE_FRAMES,
             converge_seconds: 0.0,

@@ -206,6 +206,32 @@ fn an_on_demand_loop_renders_only_while_watched() {
 }
 
 #[test]
+fn the_path_tracer_switch_renders_the_reference_and_converges_towards_it() {
+    // The path tracer's own mean over still frames against a 64-spp path-traced image.
+    let mut session = session("cornell-box", |s| {
+        s.path_tracer = true;
+        s.converge_frames = 48;
+    });
+    let mut last = None;
+    while session.needs_frame() {
+        last = Some(session.render(0.0).unwrap());
+    }
+    let last = last.unwrap();
+    assert_eq!((last.stats.vpls, last.stats.accumulated), (0, 48), "path-traced frames, accumulated");
+    let scene = PreparedScene::new(igi_scene::builtin("cornell-box").unwrap());
+    let mut reference_scene = scene;
+    let frame = FrameState::new(*reference_scene.camera().unwrap(), session.settings().igi());
+    let renderer = FrameRenderer::new(2);
+    let (reference, _) =
+        render_path_traced(&mut reference_scene, &frame, 64, renderer.scheduler(), &|_, _| {});
+    let mean = last.image.film().expect("linear radiance");
+    // Per pixel both are noisy; over the image, their brightness agrees.
+    let brightness = |f: &Film| f.pixels().iter().map(|p| f64::from(p.x + p.y + p.z)).sum::<f64>();
+    let ratio = brightness(mean) / brightness(&reference);
+    assert!((ratio - 1.0).abs() < 0.05, "48 frames of 1 spp against 64 spp: brightness ratio {ratio}");
+}
+
+#[test]
 fn a_still_view_stops_at_its_convergence_target() {
     let mut session = session("cornell-box", |s| s.converge_frames = 4);
     let mut frames = Vec::new();

@@ -75,6 +75,9 @@ impl Panel {
             ui.small("H or ?: keys and mouse; F12 saves the image");
 
             let mut s = stats.settings.clone();
+            ui.checkbox(&mut s.path_tracer, "path tracer (reference; slow)").on_hover_text(
+                "one path per pixel and frame, averaged while still: the ground truth IGI approximates",
+            );
             ui.heading("Lighting");
             let row = |ui: &mut Ui, label: &str, widget: DragValue| {
                 ui.horizontal(|ui| {

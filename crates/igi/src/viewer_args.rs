@@ -82,6 +82,7 @@ impl ViewerArgs {
             bounces: s.bounces,
             exposure: self.exposure,
             key: DEFAULT_KEY,
+            path_tracer: false,
             accumulate: !self.no_accumulate,
             converge_frames: self.converge_frames,
             converge_seconds: self.converge_seconds,
