@@ -247,6 +247,19 @@ pub struct CameraDefect {
 }
 
 impl Camera {
+    /// The camera as a scene file's `[camera]` table (lines ending in `\n`), to paste into a
+    /// scene file: what `igi info` prints and the viewers' "save view" gives.
+    pub fn scene_file_snippet(&self) -> String {
+        let v = |p: Vec3| format!("[{:.3}, {:.3}, {:.3}]", p.x, p.y, p.z);
+        format!(
+            "[camera]\nposition = {}\ntarget = {}\nup = {}\nfov = {}\n",
+            v(self.position),
+            v(self.target),
+            v(self.up),
+            self.fov_y_deg
+        )
+    }
+
     /// Checks that the camera frames an image: finite vectors, a target a finite, non-zero
     /// distance from the position, an up vector neither zero nor parallel to the view
     /// direction (either leaves the image's horizontal axis undefined), and a vertical field

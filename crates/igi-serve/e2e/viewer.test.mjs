@@ -126,6 +126,12 @@ assert.match(await page.locator("#help").textContent(), /right-drag\s*moves the 
 await page.keyboard.press("h");
 assert.equal(await page.locator("#help").isVisible(), false, "H hides it again");
 
+// "save view" (issue 18): the camera as a scene-file snippet.
+await page.locator("#save_view").click();
+const snippet = await page.locator("#view_snippet").textContent();
+assert.match(snippet, /^\[camera\]\nposition = \[-?\d+\.\d{3}, -?\d+\.\d{3}, -?\d+\.\d{3}\]\ntarget = \[.*\]\nup = \[.*\]\nfov = [\d.]+\n$/, snippet);
+console.log(`save view:\n${snippet}`);
+
 // The path tracer (issue 18): switched on, the frames say so, carry no VPLs and show the
 // reference's noisy single sample; switched off, IGI again.
 const igiFrame = await pixels();

@@ -63,6 +63,8 @@ pub struct FrameStats {
     pub settings: ViewSettings,
     /// The camera mode.
     pub mode: CameraMode,
+    /// The camera of the frame (the viewers' "save view" prints it as a scene-file snippet).
+    pub camera: Camera,
 }
 
 /// A frame to show.
@@ -370,6 +372,7 @@ impl Session {
             }),
             settings: self.settings.clone(),
             mode: self.controller.mode(),
+            camera: self.controller.camera(),
         };
         Ok(Frame { stats, image })
     }

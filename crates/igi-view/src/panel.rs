@@ -69,9 +69,17 @@ impl Panel {
             if mode != stats.mode {
                 input = Some(Input::Mode { mode });
             }
-            if ui.button("reset camera and objects").clicked() {
-                input = Some(Input::Reset);
-            }
+            ui.horizontal(|ui| {
+                if ui.button("reset camera and objects").clicked() {
+                    input = Some(Input::Reset);
+                }
+                if ui.button("save view").on_hover_text("the camera as a scene-file snippet, printed and copied").clicked() {
+                    let snippet = stats.camera.scene_file_snippet();
+                    println!("{snippet}");
+                    ui.ctx().copy_text(snippet.clone());
+                    self.message = format!("view printed and copied, for a scene file:\n{snippet}");
+                }
+            });
             ui.small("H or ?: keys and mouse; F12 saves the image");
 
             let mut s = stats.settings.clone();

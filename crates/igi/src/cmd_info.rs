@@ -138,12 +138,9 @@ pub fn run(args: &InfoArgs) -> Result<()> {
     } else {
         outln!("camera       none in the scene; renders start here (paste into a scene file to keep it):");
     }
-    let toml = |p: Vec3| format!("[{:.3}, {:.3}, {:.3}]", p.x, p.y, p.z);
-    outln!("  [camera]");
-    outln!("  position = {}", toml(c.position));
-    outln!("  target = {}", toml(c.target));
-    outln!("  up = {}", toml(c.up));
-    outln!("  fov = {}", c.fov_y_deg);
+    for line in c.scene_file_snippet().lines() {
+        outln!("  {line}");
+    }
     outln!("default light {}", default_light.as_deref().unwrap_or("none (the scene's own lights show it)"));
     Ok(())
 }
