@@ -152,7 +152,7 @@ mod tests {
     fn messages_round_trip() {
         let camera = igi_scene::builtin("cornell-box").and_then(|s| s.camera).unwrap();
         let mut frame = FrameState::new(camera, IgiSettings::default());
-        frame.pose = ScenePose { time: 1.5, moved: vec![(2, Affine3A::from_translation(Vec3::X))] };
+        frame.pose = ScenePose { time: 1.5, moved: vec![(2, Affine3A::from_translation(Vec3::X))], sky: 0.5 };
         (frame.pixels, frame.frame, frame.seed) = (PixelFormat::Srgb8, 3, 9);
         let job = FrameJob { id: 7, frame };
         for m in [

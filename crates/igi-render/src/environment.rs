@@ -115,6 +115,8 @@ pub struct EnvironmentSample {
 #[derive(Clone, Debug)]
 pub struct EnvironmentLight {
     kind: Kind,
+    /// Factor on every radiance (a viewer's sky strength, [`crate::ScenePose::sky`]).
+    strength: f32,
 }
 
 #[derive(Clone, Debug)]
@@ -151,28 +153,43 @@ impl EnvironmentLight {
     /// warning): loaders never produce one, and a renderer should not fall over on it.
     pub fn new(environment: &Environment, textures: &[Texture]) -> Self {
         match *environment {
-            Environment::Constant { radiance } => Self { kind: Kind::Constant(sanitise(radiance)) },
+            Environment::Constant { radiance } => {
+                Self { kind: Kind::Constant(sanitise(radiance)), strength: 1.0 }
+            }
             Environment::Map { texture, intensity, rotation_deg } => {
                 let image = textures.get(texture as usize).map(|t| &t.image).filter(|i| i.is_complete());
                 match image {
-                    Some(image) => {
-                        Self { kind: Kind::Map(Box::new(Map::new(image, intensity, rotation_deg))) }
-                    }
+                    Some(image) => Self {
+                        kind: Kind::Map(Box::new(Map::new(image, intensity, rotation_deg))),
+                        strength: 1.0,
+                    },
                     None => {
                         tracing::warn!("environment texture {texture} is missing or empty; the sky is black");
-                        Self { kind: Kind::Constant(Vec3::ZERO) }
+                        Self { kind: Kind::Constant(Vec3::ZERO), strength: 1.0 }
                     }
                 }
             }
         }
     }
 
+    /// Sets the factor on every radiance (1: as loaded). The sampling densities do not
+    /// change: the same directions matter, only brighter or darker.
+    pub fn set_strength(&mut self, strength: f32) {
+        self.strength = if strength.is_finite() { strength.max(0.0) } else { 1.0 };
+    }
+
+    /// The factor on every radiance.
+    pub fn strength(&self) -> f32 {
+        self.strength
+    }
+
     /// Radiance arriving from the unit direction `dir` (world space).
     pub fn radiance(&self, dir: Vec3) -> Vec3 {
-        match &self.kind {
-            Kind::Constant(radiance) => *radiance,
-            Kind::Map(map) => map.radiance(equirect_uv(map.to_map(dir))),
-        }
+        self.strength
+            * match &self.kind {
+                Kind::Constant(radiance) => *radiance,
+                Kind::Map(map) => map.radiance(equirect_uv(map.to_map(dir))),
+            }
     }
 
     /// A direction importance-sampled from the two numbers `u` in [0, 1) (see the module
@@ -181,7 +198,7 @@ impl EnvironmentLight {
         match &self.kind {
             Kind::Constant(radiance) => (luminance(*radiance) > 0.0).then(|| EnvironmentSample {
                 dir: direction_at(u.x, 1.0 - 2.0 * u.y),
-                radiance: *radiance,
+                radiance: self.strength * *radiance,
                 pdf: 1.0 / (4.0 * PI),
             }),
             Kind::Map(map) => {
@@ -197,7 +214,11 @@ impl EnvironmentLight {
                 // The density is looked up from the direction itself, so it always equals
                 // `pdf(dir)`, even where rounding puts a direction on a cell's edge.
                 let pdf = self.pdf(dir);
-                (pdf > 0.0).then(|| EnvironmentSample { dir, radiance: map.radiance(equirect_uv(m)), pdf })
+                (pdf > 0.0).then(|| EnvironmentSample {
+                    dir,
+                    radiance: self.strength * map.radiance(equirect_uv(m)),
+                    pdf,
+                })
             }
         }
     }
@@ -220,10 +241,11 @@ impl EnvironmentLight {
     /// ∫ L dω over the whole sphere (per channel): the environment's weight when choosing
     /// among light sources. 4π L for a constant environment.
     pub fn integral(&self) -> Vec3 {
-        match &self.kind {
-            Kind::Constant(radiance) => 4.0 * PI * *radiance,
-            Kind::Map(map) => map.integral,
-        }
+        self.strength
+            * match &self.kind {
+                Kind::Constant(radiance) => 4.0 * PI * *radiance,
+                Kind::Map(map) => map.integral,
+            }
     }
 }
 

@@ -288,6 +288,9 @@ impl PreparedScene {
         if self.posed.as_ref() == Some(pose) {
             return;
         }
+        if let Some(sky) = &mut self.environment {
+            sky.set_strength(pose.sky);
+        }
         if !self.animation.is_empty() || !pose.moved.is_empty() || self.is_displaced {
             let animated = self.animation.pose(pose.time);
             self.place(&animated, &pose.moved);
@@ -449,16 +452,17 @@ impl PreparedScene {
         &self.area_lights
     }
 
-    /// The environment (sky) light, if the scene has one that emits anything.
+    /// The environment (sky) light, if the scene has one that emits anything and its pose
+    /// has not turned it off.
     pub fn environment(&self) -> Option<&EnvironmentLight> {
-        self.environment.as_ref()
+        self.environment.as_ref().filter(|e| e.strength() > 0.0)
     }
 
     /// The radiance arriving along a ray of unit direction `dir` that leaves the scene: the
     /// sky's, or black.
     #[inline]
     pub fn background(&self, dir: Vec3) -> Vec3 {
-        self.environment.as_ref().map_or(Vec3::ZERO, |e| e.radiance(dir))
+        self.environment().map_or(Vec3::ZERO, |e| e.radiance(dir))
     }
 
     /// True if the scene has any light source of its own or added by

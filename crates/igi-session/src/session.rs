@@ -303,6 +303,7 @@ impl Session {
             camera: self.controller.camera(),
             settings,
             pose: ScenePose {
+                sky: self.settings.sky,
                 time: self.clock,
                 moved: self.moved.iter().map(|(&i, &v)| (i, Affine3A::from_translation(v))).collect(),
             },

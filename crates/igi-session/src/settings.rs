@@ -8,6 +8,8 @@ use serde::{Deserialize, Serialize};
 
 /// Largest animation speed factor.
 pub const MAX_SPEED: f32 = 100.0;
+/// Largest sky strength.
+pub const MAX_SKY: f32 = 100.0;
 /// Largest number of frames a still view accumulates (then rendering pauses).
 pub const MAX_ACCUMULATION: u32 = 4096;
 /// Default of [`ViewSettings::converge_frames`]: as many frames as `igi render --frames 64`
@@ -66,6 +68,8 @@ pub struct ViewSettings {
     pub playing: bool,
     /// Clock speed: scene seconds per wall-clock second.
     pub speed: f32,
+    /// Strength of the scene's sky (its environment light): 1 as loaded, 0 off.
+    pub sky: f32,
 }
 
 impl ViewSettings {
@@ -94,6 +98,7 @@ impl ViewSettings {
             converge_seconds: 0.0,
             playing: true,
             speed: 1.0,
+            sky: 1.0,
         }
     }
 
@@ -143,6 +148,9 @@ impl ViewSettings {
         if !(self.speed.is_finite() && (0.0..=MAX_SPEED).contains(&self.speed)) {
             return err("speed", format!("{} is not between 0 and {MAX_SPEED}", self.speed));
         }
+        if !(self.sky.is_finite() && (0.0..=MAX_SKY).contains(&self.sky)) {
+            return err("sky", format!("{} is not between 0 and {MAX_SKY}", self.sky));
+        }
         if !(1..=MAX_ACCUMULATION).contains(&self.converge_frames) {
             return err(
                 "converge-frames",
@@ -177,6 +185,7 @@ impl ViewSettings {
             "exposure" => "exposure (stops)",
             "key" => "Reinhard key",
             "speed" => "speed",
+            "sky" => "sky strength",
             "converge-frames" => "converged after frames",
             "converge-seconds" => "or after seconds",
             other => other,

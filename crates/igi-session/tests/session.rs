@@ -232,6 +232,29 @@ fn the_path_tracer_switch_renders_the_reference_and_converges_towards_it() {
 }
 
 #[test]
+fn the_sky_strength_scales_the_sky_and_zero_turns_it_off() {
+    // The generated tree under its sun and sky.
+    let scene = PreparedScene::new(igi_scene::builtin_spec("maple-tree:triangles=180k").unwrap().unwrap());
+    let camera = *scene.camera().unwrap();
+    let s = ViewSettings { accumulate: false, playing: false, ..settings(&scene) };
+    let mut session = Session::new(scene, camera, s, 2).unwrap();
+    let mut sky_pixel = |strength: f32| {
+        let settings = ViewSettings { sky: strength, ..session.settings().clone() };
+        session.handle(&Input::Settings { settings }).unwrap();
+        let frame = session.render(0.0).unwrap();
+        // The top right corner: open sky beside the tree.
+        frame.image.film().expect("linear radiance").pixels()[SIZE as usize - 1]
+    };
+    let (one, two, off) = (sky_pixel(1.0), sky_pixel(2.0), sky_pixel(0.0));
+    assert!(one.min_element() > 0.0, "the sky shows: {one}");
+    assert!(
+        (two - 2.0 * one).abs().max_element() <= 1e-4 * two.max_element(),
+        "twice as strong: {one} {two}"
+    );
+    assert_eq!(off, glam::Vec3::ZERO, "sky off");
+}
+
+#[test]
 fn a_still_view_stops_at_its_convergence_target() {
     let mut session = session("cornell-box", |s| s.converge_frames = 4);
     let mut frames = Vec::new();

@@ -104,6 +104,11 @@ impl Panel {
             row(ui, "clamp d_min", DragValue::new(&mut s.clamp).range(0.0..=f32::MAX).speed(0.01));
             row(ui, "AA samples", DragValue::new(&mut s.aa).range(1..=64));
             row(ui, "specular bounces", DragValue::new(&mut s.specular_bounces).range(0..=16));
+            row(
+                ui,
+                "sky strength (0: off)",
+                DragValue::new(&mut s.sky).range(0.0..=igi_session::settings::MAX_SKY).speed(0.05),
+            );
             ui.heading("Filter");
             ui.checkbox(&mut s.filter, "discontinuity filter");
             row(ui, "wide filter K (1: off)", DragValue::new(&mut s.coarse_interleave).range(1..=4));

@@ -88,6 +88,7 @@ impl ViewerArgs {
             converge_seconds: self.converge_seconds,
             playing: !self.paused,
             speed: self.speed,
+            sky: 1.0,
         };
         let mut session = match source {
             Some(source) => Session::with_source(prepared, frame.camera, settings, source)?,
