@@ -519,51 +519,21 @@ mod tests {
             }
             let big = format == "binary_big_endian";
             for &(ty, v) in row {
+                // The value as `$t` in the file's byte order.
+                macro_rules! encoded {
+                    ($t:ty) => {
+                        if big { (v as $t).to_be_bytes().to_vec() } else { (v as $t).to_le_bytes().to_vec() }
+                    };
+                }
                 let raw: Vec<u8> = match ty {
                     "char" => vec![v as i8 as u8],
                     "uchar" => vec![v as u8],
-                    "short" => {
-                        if big {
-                            (v as i16).to_be_bytes().into()
-                        } else {
-                            (v as i16).to_le_bytes().into()
-                        }
-                    }
-                    "ushort" => {
-                        if big {
-                            (v as u16).to_be_bytes().into()
-                        } else {
-                            (v as u16).to_le_bytes().into()
-                        }
-                    }
-                    "int" => {
-                        if big {
-                            (v as i32).to_be_bytes().into()
-                        } else {
-                            (v as i32).to_le_bytes().into()
-                        }
-                    }
-                    "uint" => {
-                        if big {
-                            (v as u32).to_be_bytes().into()
-                        } else {
-                            (v as u32).to_le_bytes().into()
-                        }
-                    }
-                    "float" => {
-                        if big {
-                            (v as f32).to_be_bytes().into()
-                        } else {
-                            (v as f32).to_le_bytes().into()
-                        }
-                    }
-                    _ => {
-                        if big {
-                            v.to_be_bytes().into()
-                        } else {
-                            v.to_le_bytes().into()
-                        }
-                    }
+                    "short" => encoded!(i16),
+                    "ushort" => encoded!(u16),
+                    "int" => encoded!(i32),
+                    "uint" => encoded!(u32),
+                    "float" => encoded!(f32),
+                    _ => encoded!(f64),
                 };
                 bytes.extend(raw);
             }
