@@ -55,7 +55,10 @@ pub enum Input {
         /// True when pressed, false when released.
         down: bool,
     },
-    /// The pointer moved by (dx, dy) pixels of the image with a button held.
+    /// The pointer moved by (dx, dy) pixels of the image with a button held (pixels of the
+    /// rendered image, not of the screen: the viewers scale a drag over a scaled-up image
+    /// down, so the view turns, and a dragged object moves, with the pointer at any
+    /// resolution).
     Drag {
         /// Horizontal motion, pixels, to the right.
         dx: f32,

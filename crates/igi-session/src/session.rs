@@ -208,7 +208,7 @@ impl Session {
     /// nothing.
     pub fn handle(&mut self, input: &Input) -> Result<(), SettingsError> {
         self.inputs += 1;
-        if self.controller.handle(input) {
+        if self.controller.handle(input, self.settings.height) {
             self.changed = true;
         }
         match input {

@@ -138,8 +138,9 @@ impl ViewerApp {
         for (button, which) in
             [(PointerButton::Primary, Button::Primary), (PointerButton::Secondary, Button::Secondary)]
         {
-            if response.dragged_by(button) {
-                let delta = response.drag_delta();
+            if let (true, Some(frame)) = (response.dragged_by(button), &self.shown) {
+                // Window points to image pixels, as for a pick.
+                let delta = response.drag_delta() * frame.stats.width as f32 / response.rect.width();
                 if delta != egui::Vec2::ZERO {
                     send(Input::Drag { dx: delta.x, dy: delta.y, button: which });
                 }
