@@ -233,6 +233,11 @@ impl Accel {
         self.placements[i as usize].object_to_world
     }
 
+    /// Object-space bounds of mesh `mesh` (the root of its BVH).
+    pub fn mesh_bounds(&self, mesh: u32) -> Aabb {
+        self.blas[mesh as usize].nodes.first().map_or(Aabb::EMPTY, Node::bounds)
+    }
+
     /// World bounds of the scene.
     pub fn bounds(&self) -> Aabb {
         self.tlas.nodes.first().map_or(Aabb::EMPTY, Node::bounds)

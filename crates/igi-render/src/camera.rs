@@ -105,6 +105,20 @@ impl PinholeCamera {
         Vec3x8::new(scaled(v.x), scaled(v.y), scaled(v.z))
     }
 
+    /// The image point, in pixel units from the top-left corner, where `point` appears: the
+    /// inverse of [`PinholeCamera::direction_at`]. `None` for a point not in front of the eye.
+    pub fn project(&self, point: Vec3) -> Option<glam::Vec2> {
+        let v = point - self.origin;
+        let z = v.dot(self.forward);
+        if z.is_nan() || z <= 0.0 {
+            return None;
+        }
+        let sx = v.dot(self.right) / (z * self.tan_half * self.aspect);
+        let sy = v.dot(self.up) / (z * self.tan_half);
+        let (w, h) = (self.width as f32, self.height as f32);
+        Some(glam::Vec2::new(0.5 * (sx + 1.0) * w, 0.5 * (1.0 - sy) * h))
+    }
+
     /// Unit direction through the centre of pixel `(x, y)`.
     #[inline]
     pub fn direction(&self, x: u32, y: u32) -> Vec3 {

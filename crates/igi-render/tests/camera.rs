@@ -100,3 +100,20 @@ fn up_parallel_to_view_still_gives_a_frame() {
     assert!(pin.right.is_finite() && (pin.right.length() - 1.0).abs() < 1e-5);
     assert!(pin.direction(5, 5).is_finite());
 }
+
+#[test]
+fn projecting_a_point_on_a_pixel_ray_gives_that_pixel() {
+    let pin = PinholeCamera::new(&cornell(), 640, 480);
+    for (x, y, dx, dy) in
+        [(0, 0, 0.0, 0.0), (320, 240, 0.5, 0.5), (639, 17, 0.25, 0.75), (100, 479, 1.0, 1.0)]
+    {
+        for distance in [0.1, 3.0, 100.0] {
+            let point = pin.origin + distance * pin.direction_at(x, y, dx, dy);
+            let p = pin.project(point).expect("in front of the eye");
+            let want = glam::Vec2::new(x as f32 + dx, y as f32 + dy);
+            assert!((p - want).length() < 2e-3, "pixel {want} at distance {distance} projects to {p}");
+        }
+    }
+    assert_eq!(pin.project(pin.origin - pin.forward), None, "behind the eye");
+    assert_eq!(pin.project(pin.origin + pin.right), None, "in the eye's plane");
+}

@@ -5,7 +5,7 @@
 //
 // Checks: on a 1920x1080 page the image fills the area beside the panel, rendered at that
 // size times the resolution scale (auto, full, 1/4); a non-blank frame arrives; a mouse drag over the image turns the view (the next
-// frame differs); a setting changed in the side panel comes back in the frames' settings and
+// frame differs); a click selects the object under it (named, outlined); a setting changed in the side panel comes back in the frames' settings and
 // changes the image (the filter off; the wide filter's strength K 3 -> 1); and, with the
 // animation playing, the latency from an input event to the first frame drawn with it is at
 // most 3 frame times + 40 ms (median of 12 drags): the frame in progress when the input comes,
@@ -125,6 +125,32 @@ assert.equal(await page.locator("#help").isVisible(), true, "H shows the help");
 assert.match(await page.locator("#help").textContent(), /right-drag\s*moves the selected object/);
 await page.keyboard.press("h");
 assert.equal(await page.locator("#help").isVisible(), false, "H hides it again");
+
+// Selection (issue 18): from the scene's camera, a click on the statue in the middle names it
+// in the statistics and outlines its bounding box in orange; "reset" clears it.
+await page.locator("#reset").click();
+await page.mouse.click(cx, cy);
+await waitFor(() => window.__igi.header.stats.selected !== null);
+await page.waitForTimeout(200);
+const selected = (await header()).stats.selected;
+assert.equal(selected.outline.length, 12, "a box in front of the eye has 12 edges");
+assert.match(await page.locator("#stats").textContent(), new RegExp(`selected\\s+${selected.name}\n`));
+const orange = () => page.evaluate(() => {
+  const c = document.getElementById("image");
+  const d = c.getContext("2d").getImageData(0, 0, c.width, c.height).data;
+  let n = 0;
+  for (let i = 0; i < d.length; i += 4) if (d[i] > 235 && Math.abs(d[i + 1] - 160) < 25 && d[i + 2] < 90) n++;
+  return n;
+});
+const outlined = await orange();
+assert.ok(outlined > 100, `the outline is drawn (${outlined} orange pixels)`);
+// IGI_E2E_SCREENSHOT=file.png keeps a picture of it, to look at.
+if (process.env.IGI_E2E_SCREENSHOT) await page.screenshot({ path: process.env.IGI_E2E_SCREENSHOT });
+await page.locator("#reset").click();
+await waitFor(() => window.__igi.header.stats.selected === null);
+await page.waitForTimeout(200);
+assert.ok((await orange()) < outlined / 10, "no outline once reset");
+console.log(`selection: "${selected.name}", outlined by ${outlined} orange pixels, cleared by reset`);
 
 // "save view" (issue 18): the camera as a scene-file snippet.
 await page.locator("#save_view").click();

@@ -9,6 +9,7 @@
 //!   and the view's [`igi_render::Progressive`] (accumulation and tone-map feedback), and
 //!   turns inputs into frames: while the camera and the scene are still, frames accumulate with fresh VPL sets (progressive convergence); any change shows
 //!   the instant one-frame solution at once (paper section 1).
+//! - [`selection`]: [`Selection`], the picked object's name and outline on the image.
 //! - [`frame_source`]: [`FrameSource`], where frames are rendered: this machine's threads or
 //!   a cluster.
 //! - [`render_loop`]: [`RenderLoop`], a thread rendering the next frame while the viewer
@@ -18,6 +19,7 @@ pub mod camera_control;
 pub mod frame_source;
 pub mod input;
 pub mod render_loop;
+pub mod selection;
 pub mod session;
 pub mod settings;
 
@@ -25,5 +27,6 @@ pub use camera_control::CameraController;
 pub use frame_source::{FrameSource, SourceError};
 pub use input::{Button, CameraMode, Input, Key};
 pub use render_loop::{LatestFrame, RenderLoop, Watching};
+pub use selection::Selection;
 pub use session::{Frame, FrameStats, Session};
 pub use settings::ViewSettings;

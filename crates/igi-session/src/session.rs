@@ -10,6 +10,7 @@
 use crate::camera_control::CameraController;
 use crate::frame_source::{FrameSource, SourceError};
 use crate::input::{Button, CameraMode, Input};
+use crate::selection::Selection;
 use crate::settings::{MAX_ACCUMULATION, ViewSettings};
 use glam::{Affine3A, Vec3};
 use igi_render::frame::SettingsError;
@@ -55,10 +56,8 @@ pub struct FrameStats {
     pub width: u32,
     /// Image height.
     pub height: u32,
-    /// The selected instance.
-    pub selected: Option<u32>,
-    /// Its mesh's name from the scene's file (`instance N` for a mesh without one).
-    pub selected_name: Option<String>,
+    /// The selected object, its name and its outline on this frame.
+    pub selected: Option<Selection>,
     /// The settings the frame was rendered with.
     pub settings: ViewSettings,
     /// The camera mode.
@@ -96,6 +95,9 @@ pub struct Session {
     moved: BTreeMap<u32, Vec3>,
     /// The view changed since the last frame.
     changed: bool,
+    /// The selection changed since the last frame: the next frame shows it, and the mean
+    /// goes on (what is rendered is the same).
+    reselected: bool,
     inputs: u64,
     frames: u64,
     last_frame_end: Option<Instant>,
@@ -137,6 +139,7 @@ impl Session {
             selected: None,
             moved: BTreeMap::new(),
             changed: true,
+            reselected: false,
             inputs: 0,
             frames: 0,
             last_frame_end: None,
@@ -188,6 +191,7 @@ impl Session {
     /// or the accumulation has not converged.
     pub fn needs_frame(&self) -> bool {
         self.changed
+            || self.reselected
             || self.is_animating()
             || self.controller.is_moving()
             || (self.settings.accumulate && !self.converged())
@@ -243,13 +247,19 @@ impl Session {
             && x < s.width as f32
             && y < s.height as f32)
         {
-            self.selected = None;
+            self.select(None);
             return;
         }
         let camera = PinholeCamera::new(&self.controller.camera(), s.width, s.height);
         let ray = camera.ray_at(x as u32, y as u32, x.fract(), y.fract());
         let hit = self.scene.accel().intersect(&ray);
-        self.selected = hit.t.is_finite().then(|| (hit.instance, hit.t * ray.dir.length()));
+        self.select(hit.t.is_finite().then(|| (hit.instance, hit.t * ray.dir.length())));
+    }
+
+    /// Selects `selected` (an instance and the distance at which it was picked), or nothing.
+    fn select(&mut self, selected: Option<(u32, f32)>) {
+        self.reselected |= selected.map(|s| s.0) != self.selected.map(|s| s.0);
+        self.selected = selected;
     }
 
     /// Moves the selected instance by a drag of (dx, dy) pixels in the view plane at the depth
@@ -290,6 +300,7 @@ impl Session {
             self.changed = true;
         }
         let changed = std::mem::take(&mut self.changed);
+        let reselected = std::mem::take(&mut self.reselected);
         if changed {
             self.progressive.reset();
             self.accumulated_seconds = 0.0;
@@ -326,6 +337,7 @@ impl Session {
             Err(e) => {
                 // The change still has to be shown.
                 self.changed |= changed;
+                self.reselected |= reselected;
                 return Err(e);
             }
         };
@@ -363,13 +375,13 @@ impl Session {
             triangles: self.scene.triangle_count(),
             width: settings.width,
             height: settings.height,
-            selected: self.selected.map(|(i, _)| i),
-            selected_name: self.selected.map(|(i, _)| {
-                let mesh = self.scene.accel().instance_mesh(i) as usize;
-                match self.scene.meshes().get(mesh).map(|m| m.name.as_str()) {
-                    Some(name) if !name.is_empty() => name.to_string(),
-                    _ => format!("instance {i}"),
-                }
+            // After the render the scene stands in the frame's pose.
+            selected: self.selected.map(|(i, _)| {
+                Selection::of(
+                    &self.scene,
+                    i,
+                    &PinholeCamera::new(&frame.camera, settings.width, settings.height),
+                )
             }),
             settings: self.settings.clone(),
             mode: self.controller.mode(),

@@ -99,11 +99,28 @@ fn picking_and_dragging_moves_the_object_under_the_pointer() {
     let centre = SIZE as f32 / 2.0;
     session.handle(&Input::Pick { x: centre, y: centre }).unwrap();
     let picked = session.render(0.0).unwrap();
-    assert_eq!(picked.stats.selected, Some(1), "the statue is instance 1");
+    let selected = picked.stats.selected.as_ref().expect("the statue is picked");
+    assert_eq!(selected.instance, 1, "the statue is instance 1");
+    // Its outline surrounds the point that picked it.
+    let (mut lo, mut hi) = (glam::Vec2::splat(f32::MAX), glam::Vec2::splat(f32::MIN));
+    for e in &selected.outline {
+        for p in [glam::Vec2::new(e[0], e[1]), glam::Vec2::new(e[2], e[3])] {
+            (lo, hi) = (lo.min(p), hi.max(p));
+        }
+    }
+    assert_eq!(selected.outline.len(), 12);
+    assert!(
+        lo.cmplt(glam::Vec2::splat(centre)).all() && hi.cmpgt(glam::Vec2::splat(centre)).all(),
+        "{lo} {hi}"
+    );
     let statue = |s: &Session| s.scene().accel().instance_transform(1).transform_point3(Vec3::ZERO);
     let start = statue(&session);
     session.handle(&Input::Drag { dx: 4.0, dy: 0.0, button: Button::Secondary }).unwrap();
     let after = session.render(0.0).unwrap();
+    let left = |f: &igi_session::Frame| {
+        f.stats.selected.as_ref().unwrap().outline.iter().map(|e| e[0].min(e[2])).fold(f32::MAX, f32::min)
+    };
+    assert!(left(&after) > left(&picked) + 2.0, "the outline follows the statue to the right");
     let moved = statue(&session) - start;
     let right = session.camera().forward().cross(Vec3::Y).normalize();
     assert!(moved.dot(right) > 0.05 && moved.y.abs() < 1e-4, "moved {moved}");
@@ -356,4 +373,22 @@ fn dropping_the_loop_cancels_the_frame_in_progress() {
     drop(render_loop);
     let result = outcome.recv_timeout(Duration::from_secs(10)).expect("the frame ends within 10 s");
     assert_eq!(result, Err("the frame was cancelled".to_string()));
+}
+
+#[test]
+fn a_pick_shows_in_the_next_frame_without_restarting_the_mean() {
+    let mut session = session("animated-room", |s| {
+        s.playing = false;
+        s.converge_frames = 2;
+    });
+    while session.needs_frame() {
+        session.render(0.0).unwrap();
+    }
+    let centre = SIZE as f32 / 2.0;
+    session.handle(&Input::Pick { x: centre, y: centre }).unwrap();
+    assert!(session.needs_frame(), "a converged view still shows a new selection");
+    let frame = session.render(0.0).unwrap();
+    assert!(frame.stats.selected.is_some());
+    assert!(frame.stats.accumulated > 2, "the mean went on: {}", frame.stats.accumulated);
+    assert!(!session.needs_frame());
 }

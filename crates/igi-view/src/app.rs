@@ -333,6 +333,9 @@ impl eframe::App for ViewerApp {
                 image_rect = response.rect;
                 // The camera mode, always in sight.
                 if let Some(frame) = &self.shown {
+                    if let Some(selected) = &frame.stats.selected {
+                        draw_outline(&ui.painter_at(image_rect), image_rect, frame.stats.width, selected);
+                    }
                     let hint = match frame.stats.mode {
                         igi_session::CameraMode::Fly => "fly: WASD/QE move, drag looks, wheel speed · H help",
                         igi_session::CameraMode::Orbit => "orbit: drag turns, wheel zooms · H help",
@@ -365,6 +368,17 @@ impl eframe::App for ViewerApp {
 
     fn on_exit(&mut self, _gl: Option<&eframe::glow::Context>) {
         self.waker_stop.store(true, Ordering::SeqCst);
+    }
+}
+
+/// The selected object's bounding box over the image in `rect` (of a frame `width` pixels
+/// wide), in Blender's selection orange.
+fn draw_outline(painter: &egui::Painter, rect: egui::Rect, width: u32, selected: &igi_session::Selection) {
+    let scale = rect.width() / width.max(1) as f32;
+    let stroke = egui::Stroke::new(1.5, egui::Color32::from_rgb(255, 160, 48));
+    for &[x0, y0, x1, y1] in &selected.outline {
+        let at = |x: f32, y: f32| rect.min + egui::vec2(x, y) * scale;
+        painter.line_segment([at(x0, y0), at(x1, y1)], stroke);
     }
 }
 

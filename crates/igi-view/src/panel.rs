@@ -86,13 +86,16 @@ impl Panel {
             ui.checkbox(&mut s.path_tracer, "path tracer (reference; slow)").on_hover_text(
                 "one path per pixel and frame, averaged while still: the ground truth IGI approximates",
             );
-            ui.heading("Lighting");
+            // Sections fold, so that the statistics and the plot show at the window's default
+            // size; the ones changed least start folded.
+            let section = |title: &str, open: bool| egui::CollapsingHeader::new(title).default_open(open);
             let row = |ui: &mut Ui, label: &str, widget: DragValue| {
                 ui.horizontal(|ui| {
                     ui.label(label);
                     ui.add(widget);
                 });
             };
+            section("Lighting", true).show(ui, |ui| {
             row(ui, "VPLs per pixel", DragValue::new(&mut s.vpls_per_pixel).range(1..=4096));
             ui.horizontal(|ui| {
                 ui.label("interleave");
@@ -109,12 +112,14 @@ impl Panel {
                 "sky strength (0: off)",
                 DragValue::new(&mut s.sky).range(0.0..=igi_session::settings::MAX_SKY).speed(0.05),
             );
-            ui.heading("Filter");
+            });
+            section("Filter", false).show(ui, |ui| {
             ui.checkbox(&mut s.filter, "discontinuity filter");
             row(ui, "wide filter K (1: off)", DragValue::new(&mut s.coarse_interleave).range(1..=4));
             row(ui, "normal cosine ≥", DragValue::new(&mut s.filter_normal).range(-1.0..=1.0).speed(0.01));
             row(ui, "depth ratio ≤", DragValue::new(&mut s.filter_depth).range(0.0..=10.0).speed(0.01));
-            ui.heading("Display");
+            });
+            section("Display", true).show(ui, |ui| {
             let mut fixed = s.exposure.is_some();
             ui.checkbox(&mut fixed, "fixed exposure");
             let mut stops = s.exposure.unwrap_or(0.0);
@@ -150,13 +155,15 @@ impl Panel {
             })
             .response
             .on_hover_text("the image is rendered at the size of the area beside the panel times this; auto: full, or less so that it has at most 614,400 pixels");
-            ui.heading("Animation");
+            });
+            section("Animation", false).show(ui, |ui| {
             ui.checkbox(&mut s.playing, "play");
             row(
                 ui,
                 "speed",
                 DragValue::new(&mut s.speed).range(0.0..=igi_session::settings::MAX_SPEED).speed(0.05),
             );
+            });
             if s != stats.settings && input.is_none() {
                 input = Some(Input::Settings { settings: s });
             }
@@ -172,8 +179,8 @@ impl Panel {
                     stats.accumulated, stats.settings.converge_frames, stats.accumulated_seconds
                 ));
             }
-            ui.heading("Statistics");
-            let mut text = format!(
+            section("Statistics", true).show(ui, |ui| {
+            let text = format!(
                 "render fps   {:.1}\nwindow fps   {:.1}\nframe        {:.1} ms\nMrays/s      {:.1}\n\
                  VPLs         {}\ntriangles    {}\naccumulated  {}\ntime         {:.2} s\nselected     {}\n\
                  image        {}x{}\n",
@@ -185,15 +192,18 @@ impl Panel {
                 stats.triangles,
                 stats.accumulated,
                 stats.time,
-                stats.selected_name.as_deref().unwrap_or("none"),
+                stats.selected.as_ref().map_or("none", |s| s.name.as_str()),
                 stats.width,
                 stats.height,
             );
-            for (name, ms) in &stats.phases_ms {
-                text.push_str(&format!("  {name:<15} {ms:.2} ms\n"));
-            }
             ui.monospace(text);
             self.plot(ui);
+            section("ms per phase", false).show(ui, |ui| {
+                let phases: String =
+                    stats.phases_ms.iter().map(|(name, ms)| format!("{name:<15} {ms:.2} ms\n")).collect();
+                ui.monospace(phases);
+            });
+            });
             if !self.message.is_empty() {
                 ui.colored_label(egui::Color32::LIGHT_RED, &self.message);
             }
@@ -203,7 +213,7 @@ impl Panel {
 
     /// The frame times as a line, scaled to the largest.
     fn plot(&self, ui: &mut Ui) {
-        let (rect, _) = ui.allocate_exact_size(egui::vec2(WIDTH - 20.0, 70.0), egui::Sense::hover());
+        let (rect, _) = ui.allocate_exact_size(egui::vec2(ui.available_width(), 70.0), egui::Sense::hover());
         let painter = ui.painter_at(rect);
         painter.rect_filled(rect, 0.0, egui::Color32::from_gray(20));
         let top = self.frame_ms.iter().copied().fold(1.0f32, f32::max) * 1.1;
