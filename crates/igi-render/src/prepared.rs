@@ -23,7 +23,7 @@ use crate::frame::ScenePose;
 use crate::lights::{AreaLights, EmissionMap, EmissiveTriangle, eye_light, footprint_mean};
 use glam::{Affine3A, Mat3A, Vec2, Vec3};
 use igi_bvh::{Aabb, Accel, Hit, TriangleMesh};
-use igi_scene::{Animation, Camera, Light, Material, Pose, Scene, Texture};
+use igi_scene::{Animation, Camera, Light, Material, Pose, Scene, Texture, View};
 use igi_shade::texture::MipMap;
 use igi_shade::{BrdfParams, BrdfParams8, ShaderTable, ShadingHit8, SurfaceShader};
 use igi_simd::{F32x8, I32x8, M32x8, Vec3x8};
@@ -108,6 +108,7 @@ pub struct PreparedScene {
     textures: Vec<Texture>,
     lights: Vec<Light>,
     camera: Option<Camera>,
+    views: Vec<View>,
     front: Option<Vec3>,
     area_lights: AreaLights,
     /// The sky, if the scene has one that emits anything.
@@ -168,6 +169,7 @@ impl PreparedScene {
             textures,
             lights,
             camera,
+            views,
             front,
             environment,
             animation,
@@ -221,6 +223,7 @@ impl PreparedScene {
             textures,
             lights,
             camera,
+            views,
             front,
             area_lights: AreaLights::default(),
             environment: None,
@@ -434,6 +437,11 @@ impl PreparedScene {
     /// The scene's own camera, if it had one, or the one [`PreparedScene::set_camera`] fixed.
     pub fn camera(&self) -> Option<&Camera> {
         self.camera.as_ref()
+    }
+
+    /// The scene's named cameras ([`igi_scene::Scene::views`]).
+    pub fn views(&self) -> &[View] {
+        &self.views
     }
 
     /// The unit direction the model faces, where its format defines one (glTF: +Z).

@@ -52,7 +52,7 @@ use format::{Format, format_of};
 pub use light::Light;
 pub use model::CameraDefect;
 pub use model::{
-    AlphaMask, Camera, CoverageChannel, Instance, Material, MaterialKind, Mesh, Scene, Texture, Wrap,
+    AlphaMask, Camera, CoverageChannel, Instance, Material, MaterialKind, Mesh, Scene, Texture, View, Wrap,
 };
 pub use report::LoadReport;
 pub use resources::read_regular_file;

@@ -235,6 +235,27 @@ pub struct Camera {
     pub fov_y_deg: f32,
 }
 
+/// A named camera of a scene ([`Scene::views`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct View {
+    /// The name a user picks it by.
+    pub name: String,
+    /// Where it looks from.
+    pub camera: Camera,
+}
+
+impl View {
+    /// `name`, or `name (2)`, `name (3)`, ..., whichever no view of `views` has (two files,
+    /// or two glTF cameras, may have the same name).
+    pub fn free_name(views: &[View], name: String) -> String {
+        let taken = |n: &str| views.iter().any(|v| v.name == n);
+        if !taken(&name) {
+            return name;
+        }
+        (2..).map(|i| format!("{name} ({i})")).find(|n| !taken(n)).expect("a free name")
+    }
+}
+
 /// Why a [`Camera`] cannot frame an image: the field at fault and what is wrong with it, for
 /// the scene file and the command line to report in their own terms (`camera.up`,
 /// `--camera-up`).
@@ -258,6 +279,16 @@ impl Camera {
             v(self.up),
             self.fov_y_deg
         )
+    }
+
+    /// The camera moved by `m` (a placement of the file it came with).
+    pub fn transformed(&self, m: &glam::Affine3A) -> Self {
+        Self {
+            position: m.transform_point3(self.position),
+            target: m.transform_point3(self.target),
+            up: m.transform_vector3(self.up).normalize_or(self.up),
+            fov_y_deg: self.fov_y_deg,
+        }
     }
 
     /// Checks that the camera frames an image: finite vectors, a target a finite, non-zero
@@ -314,6 +345,10 @@ pub struct Scene {
     pub environment: Option<Environment>,
     /// The scene's own camera, if its file has one.
     pub camera: Option<Camera>,
+    /// Further named cameras (a scene file's `[[view]]` entries, a glTF file's cameras): the
+    /// viewers offer them as saved views, `igi render --view NAME` renders from one. Names
+    /// are unique.
+    pub views: Vec<View>,
     /// The unit direction the model faces, where its format defines one (glTF 2.0: +Z);
     /// `None` for OBJ, PLY, built-in scenes and scene files. The default camera looks at an
     /// object's front.

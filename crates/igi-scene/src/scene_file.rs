@@ -7,6 +7,12 @@
 //! up = [0, 1, 0]                 # optional, default +Y
 //! fov = 39.3                     # vertical, degrees
 //!
+//! [[view]]                       # optional, any number: named cameras (saved views)
+//! name = "from the door"         # unique; `igi render --view NAME`, the viewers' list
+//! position = [0, 1.6, 5]         # and the fields of [camera]
+//! target = [0, 1, 0]
+//! fov = 50
+//!
 //! [[mesh]]
 //! file = "CornellBox-Original.obj"          # .obj .gltf .glb .ply, relative to this file
 //! translate = [0, 0, 0]                     # optional
@@ -71,7 +77,9 @@
 //! contains, glTF animations included, and `instances` place copies that move alike.
 //!
 //! The camera of the scene file wins; without one, the first mesh file's camera (glTF) is
-//! used. A quad light becomes a mesh of two one-sided emissive triangles whose geometric
+//! used. The views are the scene file's `[[view]]`s, then those of the mesh files (glTF
+//! cameras, placed like their file's first instance; renamed `NAME (2)` where a name is
+//! taken). A quad light becomes a mesh of two one-sided emissive triangles whose geometric
 //! normal is normalize(u × v), with a black diffuse emissive material and an identity instance.
 //!
 //! A `[[shader]]` gives a procedural [`ShaderDesc`](crate::ShaderDesc) to the materials its
@@ -111,13 +119,13 @@ use std::path::Path;
 use toml::Spanned;
 
 use crate::error::{Location, SceneError};
-use crate::model::{Camera, Scene};
+use crate::model::{Camera, Scene, View};
 use crate::report::LoadReport;
 use crate::resources;
 use crate::texture::TextureSet;
 use crate::validate::MAX_INSTANCES;
 use checker::{Checker, toml_error};
-use schema::{CameraSpec, SceneSpec};
+use schema::{CameraSpec, SceneSpec, ViewSpec};
 
 /// Loads a scene file whose textures (those of every mesh file and the sky's) go into
 /// `textures`, so each image is decoded once for the whole scene and within one budget.
@@ -173,21 +181,56 @@ fn parse_file(
         scene.environment = environment::environment_from(&check, textures, environment, base_dir, report)?;
     }
     if let Some(camera) = &spec.camera {
-        scene.camera = Some(camera_from(&check, camera)?);
+        scene.camera = Some(camera_from(&check, camera.span(), camera.get_ref(), "camera")?);
+    }
+    let from_files = std::mem::take(&mut scene.views);
+    for (index, view) in spec.view.iter().enumerate() {
+        scene.views.push(view_from(&check, &scene.views, index, view)?);
+    }
+    for view in from_files {
+        let name = View::free_name(&scene.views, view.name);
+        scene.views.push(View { name, ..view });
     }
     Ok(scene)
 }
 
-fn camera_from(check: &Checker, camera: &Spanned<CameraSpec>) -> Result<Camera, SceneError> {
-    let span = camera.span();
-    let spec = camera.get_ref();
+/// `[[view]]` entry `index`, whose name none of `views` (the entries before it) has.
+fn view_from(
+    check: &Checker,
+    views: &[View],
+    index: usize,
+    view: &Spanned<ViewSpec>,
+) -> Result<View, SceneError> {
+    let field = format!("view[{index}]");
+    let spec = view.get_ref();
+    if spec.name.trim().is_empty() {
+        return Err(check.error(&view.span(), format!("{field}.name"), "must not be empty"));
+    }
+    if let Some(earlier) = views.iter().position(|v| v.name == spec.name) {
+        return Err(check.error(
+            &view.span(),
+            format!("{field}.name"),
+            format!("\"{}\" is already the name of view[{earlier}]", spec.name),
+        ));
+    }
+    let camera = camera_from(check, view.span(), &spec.camera(), &field)?;
+    Ok(View { name: spec.name.clone(), camera })
+}
+
+/// The camera of `spec`, checked; errors name `field` (`camera`, `view[2]`) and `span`'s line.
+fn camera_from(
+    check: &Checker,
+    span: std::ops::Range<usize>,
+    spec: &CameraSpec,
+    field: &str,
+) -> Result<Camera, SceneError> {
     let camera = Camera {
         position: spec.position.into(),
         target: spec.target.into(),
         up: spec.up.into(),
         fov_y_deg: spec.fov,
     };
-    camera.check().map_err(|d| check.error(&span, format!("camera.{}", d.field), d.problem))?;
+    camera.check().map_err(|d| check.error(&span, format!("{field}.{}", d.field), d.problem))?;
     Ok(Camera { up: camera.up.normalize(), ..camera })
 }
 

@@ -146,6 +146,9 @@ fn gltf_files_bring_their_lights_and_camera_along() {
     assert_eq!(scene.instances.len(), 2);
     let camera = scene.camera.expect("the glTF's camera, placed by the first instance");
     assert!((camera.position - Vec3::new(10.0, 0.0, 5.0)).length() < 1e-5);
+    // It is a view too, named by its index (it has no name).
+    assert_eq!(scene.views.len(), 1);
+    assert_eq!((scene.views[0].name.as_str(), scene.views[0].camera), ("camera 0", camera));
     assert!((camera.fov_y_deg - 0.5f32.to_degrees()).abs() < 1e-4);
     let positions: Vec<Vec3> = scene
         .lights
@@ -381,4 +384,40 @@ fn gltf_textures_keep_their_sampler_wrap_modes_and_the_normal_map_its_scale() {
         (normal.image.texels.linear(0)[2] - 1.0).abs() < 1e-6
             && (normal.image.texels.linear(0)[0] - 128.0 / 255.0).abs() < 1e-6
     );
+}
+
+#[test]
+fn views_are_named_cameras_checked_like_the_camera() {
+    let views = "[camera]\nposition = [0, 1, 5]\ntarget = [0, 1, 0]\nfov = 40\n\n\
+                 [[view]]\nname = \"door\"\nposition = [0, 1.6, 9]\ntarget = [0, 1, 0]\nfov = 50\n\n\
+                 [[view]]\nname = \"top\"\nposition = [0, 10, 0]\ntarget = [0, 0, 0]\nup = [0, 0, -1]\nfov = 30\n";
+    let dir = directory("views", &[("scene.toml", views)]);
+    let scene = load(dir.join("scene.toml")).unwrap();
+    let names: Vec<&str> = scene.views.iter().map(|v| v.name.as_str()).collect();
+    assert_eq!(names, ["door", "top"]);
+    assert_eq!(scene.views[0].camera.position, Vec3::new(0.0, 1.6, 9.0));
+    assert_eq!((scene.views[1].camera.up, scene.views[1].camera.fov_y_deg), (Vec3::NEG_Z, 30.0));
+    assert_eq!(scene.camera.unwrap().position, Vec3::new(0.0, 1.0, 5.0), "the scene camera stays");
+
+    let cases = [
+        (
+            "[[view]]\nname = \"a\"\nposition = [0, 0, 5]\ntarget = [0, 0, 0]\nfov = 40\n\
+             [[view]]\nname = \"a\"\nposition = [0, 0, 6]\ntarget = [0, 0, 0]\nfov = 40\n",
+            "line 7, field `view[1].name`: \"a\" is already the name of view[0]",
+        ),
+        (
+            "[[view]]\nname = \"a\"\nposition = [0, 0, 5]\ntarget = [0, 0, 0]\nfov = 200\n",
+            "line 5, field `view[0].fov`: the vertical field of view",
+        ),
+        (
+            "[[view]]\nname = \" \"\nposition = [0, 0, 5]\ntarget = [0, 0, 0]\nfov = 40\n",
+            "field `view[0].name`: must not be empty",
+        ),
+        ("[[view]]\nposition = [0, 0, 5]\ntarget = [0, 0, 0]\nfov = 40\n", "missing field `name`"),
+    ];
+    for (text, expected) in cases {
+        let dir = directory("bad-views", &[("scene.toml", text)]);
+        let err = load(dir.join("scene.toml")).unwrap_err().to_string();
+        assert!(err.contains(expected), "{err}");
+    }
 }

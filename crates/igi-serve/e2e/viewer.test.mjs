@@ -152,6 +152,15 @@ await page.waitForTimeout(200);
 assert.ok((await orange()) < outlined / 10, "no outline once reset");
 console.log(`selection: "${selected.name}", outlined by ${outlined} orange pixels, cleared by reset`);
 
+// Saved views (issue 18): the scene's named cameras are listed; choosing one moves the camera
+// there, "reset" back.
+assert.deepEqual(await page.locator("#views option").allTextContents(), ["look from…", "statue", "high corner"]);
+await page.locator("#views").selectOption("statue");
+await waitFor(() => Math.abs(window.__igi.header.stats.camera.position[0] - 1.4) < 1e-3);
+await page.locator("#reset").click();
+await waitFor(() => Math.abs(window.__igi.header.stats.camera.position[0]) < 1e-3);
+console.log("views: listed, chosen, and back");
+
 // "save view" (issue 18): the camera as a scene-file snippet.
 await page.locator("#save_view").click();
 const snippet = await page.locator("#view_snippet").textContent();

@@ -93,4 +93,10 @@ pub enum Input {
     },
     /// Back to the scene's own camera and no object moves.
     Reset,
+    /// Look from the scene's view of this name ([`crate::FrameStats::views`]); objects stay
+    /// where they were moved.
+    View {
+        /// The view's name.
+        name: String,
+    },
 }

@@ -64,6 +64,8 @@ pub struct FrameStats {
     pub mode: CameraMode,
     /// The camera of the frame (the viewers' "save view" prints it as a scene-file snippet).
     pub camera: Camera,
+    /// The names of the scene's views ([`Input::View`] picks one).
+    pub views: Vec<String>,
 }
 
 /// A frame to show.
@@ -226,6 +228,18 @@ impl Session {
             }
             Input::Pick { x, y } => self.pick(*x, *y),
             Input::Drag { dx, dy, button: Button::Secondary } => self.drag_selected(*dx, *dy),
+            Input::View { name } => {
+                let Some(view) = self.scene.views().iter().find(|v| &v.name == name) else {
+                    return Err(SettingsError {
+                        field: "view",
+                        message: format!("the scene has no view {name:?}"),
+                    });
+                };
+                let mode = self.controller.mode();
+                self.controller = CameraController::new(&view.camera, self.controller.speed());
+                self.controller.handle(&Input::Mode { mode }, self.settings.height);
+                self.changed = true;
+            }
             Input::Reset => {
                 self.controller = CameraController::new(&self.home, self.fly_speed);
                 self.moved.clear();
@@ -386,6 +400,7 @@ impl Session {
             settings: self.settings.clone(),
             mode: self.controller.mode(),
             camera: self.controller.camera(),
+            views: self.scene.views().iter().map(|v| v.name.clone()).collect(),
         };
         Ok(Frame { stats, image })
     }

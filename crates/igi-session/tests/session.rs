@@ -392,3 +392,21 @@ fn a_pick_shows_in_the_next_frame_without_restarting_the_mean() {
     assert!(frame.stats.accumulated > 2, "the mean went on: {}", frame.stats.accumulated);
     assert!(!session.needs_frame());
 }
+
+#[test]
+fn a_view_moves_the_camera_there_and_an_unknown_one_is_refused() {
+    let mut session = session("animated-room", |s| s.playing = false);
+    let first = session.render(0.0).unwrap();
+    assert_eq!(first.stats.views, ["statue", "high corner"]);
+    session.handle(&Input::Mode { mode: igi_session::CameraMode::Orbit }).unwrap();
+    session.handle(&Input::View { name: "statue".into() }).unwrap();
+    let there = session.render(0.0).unwrap();
+    let view = &session.scene().views()[0].camera;
+    assert!((there.stats.camera.position - view.position).length() < 1e-5);
+    assert!((there.stats.camera.target - view.target).length() < 1e-4);
+    assert_eq!(there.stats.mode, igi_session::CameraMode::Orbit, "the mode stays");
+    assert_eq!(there.stats.accumulated, 1, "a new view starts the mean anew");
+    assert_ne!(there.image.srgb8(), first.image.srgb8());
+    let err = session.handle(&Input::View { name: "roof".into() }).unwrap_err();
+    assert_eq!(ViewSettings::panel_message(&err), "view: the scene has no view \"roof\"");
+}

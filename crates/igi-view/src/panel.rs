@@ -80,6 +80,20 @@ impl Panel {
                     self.message = format!("view printed and copied, for a scene file:\n{snippet}");
                 }
             });
+            if !stats.views.is_empty() {
+                // The scene's named cameras; choosing one moves the camera there.
+                let mut chosen = None;
+                egui::ComboBox::from_label("scene views").selected_text("look from…").show_ui(ui, |ui| {
+                    for name in &stats.views {
+                        if ui.selectable_label(false, name).clicked() {
+                            chosen = Some(name.clone());
+                        }
+                    }
+                });
+                if let Some(name) = chosen {
+                    input = Some(Input::View { name });
+                }
+            }
             ui.small("H or ?: keys and mouse; F12 saves the image");
 
             let mut s = stats.settings.clone();

@@ -28,6 +28,10 @@ fn vec3_text(v: Vec3) -> String {
 /// camera (or of a default camera framing the scene).
 #[derive(Debug, Default, clap::Args)]
 pub struct CameraArgs {
+    /// Start from the scene's view NAME (a scene file's [[view]], a glTF camera; `igi info`
+    /// lists them); the options below replace its fields.
+    #[arg(long, value_name = "NAME")]
+    pub view: Option<String>,
     /// Camera position x,y,z (default: the scene's camera, else inside an interior at eye
     /// height, or a three-quarter view of an object).
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
@@ -44,11 +48,24 @@ pub struct CameraArgs {
 }
 
 impl CameraArgs {
-    /// The camera the scene starts with ([`start_camera`]: its own, else where a person would
-    /// stand) with the given fields replaced; an error naming the flag for a camera that
-    /// frames no image ([`Camera::check`], the scene files' check).
+    /// The camera of `--view`, else the one the scene starts with ([`start_camera`]: its own,
+    /// else where a person would stand), with the given fields replaced; an error naming the
+    /// flag for an unknown view or a camera that frames no image ([`Camera::check`], the
+    /// scene files' check).
     pub fn resolve(&self, scene: &PreparedScene) -> Result<Camera> {
-        let mut camera = start_camera(scene);
+        let mut camera = match &self.view {
+            None => start_camera(scene),
+            Some(name) => match scene.views().iter().find(|v| &v.name == name) {
+                Some(view) => view.camera,
+                None if scene.views().is_empty() => anyhow::bail!(
+                    "--view {name:?}: the scene has no views (a scene file names them in [[view]] tables)"
+                ),
+                None => {
+                    let names: Vec<String> = scene.views().iter().map(|v| format!("{:?}", v.name)).collect();
+                    anyhow::bail!("--view {name:?}: the scene has no such view; it has {}", names.join(", "))
+                }
+            },
+        };
         camera.position = self.camera_position.unwrap_or(camera.position);
         camera.target = self.camera_target.unwrap_or(camera.target);
         camera.up = self.camera_up.unwrap_or(camera.up);

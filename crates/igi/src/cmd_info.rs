@@ -141,6 +141,11 @@ pub fn run(args: &InfoArgs) -> Result<()> {
     for line in c.scene_file_snippet().lines() {
         outln!("  {line}");
     }
+    let names: Vec<String> = prepared.views().iter().map(|view| format!("{:?}", view.name)).collect();
+    outln!(
+        "views        {}",
+        if names.is_empty() { "none ([[view]] in a scene file)".into() } else { names.join(", ") }
+    );
     outln!("default light {}", default_light.as_deref().unwrap_or("none (the scene's own lights show it)"));
     Ok(())
 }

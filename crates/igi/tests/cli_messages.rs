@@ -117,3 +117,31 @@ fn logs_into_a_pipe_have_no_colour_codes_or_times_and_a_render_says_how_to_conve
     ]);
     assert!(!text(&converged.stdout).contains("--frames 64"), "no advice once frames are averaged");
 }
+
+#[test]
+fn a_view_renders_from_the_scenes_named_camera_and_an_unknown_one_lists_them() {
+    let dir = std::env::temp_dir().join(format!("igi-cli-views-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (home, statue) = (dir.join("home.png"), dir.join("statue.png"));
+    let small = ["--width", "64", "--height", "48", "--vpls", "2", "--aa", "1"];
+    for (file, view) in [(&home, None), (&statue, Some("statue"))] {
+        let mut args = vec!["render", "animated-room", "-o", file.to_str().unwrap()];
+        args.extend(small);
+        args.extend(view.iter().flat_map(|v| ["--view", *v]));
+        let out = igi(&args);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+    }
+    assert_ne!(std::fs::read(&home).unwrap(), std::fs::read(&statue).unwrap(), "another camera");
+    let out = igi(&["render", "animated-room", "--view", "roof", "-o", dir.join("x.png").to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = text(&out.stderr);
+    assert!(
+        err.contains(r#"--view "roof": the scene has no such view; it has "statue", "high corner""#),
+        "{err}"
+    );
+    let out = igi(&["render", "cornell-box", "--view", "roof", "-o", dir.join("x.png").to_str().unwrap()]);
+    assert!(text(&out.stderr).contains("the scene has no views"), "{}", text(&out.stderr));
+    let info = text(&igi(&["info", "animated-room"]).stdout);
+    assert!(info.contains(r#"views        "statue", "high corner""#), "{info}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -21,7 +21,7 @@ use glam::{Affine3A, Vec3};
 use super::shapes::{cuboid, quad, sphere};
 use crate::animation::{AnimatedInstance, AnimatedLight, Animation, AnimationNode, RotationTrack, Track};
 use crate::light::Light;
-use crate::model::{Camera, Instance, Material, Scene};
+use crate::model::{Camera, Instance, Material, Scene, View};
 use crate::validate::{MeshBuilder, Part};
 
 const WHITE: u32 = 0;
@@ -169,6 +169,26 @@ pub(super) fn scene() -> Scene {
             up: Vec3::Y,
             fov_y_deg: 60.0,
         }),
+        views: vec![
+            View {
+                name: "statue".into(),
+                camera: Camera {
+                    position: Vec3::new(1.4, 1.6, 1.6),
+                    target: Vec3::new(0.0, 1.0, 0.0),
+                    up: Vec3::Y,
+                    fov_y_deg: 50.0,
+                },
+            },
+            View {
+                name: "high corner".into(),
+                camera: Camera {
+                    position: Vec3::new(-HALF + 0.2, HEIGHT - 0.2, HALF - 0.2),
+                    target: Vec3::new(0.5, 0.6, -0.5),
+                    up: Vec3::Y,
+                    fov_y_deg: 70.0,
+                },
+            },
+        ],
         front: None,
         animation,
     }

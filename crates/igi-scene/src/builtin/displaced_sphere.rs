@@ -60,6 +60,7 @@ pub(super) fn scene(triangles: usize) -> Scene {
             up: Vec3::Y,
             fov_y_deg: 45.0,
         }),
+        views: Vec::new(),
         front: None,
         animation: Animation::default(),
     }

@@ -215,6 +215,7 @@ pub(super) fn scene(triangles: usize) -> Scene {
             up: Vec3::Y,
             fov_y_deg: 55.0,
         }),
+        views: Vec::new(),
         front: None,
         animation: Animation::default(),
     }

@@ -546,6 +546,7 @@ pub(super) fn scene(triangles: usize) -> Scene {
             up: Vec3::Y,
             fov_y_deg: 50.0,
         }),
+        views: Vec::new(),
         front: None,
         animation: Animation::default(),
     }

@@ -280,6 +280,7 @@ pub(super) fn assemble(name: &str, parts: Vec<Part>, materials: Vec<Material>, c
         lights: Vec::new(),
         environment: None,
         camera: Some(camera),
+        views: Vec::new(),
         front: None,
         animation: Animation::default(),
     }

@@ -1,13 +1,15 @@
-//! The scene's camera: the first perspective camera met in the node hierarchy.
+//! The scene's cameras: every perspective camera met in the node hierarchy is a view, named
+//! by the camera (else its node, else its index); the first is the scene's camera.
 
 use glam::{Mat4, Vec3};
 
 use super::loader::Loader;
-use crate::model::Camera;
+use crate::model::{Camera, View};
 
 impl Loader<'_> {
-    /// Takes the node's camera as the scene's if it is the first perspective one. The scene's
-    /// camera does not move, so a camera on a moving node (`moving`) stays at rest.
+    /// Adds the node's camera to the views, and takes it as the scene's if it is the first
+    /// perspective one. Cameras do not move, so a camera on a moving node (`moving`) stays at
+    /// rest.
     pub(super) fn camera(
         &mut self,
         node: &gltf::Node,
@@ -15,9 +17,6 @@ impl Loader<'_> {
         world: Mat4,
         moving: Option<u32>,
     ) {
-        if self.scene.camera.is_some() {
-            return;
-        }
         let gltf::camera::Projection::Perspective(perspective) = camera.projection() else {
             self.report.warn(self.file, format!("nodes[{}]: orthographic camera skipped", node.index()));
             return;
@@ -28,7 +27,15 @@ impl Loader<'_> {
         let fov_y_deg = perspective.yfov().to_degrees();
         match (forward, up) {
             (Some(forward), Some(up)) if fov_y_deg > 0.0 && fov_y_deg < 180.0 => {
-                self.scene.camera = Some(Camera { position, target: position + forward, up, fov_y_deg });
+                let view = Camera { position, target: position + forward, up, fov_y_deg };
+                self.scene.camera.get_or_insert(view);
+                let name = camera
+                    .name()
+                    .or(node.name())
+                    .filter(|n| !n.trim().is_empty())
+                    .map_or_else(|| format!("camera {}", camera.index()), str::to_string);
+                let name = View::free_name(&self.scene.views, name);
+                self.scene.views.push(View { name, camera: view });
                 if moving.is_some() {
                     self.report.warn(
                         self.file,

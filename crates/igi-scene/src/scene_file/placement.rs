@@ -15,7 +15,7 @@ use crate::animation::{AnimatedInstance, AnimatedLight, AnimationNode, RotationT
 use crate::error::{Location, SceneError};
 use crate::format;
 use crate::light::Light;
-use crate::model::{Camera, Instance, Material, Scene};
+use crate::model::{Instance, Material, Scene, View};
 use crate::report::LoadReport;
 use crate::resources;
 use crate::texture::TextureSet;
@@ -230,14 +230,14 @@ fn append(
         }
         scene.animation.append(&sub.animation, instance_base, light_base, Some(carrier));
     }
-    if scene.camera.is_none() {
-        if let (Some(camera), Some(placement)) = (sub.camera, placements.first().map(|&p| p * own_at_rest)) {
-            scene.camera = Some(Camera {
-                position: placement.transform_point3(camera.position),
-                target: placement.transform_point3(camera.target),
-                up: placement.transform_vector3(camera.up).normalize_or(camera.up),
-                fov_y_deg: camera.fov_y_deg,
-            });
+    // The file's cameras go where its first placement puts it.
+    if let Some(placement) = placements.first().map(|&p| p * own_at_rest) {
+        if scene.camera.is_none() {
+            scene.camera = sub.camera.map(|camera| camera.transformed(&placement));
+        }
+        for view in sub.views {
+            let name = View::free_name(&scene.views, view.name);
+            scene.views.push(View { name, camera: view.camera.transformed(&placement) });
         }
     }
 }

@@ -10,6 +10,8 @@ use toml::Spanned;
 pub(super) struct SceneSpec {
     pub(super) camera: Option<Spanned<CameraSpec>>,
     #[serde(default)]
+    pub(super) view: Vec<Spanned<ViewSpec>>,
+    #[serde(default)]
     pub(super) mesh: Vec<Spanned<MeshSpec>>,
     #[serde(default)]
     pub(super) light: Vec<Spanned<LightSpec>>,
@@ -26,6 +28,26 @@ pub(super) struct CameraSpec {
     #[serde(default = "up_y")]
     pub(super) up: [f32; 3],
     pub(super) fov: f32,
+}
+
+/// A `[[view]]`: a named camera, with the fields of `[camera]` (serde cannot flatten them
+/// into a table that refuses unknown fields).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct ViewSpec {
+    pub(super) name: String,
+    pub(super) position: [f32; 3],
+    pub(super) target: [f32; 3],
+    #[serde(default = "up_y")]
+    pub(super) up: [f32; 3],
+    pub(super) fov: f32,
+}
+
+impl ViewSpec {
+    /// The camera fields.
+    pub(super) fn camera(&self) -> CameraSpec {
+        CameraSpec { position: self.position, target: self.target, up: self.up, fov: self.fov }
+    }
 }
 
 fn up_y() -> [f32; 3] {
