@@ -146,13 +146,22 @@ impl Message {
 mod tests {
     use super::*;
     use glam::{Affine3A, Vec3};
-    use igi_render::{IgiSettings, PixelFormat, ScenePose};
+    use igi_render::{IgiSettings, LightEdit, LightId, PixelFormat, ScenePose};
 
     #[test]
     fn messages_round_trip() {
         let camera = igi_scene::builtin("cornell-box").and_then(|s| s.camera).unwrap();
         let mut frame = FrameState::new(camera, IgiSettings::default());
-        frame.pose = ScenePose { time: 1.5, moved: vec![(2, Affine3A::from_translation(Vec3::X))], sky: 0.5 };
+        frame.pose = ScenePose {
+            time: 1.5,
+            moved: vec![(2, Affine3A::from_translation(Vec3::X))],
+            sky: 0.5,
+            lights: vec![LightEdit {
+                light: LightId::Emissive(4),
+                power: Vec3::new(2.0, 1.0, 0.0),
+                transform: Affine3A::from_rotation_y(0.5),
+            }],
+        };
         (frame.pixels, frame.frame, frame.seed) = (PixelFormat::Srgb8, 3, 9);
         let job = FrameJob { id: 7, frame };
         for m in [

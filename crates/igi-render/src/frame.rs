@@ -5,6 +5,7 @@
 //! scene and derive the VPLs and every pixel deterministically.
 
 use crate::frame_image::PixelFormat;
+use crate::light_edit::LightEdit;
 use crate::sampling::hash_combine;
 use crate::tonemap::ToneMapper;
 use glam::Affine3A;
@@ -237,12 +238,14 @@ pub struct ScenePose {
     pub moved: Vec<(u32, Affine3A)>,
     /// Factor on the environment's radiance: 1 as loaded, 0 turns the sky off.
     pub sky: f32,
+    /// A viewer's changes to light sources (power, colour, position), in the order applied.
+    pub lights: Vec<LightEdit>,
 }
 
 impl ScenePose {
     /// The pose at time `time` with nothing moved by hand and the sky as loaded.
     pub fn at(time: f32) -> Self {
-        Self { time, moved: Vec::new(), sky: 1.0 }
+        Self { time, moved: Vec::new(), sky: 1.0, lights: Vec::new() }
     }
 }
 

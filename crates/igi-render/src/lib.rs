@@ -12,7 +12,8 @@
 //! - [`camera`]: the pinhole camera ([`PinholeCamera`]), identical to the Embree benchmark's;
 //!   [`viewpoint`]: where a scene without a camera is seen from.
 //! - [`lights`], [`environment`] and [`sampling`]: light sources, the environment (sky)
-//!   light and deterministic sample sequences. How surfaces scatter light (surface shaders
+//!   light and deterministic sample sequences; [`light_edit`]: a viewer's changes to the
+//!   light sources ([`LightEdit`]), carried by the scene pose. How surfaces scatter light (surface shaders
 //!   feeding BRDF shaders) is the `igi-shade` crate's, shared by every estimator here.
 //! - [`vpl`]: virtual point lights from random walks (instant radiosity), kept by
 //!   [`view_importance`], their importance to what the camera sees.
@@ -54,6 +55,7 @@ pub mod frame;
 pub mod frame_image;
 pub mod frame_renderer;
 pub mod interleave;
+pub mod light_edit;
 pub mod lights;
 pub mod output;
 mod packet;
@@ -79,6 +81,7 @@ pub use film::Film;
 pub use frame::{FrameState, IgiSettings, ScenePose};
 pub use frame_image::{FrameImage, PixelFormat, Pixels};
 pub use frame_renderer::{FrameError, FrameOutput, FramePlan, FrameRenderer};
+pub use light_edit::{LightEdit, LightId};
 pub use output::{OutputError, write_exr, write_image, write_png};
 pub use pixel_rect::PixelRect;
 pub use prepared::{GeometryBytes, PreparedScene, SurfacePoint};

@@ -20,12 +20,13 @@ use crate::cutout::{AlphaCutouts, MeshMaterials};
 use crate::default_light::DefaultLight;
 use crate::environment::EnvironmentLight;
 use crate::frame::ScenePose;
+use crate::light_edit::{LightEdit, LightId};
 use crate::lights::{AreaLights, EmissionMap, EmissiveTriangle, eye_light, footprint_mean};
 use glam::{Affine3A, Mat3A, Vec2, Vec3};
 use igi_bvh::{Aabb, Accel, Hit, TriangleMesh};
 use igi_scene::{Animation, Camera, Light, Material, Pose, Scene, Texture, View};
 use igi_shade::texture::MipMap;
-use igi_shade::{BrdfParams, BrdfParams8, ShaderTable, ShadingHit8, SurfaceShader};
+use igi_shade::{BrdfParams, BrdfParams8, MaterialShader, ShaderTable, ShadingHit8, SurfaceShader};
 use igi_simd::{F32x8, I32x8, M32x8, Vec3x8};
 use std::sync::Arc;
 
@@ -131,6 +132,8 @@ pub struct PreparedScene {
     /// Instance transforms and lights as loaded: a [`Pose`] overrides some of them.
     rest_transforms: Vec<Affine3A>,
     rest_lights: Vec<Light>,
+    /// Each material's emitted radiance as loaded: a [`LightEdit`] scales it.
+    rest_emission: Vec<Vec3>,
     /// The instances that have emissive triangles.
     emitter_instances: Vec<u32>,
     /// True if the last placement moved some instance away from its animation's pose.
@@ -235,10 +238,12 @@ impl PreparedScene {
             animation,
             rest_transforms: placements.iter().map(|&(_, m)| m).collect(),
             rest_lights: lights_copy,
+            rest_emission: Vec::new(),
             emitter_instances: Vec::new(),
             is_displaced: false,
             headlight: false,
         };
+        prepared.rest_emission = prepared.materials.iter().map(|m| m.emission).collect();
         let table = ShaderTable::new(&prepared.materials, &prepared.textures);
         prepared.maps = table.maps().to_vec();
         prepared.shaders = table.into_shaders();
@@ -283,7 +288,7 @@ impl PreparedScene {
 
     /// Places the scene as `pose` says: the animated instances and lights take their pose at
     /// its time, the instances it moves are also transformed by their matrix in world space
-    /// (a viewer's object moves), the top-level BVH is
+    /// (a viewer's object moves), its light edits change the lights, the top-level BVH is
     /// rebuilt over the moved instances (the per-mesh BVHs stay), and the surface shaders see
     /// its time. Everything else the renderer derives from the scene (VPLs, lighting) is
     /// recomputed by the next frame anyway. A scene already in this pose stays as it is.
@@ -294,19 +299,90 @@ impl PreparedScene {
         if let Some(sky) = &mut self.environment {
             sky.set_strength(pose.sky);
         }
+        let animated = self.animation.pose(pose.time);
         if !self.animation.is_empty() || !pose.moved.is_empty() || self.is_displaced {
-            let animated = self.animation.pose(pose.time);
             self.place(&animated, &pose.moved);
             self.is_displaced = !pose.moved.is_empty();
+        }
+        let edited = self.posed.as_ref().is_some_and(|p| !p.lights.is_empty());
+        if !self.animation.is_empty() || !pose.lights.is_empty() || edited {
+            self.light(&animated, &pose.lights);
         }
         self.posed = Some(pose.clone());
     }
 
-    /// Places the scene: every instance and light at its rest state (as loaded), overridden
-    /// by `pose`, and then the instances in `moved` (a viewer's object moves) transformed
-    /// once more by their matrix (applied in world space, after the pose). Rebuilds the top
-    /// level of the acceleration structure and, if an emitter may have moved, the table of
-    /// emissive triangles.
+    /// The scene's light sources a viewer can edit, with names for a list: the punctual
+    /// lights (`point light 0`, `spot light 1`, `sun 2`), then the emissive materials by name.
+    pub fn light_sources(&self) -> Vec<(LightId, String)> {
+        let punctual = self.rest_lights.iter().enumerate().map(|(i, light)| {
+            let kind = match light {
+                Light::Point { .. } => "point light",
+                Light::Spot { .. } => "spot light",
+                Light::Directional { .. } => "sun",
+            };
+            (LightId::Punctual(i as u32), format!("{kind} {i}"))
+        });
+        let emissive =
+            self.rest_emission.iter().enumerate().filter(|(_, e)| e.max_element() > 0.0).map(|(m, _)| {
+                let name = &self.materials[m].name;
+                let name = if name.is_empty() { format!("emissive material {m}") } else { name.clone() };
+                (LightId::Emissive(m as u32), name)
+            });
+        punctual.chain(emissive).collect()
+    }
+
+    /// Sets the punctual lights to their rest state overridden by `animated` and then
+    /// changed by `edits`, and each emissive material's radiance to its rest value times its
+    /// edit's power (rebuilding its shader and, if any changed, the table of emissive
+    /// triangles).
+    fn light(&mut self, animated: &Pose, edits: &[LightEdit]) {
+        self.lights.clone_from(&self.rest_lights);
+        for (i, light) in &animated.lights {
+            if let Some(l) = self.lights.get_mut(*i as usize) {
+                *l = light.clone();
+            }
+        }
+        let mut power = vec![Vec3::ONE; self.materials.len()];
+        for edit in edits {
+            match edit.light {
+                LightId::Punctual(i) => {
+                    if let Some(l) = self.lights.get_mut(i as usize) {
+                        *l = edit.apply(l);
+                    }
+                }
+                LightId::Emissive(m) => {
+                    if let Some(p) = power.get_mut(m as usize) {
+                        *p *= edit.power;
+                    }
+                }
+            }
+        }
+        let mut changed = false;
+        for (m, (&rest, power)) in self.rest_emission.iter().zip(power).enumerate() {
+            let emission = rest * power;
+            if self.materials[m].emission == emission {
+                continue;
+            }
+            self.materials[m].emission = emission;
+            if self.materials[m].shader.is_none() {
+                self.shaders[m] = Arc::new(MaterialShader::new(&self.materials[m], &self.maps));
+            }
+            self.uniform[m] = self.shaders[m].uniform().map(BrdfParams::conserving);
+            changed = true;
+        }
+        if changed {
+            self.area_lights = AreaLights::new(
+                self.collect_emissive(self.emitter_instances.iter().copied()),
+                self.maps.clone(),
+            );
+        }
+    }
+
+    /// Places the instances: each at its rest transform (as loaded), overridden by `pose`,
+    /// and then the instances in `moved` (a viewer's object moves) transformed once more by
+    /// their matrix (applied in world space, after the pose). Rebuilds the top level of the
+    /// acceleration structure and, if an emitter may have moved, the table of emissive
+    /// triangles.
     fn place(&mut self, pose: &Pose, moved: &[(u32, Affine3A)]) {
         let mut transforms = self.rest_transforms.clone();
         for &(i, m) in &pose.instances {
@@ -317,12 +393,6 @@ impl PreparedScene {
         for &(i, m) in moved {
             if let Some(t) = transforms.get_mut(i as usize) {
                 *t = m * *t;
-            }
-        }
-        self.lights.clone_from(&self.rest_lights);
-        for (i, light) in &pose.lights {
-            if let Some(l) = self.lights.get_mut(*i as usize) {
-                *l = light.clone();
             }
         }
         let emitters_moved = self

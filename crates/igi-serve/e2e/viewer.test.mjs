@@ -161,6 +161,35 @@ await page.locator("#reset").click();
 await waitFor(() => Math.abs(window.__igi.header.stats.camera.position[0]) < 1e-3);
 console.log("views: listed, chosen, and back");
 
+// Lights (issue 18): the lamp chosen from the list shows its controls; three times its
+// intensity brightens the frame, red turns it red; the point light selected and right-dragged
+// moves; "reset" puts both back.
+assert.deepEqual(await page.locator("#light_select option").allTextContents(), ["none", "point light 0", "lamp"]);
+const beforeLights = await pixels();
+await page.locator("#light_select").selectOption("lamp");
+await waitFor(() => window.__igi.header.stats.selected?.light === 1);
+assert.equal(await page.locator("#light_edit").isVisible(), true);
+await page.locator("#light_intensity").fill("3");
+await page.locator("#light_intensity").dispatchEvent("change");
+await waitFor(() => window.__igi.header.stats.lights[1].intensity === 3);
+await page.waitForTimeout(200);
+const brighter = await pixels();
+assert.ok(brighter.sum > beforeLights.sum * 1.1, `three times the lamp: pixel sum ${beforeLights.sum} -> ${brighter.sum}`);
+await page.locator("#light_colour").fill("#ff0000");
+await waitFor(() => window.__igi.header.stats.lights[1].colour.join() === "1,0,0");
+await page.locator("#light_select").selectOption("point light 0");
+await waitFor(() => window.__igi.header.stats.selected?.light === 0);
+const where = () => page.evaluate(() => window.__igi.header.stats.selected.outline[4]);
+const markerBefore = await where();
+await page.mouse.move(cx, cy);
+await page.mouse.down({ button: "right" });
+for (let i = 1; i <= 5; i++) await page.mouse.move(cx + 12 * i, cy);
+await page.mouse.up({ button: "right" });
+await waitFor((x) => window.__igi.header.stats.selected.outline[4][0] > x + 5, markerBefore[0]);
+await page.locator("#reset").click();
+await waitFor(() => window.__igi.header.stats.lights.every((l) => l.intensity === 1 && l.colour.join() === "1,1,1"));
+console.log(`lights: lamp x3 pixel sum ${beforeLights.sum} -> ${brighter.sum}, red, point light dragged, reset`);
+
 // "save view" (issue 18): the camera as a scene-file snippet.
 await page.locator("#save_view").click();
 const snippet = await page.locator("#view_snippet").textContent();

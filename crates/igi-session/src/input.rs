@@ -91,7 +91,23 @@ pub enum Input {
         /// The new settings (checked; invalid ones are refused with a message).
         settings: ViewSettings,
     },
-    /// Back to the scene's own camera and no object moves.
+    /// Select the scene's light source `index` ([`crate::FrameStats::lights`]): a right-drag
+    /// then moves (a sun: turns) it.
+    SelectLight {
+        /// Its index.
+        index: usize,
+    },
+    /// Set the intensity (a factor on its power, 1 as loaded) and the linear RGB colour tint
+    /// (white as loaded) of light source `index`.
+    EditLight {
+        /// Its index.
+        index: usize,
+        /// Factor on its power, 0 ..= [`crate::light_control::MAX_INTENSITY`].
+        intensity: f32,
+        /// Tint, each channel in [0, 1].
+        colour: [f32; 3],
+    },
+    /// Back to the scene's own camera, no object moved and every light as loaded.
     Reset,
     /// Look from the scene's view of this name ([`crate::FrameStats::views`]); objects stay
     /// where they were moved.

@@ -9,6 +9,8 @@
 //!   and the view's [`igi_render::Progressive`] (accumulation and tone-map feedback), and
 //!   turns inputs into frames: while the camera and the scene are still, frames accumulate with fresh VPL sets (progressive convergence); any change shows
 //!   the instant one-frame solution at once (paper section 1).
+//! - [`light_control`]: [`LightControl`], a light source's intensity, colour and move as a
+//!   viewer edits them.
 //! - [`selection`]: [`Selection`], the picked object's name and outline on the image.
 //! - [`frame_source`]: [`FrameSource`], where frames are rendered: this machine's threads or
 //!   a cluster.
@@ -18,6 +20,7 @@
 pub mod camera_control;
 pub mod frame_source;
 pub mod input;
+pub mod light_control;
 pub mod render_loop;
 pub mod selection;
 pub mod session;
@@ -26,6 +29,7 @@ pub mod settings;
 pub use camera_control::CameraController;
 pub use frame_source::{FrameSource, SourceError};
 pub use input::{Button, CameraMode, Input, Key};
+pub use light_control::{LightControl, LightKind};
 pub use render_loop::{LatestFrame, RenderLoop, Watching};
 pub use selection::Selection;
 pub use session::{Frame, FrameStats, Session};

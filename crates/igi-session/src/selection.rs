@@ -1,7 +1,9 @@
-//! [`Selection`]: the object a viewer's user picked, by name, with its outline on the image:
-//! the edges of its oriented bounding box (the mesh's object-space bounds under the instance's
-//! transform, as Blender draws an object's bounds), which the viewers draw over the frame.
+//! [`Selection`]: the object or light a viewer's user picked, by name, with its outline on the
+//! image, which the viewers draw over the frame: for an object, the edges of its oriented
+//! bounding box (the mesh's object-space bounds under the instance's transform, as Blender
+//! draws an object's bounds); for a point or spot light, a marker around where it is.
 
+use crate::light_control::LightControl;
 use glam::{Affine3A, Vec2, Vec3};
 use igi_bvh::Aabb;
 use igi_render::{PinholeCamera, PreparedScene};
@@ -11,12 +13,18 @@ use serde::Serialize;
 /// the eye is drawn up to where it leaves the view frustum's near side.
 const NEAR: f32 = 1e-4;
 
-/// The selected object of a frame.
+/// Half the size of a light's marker, pixels.
+const MARKER: f32 = 8.0;
+
+/// The selected object or light of a frame.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Selection {
-    /// Its instance index.
-    pub instance: u32,
-    /// Its mesh's name from the scene's file (`instance N` for a mesh without one).
+    /// The selected instance, if an object is selected.
+    pub instance: Option<u32>,
+    /// The selected light source's index in [`crate::FrameStats::lights`], if a light is.
+    pub light: Option<usize>,
+    /// An object's mesh name from the scene's file (`instance N` for a mesh without one), or
+    /// the light's name.
     pub name: String,
     /// Its bounding box's edges seen through the frame's camera, as line segments
     /// `[x0, y0, x1, y1]` in pixels of the image (from the top-left corner; they may reach
@@ -25,8 +33,35 @@ pub struct Selection {
 }
 
 impl Selection {
+    /// Light source `index` of `lights` in `scene`'s current pose, seen through `camera`.
+    pub fn of_light(
+        scene: &PreparedScene,
+        lights: &[LightControl],
+        index: usize,
+        camera: &PinholeCamera,
+    ) -> Self {
+        let light = &lights[index];
+        let outline = light
+            .position(scene)
+            .and_then(|p| camera.project(p))
+            .map(|c| {
+                // A diamond and a cross through it.
+                let (x, y, r) = (c.x, c.y, MARKER);
+                vec![
+                    [x - r, y, x, y - r],
+                    [x, y - r, x + r, y],
+                    [x + r, y, x, y + r],
+                    [x, y + r, x - r, y],
+                    [x - r, y, x + r, y],
+                    [x, y - r, x, y + r],
+                ]
+            })
+            .unwrap_or_default();
+        Self { instance: None, light: Some(index), name: light.name.clone(), outline }
+    }
+
     /// Instance `instance` of `scene` in its current pose, seen through `camera`.
-    pub fn of(scene: &PreparedScene, instance: u32, camera: &PinholeCamera) -> Self {
+    pub fn of_instance(scene: &PreparedScene, instance: u32, camera: &PinholeCamera) -> Self {
         let accel = scene.accel();
         let mesh = accel.instance_mesh(instance);
         let name = match scene.meshes().get(mesh as usize).map(|m| m.name.as_str()) {
@@ -34,7 +69,7 @@ impl Selection {
             _ => format!("instance {instance}"),
         };
         let outline = box_outline(accel.mesh_bounds(mesh), accel.instance_transform(instance), camera);
-        Self { instance, name, outline }
+        Self { instance: Some(instance), light: None, name, outline }
     }
 }
 

@@ -10,6 +10,7 @@
 use crate::camera_control::CameraController;
 use crate::frame_source::{FrameSource, SourceError};
 use crate::input::{Button, CameraMode, Input};
+use crate::light_control::{LightControl, LightKind};
 use crate::selection::Selection;
 use crate::settings::{MAX_ACCUMULATION, ViewSettings};
 use glam::{Affine3A, Vec3};
@@ -66,6 +67,9 @@ pub struct FrameStats {
     pub camera: Camera,
     /// The names of the scene's views ([`Input::View`] picks one).
     pub views: Vec<String>,
+    /// The scene's light sources and their settings ([`Input::SelectLight`] and
+    /// [`Input::EditLight`] name them by index).
+    pub lights: Vec<LightControl>,
 }
 
 /// A frame to show.
@@ -76,6 +80,25 @@ pub struct Frame {
     /// The image: the display image, with the linear radiance (the mean of the accumulated
     /// frames, for EXR) unless a cluster sent the frame as 8-bit pixels.
     pub image: FrameImage,
+}
+
+/// What is selected, and the distance from the eye at which a drag moves it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Selected {
+    /// An instance, picked in the image at this distance.
+    Instance { instance: u32, distance: f32 },
+    /// Light source `index` of the session's list (distance 0 for one without a position).
+    Light { index: usize, distance: f32 },
+}
+
+impl Selected {
+    /// What is selected, without the distance: a new selection if it differs.
+    fn target(self) -> (bool, usize) {
+        match self {
+            Self::Instance { instance, .. } => (false, instance as usize),
+            Self::Light { index, .. } => (true, index),
+        }
+    }
 }
 
 /// A scene, its camera, settings, clock and accumulation.
@@ -91,8 +114,10 @@ pub struct Session {
     /// Render time of the frames in `progressive`, seconds.
     accumulated_seconds: f64,
     clock: f32,
-    /// The selected instance and the distance at which it was picked (sets the drag scale).
-    selected: Option<(u32, f32)>,
+    /// The selected object or light.
+    selected: Option<Selected>,
+    /// The scene's light sources and the user's changes to them.
+    lights: Vec<LightControl>,
     /// World translations of instances the user moved.
     moved: BTreeMap<u32, Vec3>,
     /// The view changed since the last frame.
@@ -139,6 +164,7 @@ impl Session {
             settings,
             clock: 0.0,
             selected: None,
+            lights: LightControl::of(&scene),
             moved: BTreeMap::new(),
             changed: true,
             reselected: false,
@@ -240,9 +266,25 @@ impl Session {
                 self.controller.handle(&Input::Mode { mode }, self.settings.height);
                 self.changed = true;
             }
+            Input::SelectLight { index } => {
+                let light = self.lights.get(*index).ok_or_else(|| self.no_light(*index))?;
+                let eye = self.controller.camera().position;
+                let distance = light.position(&self.scene).map_or(0.0, |p| (p - eye).length());
+                self.select(Some(Selected::Light { index: *index, distance }));
+            }
+            Input::EditLight { index, intensity, colour } => {
+                let no_light = self.no_light(*index);
+                let light = self.lights.get_mut(*index).ok_or(no_light)?;
+                let before = (light.intensity, light.colour);
+                light
+                    .set(*intensity, *colour)
+                    .map_err(|message| SettingsError { field: "light", message })?;
+                self.changed |= before != (light.intensity, light.colour);
+            }
             Input::Reset => {
                 self.controller = CameraController::new(&self.home, self.fly_speed);
                 self.moved.clear();
+                self.lights = LightControl::of(&self.scene);
                 self.selected = None;
                 self.changed = true;
             }
@@ -267,30 +309,68 @@ impl Session {
         let camera = PinholeCamera::new(&self.controller.camera(), s.width, s.height);
         let ray = camera.ray_at(x as u32, y as u32, x.fract(), y.fract());
         let hit = self.scene.accel().intersect(&ray);
-        self.select(hit.t.is_finite().then(|| (hit.instance, hit.t * ray.dir.length())));
+        self.select(
+            hit.t
+                .is_finite()
+                .then(|| Selected::Instance { instance: hit.instance, distance: hit.t * ray.dir.length() }),
+        );
     }
 
-    /// Selects `selected` (an instance and the distance at which it was picked), or nothing.
-    fn select(&mut self, selected: Option<(u32, f32)>) {
-        self.reselected |= selected.map(|s| s.0) != self.selected.map(|s| s.0);
+    /// Selects `selected`, or nothing.
+    fn select(&mut self, selected: Option<Selected>) {
+        self.reselected |= selected.map(Selected::target) != self.selected.map(Selected::target);
         self.selected = selected;
     }
 
-    /// Moves the selected instance by a drag of (dx, dy) pixels in the view plane at the depth
-    /// it was picked, so it follows the pointer.
+    /// The error for a light index the scene does not have.
+    fn no_light(&self, index: usize) -> SettingsError {
+        SettingsError {
+            field: "light",
+            message: format!("the scene has {} light sources, not {}", self.lights.len(), index + 1),
+        }
+    }
+
+    /// Moves the selection by a drag of (dx, dy) pixels: an object, or a point or spot
+    /// light, in the view plane at the depth it was picked (so it follows the pointer); a
+    /// sun turns, a full turn per image height as the orbit camera (about +Y for dx, about
+    /// the view's horizontal axis for dy). An emissive material moves with its object.
     fn drag_selected(&mut self, dx: f32, dy: f32) {
-        let Some((instance, distance)) = self.selected else { return };
+        let Some(selected) = self.selected else { return };
         if !(dx.is_finite() && dy.is_finite()) {
             return;
         }
         let s = &self.settings;
         let camera = PinholeCamera::new(&self.controller.camera(), s.width, s.height);
-        // One pixel spans 2·tan(fov/2)·distance / height at that distance.
-        let per_pixel = 2.0 * camera.tan_half * distance / s.height as f32;
-        let offset = (camera.right * dx - camera.up * dy) * per_pixel;
-        if offset.is_finite() && offset != Vec3::ZERO {
-            *self.moved.entry(instance).or_insert(Vec3::ZERO) += offset;
-            self.changed = true;
+        let in_view_plane = |distance: f32| {
+            // One pixel spans 2·tan(fov/2)·distance / height at that distance.
+            let per_pixel = 2.0 * camera.tan_half * distance / s.height as f32;
+            Some((camera.right * dx - camera.up * dy) * per_pixel)
+                .filter(|o| o.is_finite() && *o != Vec3::ZERO)
+        };
+        match selected {
+            Selected::Instance { instance, distance } => {
+                if let Some(offset) = in_view_plane(distance) {
+                    *self.moved.entry(instance).or_insert(Vec3::ZERO) += offset;
+                    self.changed = true;
+                }
+            }
+            Selected::Light { index, distance } => {
+                let light = &mut self.lights[index];
+                let step = match light.kind {
+                    LightKind::Point => in_view_plane(distance).map(Affine3A::from_translation),
+                    LightKind::Sun => {
+                        let turn = std::f32::consts::TAU / s.height as f32;
+                        let about_up = glam::Quat::from_rotation_y(dx * turn);
+                        let about_right = glam::Quat::from_axis_angle(camera.right, dy * turn);
+                        Some(Affine3A::from_quat(about_up * about_right))
+                    }
+                    LightKind::Emissive => None,
+                };
+                if let Some(step) = step {
+                    light.transform = step * light.transform;
+                    self.changed = true;
+                }
+            }
         }
     }
 
@@ -331,6 +411,7 @@ impl Session {
                 sky: self.settings.sky,
                 time: self.clock,
                 moved: self.moved.iter().map(|(&i, &v)| (i, Affine3A::from_translation(v))).collect(),
+                lights: self.lights.iter().filter_map(LightControl::edit).collect(),
             },
             tone_map: self.progressive.tone_mapper(),
             pixels: if self.renderer.prefers_srgb8() && !averaged {
@@ -390,17 +471,22 @@ impl Session {
             width: settings.width,
             height: settings.height,
             // After the render the scene stands in the frame's pose.
-            selected: self.selected.map(|(i, _)| {
-                Selection::of(
-                    &self.scene,
-                    i,
-                    &PinholeCamera::new(&frame.camera, settings.width, settings.height),
-                )
+            selected: self.selected.map(|selected| {
+                let camera = PinholeCamera::new(&frame.camera, settings.width, settings.height);
+                match selected {
+                    Selected::Instance { instance, .. } => {
+                        Selection::of_instance(&self.scene, instance, &camera)
+                    }
+                    Selected::Light { index, .. } => {
+                        Selection::of_light(&self.scene, &self.lights, index, &camera)
+                    }
+                }
             }),
             settings: self.settings.clone(),
             mode: self.controller.mode(),
             camera: self.controller.camera(),
             views: self.scene.views().iter().map(|v| v.name.clone()).collect(),
+            lights: self.lights.clone(),
         };
         Ok(Frame { stats, image })
     }

@@ -100,7 +100,7 @@ fn picking_and_dragging_moves_the_object_under_the_pointer() {
     session.handle(&Input::Pick { x: centre, y: centre }).unwrap();
     let picked = session.render(0.0).unwrap();
     let selected = picked.stats.selected.as_ref().expect("the statue is picked");
-    assert_eq!(selected.instance, 1, "the statue is instance 1");
+    assert_eq!(selected.instance, Some(1), "the statue is instance 1");
     // Its outline surrounds the point that picked it.
     let (mut lo, mut hi) = (glam::Vec2::splat(f32::MAX), glam::Vec2::splat(f32::MIN));
     for e in &selected.outline {
@@ -409,4 +409,56 @@ fn a_view_moves_the_camera_there_and_an_unknown_one_is_refused() {
     assert_ne!(there.image.srgb8(), first.image.srgb8());
     let err = session.handle(&Input::View { name: "roof".into() }).unwrap_err();
     assert_eq!(ViewSettings::panel_message(&err), "view: the scene has no view \"roof\"");
+}
+
+#[test]
+fn lights_are_listed_edited_dragged_and_reset() {
+    // A fixed exposure: the tone map does not follow the edits.
+    let mut session = session("animated-room", |s| {
+        s.playing = false;
+        s.accumulate = false;
+        s.exposure = Some(0.0);
+    });
+    let first = session.render(0.0).unwrap();
+    let names: Vec<&str> = first.stats.lights.iter().map(|l| l.name.as_str()).collect();
+    assert_eq!(names, ["point light 0", "lamp"]);
+    let mean = |f: &igi_session::Frame| f.image.srgb8().iter().map(|&b| f64::from(b)).sum::<f64>();
+
+    // The lamp twice as bright: a brighter image, and the panel's values come back.
+    session.handle(&Input::EditLight { index: 1, intensity: 2.0, colour: [1.0, 1.0, 1.0] }).unwrap();
+    let brighter = session.render(0.0).unwrap();
+    assert_eq!((brighter.stats.lights[1].intensity, brighter.stats.accumulated), (2.0, 1));
+    assert!(mean(&brighter) > mean(&first));
+    // Red only: no green left in the lamp's light (the point light still adds some).
+    session.handle(&Input::EditLight { index: 1, intensity: 2.0, colour: [1.0, 0.0, 0.0] }).unwrap();
+    assert_eq!(session.render(0.0).unwrap().stats.lights[1].colour, [1.0, 0.0, 0.0]);
+
+    // The point light selected and dragged right moves along the view's right axis.
+    session.handle(&Input::SelectLight { index: 0 }).unwrap();
+    let selected = session.render(0.0).unwrap().stats.selected.unwrap();
+    assert_eq!(
+        (selected.light, selected.name.as_str(), selected.outline.len()),
+        (Some(0), "point light 0", 6)
+    );
+    let position = |s: &Session| match s.scene().lights()[0] {
+        igi_scene::Light::Point { position, .. } => position,
+        _ => unreachable!(),
+    };
+    let before = position(&session);
+    session.handle(&Input::Drag { dx: 10.0, dy: 0.0, button: Button::Secondary }).unwrap();
+    session.render(0.0).unwrap();
+    let right = session.camera().forward().cross(Vec3::Y).normalize();
+    let moved = position(&session) - before;
+    assert!(moved.dot(right) > 0.05 && moved.y.abs() < 1e-4, "moved {moved}");
+
+    // Bad values are refused in the panel's words; reset puts every light back.
+    let err = session.handle(&Input::EditLight { index: 1, intensity: -1.0, colour: [1.0; 3] }).unwrap_err();
+    assert_eq!(ViewSettings::panel_message(&err), "light: intensity -1 is not between 0 and 1000");
+    let err = session.handle(&Input::SelectLight { index: 7 }).unwrap_err();
+    assert_eq!(ViewSettings::panel_message(&err), "light: the scene has 2 light sources, not 8");
+    session.handle(&Input::Reset).unwrap();
+    let reset = session.render(0.0).unwrap();
+    assert_eq!((reset.stats.lights[1].intensity, reset.stats.lights[1].colour), (1.0, [1.0; 3]));
+    assert!((position(&session) - before).length() < 1e-6);
+    assert!(reset.image.srgb8() == first.image.srgb8(), "as at the start");
 }

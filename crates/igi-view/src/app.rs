@@ -387,7 +387,10 @@ const HELP: &[(&str, &str)] = &[
     ("fly mode", "W A S D move, Q E down and up, drag looks around, the wheel sets the speed"),
     ("orbit mode", "drag turns around the point in front of the camera, the wheel moves closer or away"),
     ("click", "selects the object under the pointer (its name shows in the statistics)"),
-    ("right-drag", "moves the selected object in the view plane"),
+    (
+        "right-drag",
+        "moves the selected object in the view plane, or the light chosen in the panel's Lights (a sun turns)",
+    ),
     ("F12", "saves the image as PNG and EXR in the current folder"),
     ("H or ?", "this help"),
 ];

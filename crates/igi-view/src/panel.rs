@@ -5,7 +5,7 @@
 use crate::resolution::Resolution;
 use eframe::egui::{self, DragValue, Ui};
 use igi_render::frame::limits::MAX_BOUNCES;
-use igi_session::{CameraMode, Frame, FrameStats, Input};
+use igi_session::{CameraMode, Frame, FrameStats, Input, LightKind};
 use std::collections::VecDeque;
 use std::time::Instant;
 
@@ -127,6 +127,11 @@ impl Panel {
                 DragValue::new(&mut s.sky).range(0.0..=igi_session::settings::MAX_SKY).speed(0.05),
             );
             });
+            section(&format!("Lights ({})", stats.lights.len()), false).show(ui, |ui| {
+                if let Some(light) = self.lights(ui, stats) {
+                    input = Some(light);
+                }
+            });
             section("Filter", false).show(ui, |ui| {
             ui.checkbox(&mut s.filter, "discontinuity filter");
             row(ui, "wide filter K (1: off)", DragValue::new(&mut s.coarse_interleave).range(1..=4));
@@ -222,6 +227,41 @@ impl Panel {
                 ui.colored_label(egui::Color32::LIGHT_RED, &self.message);
             }
         });
+        input
+    }
+
+    /// The scene's light sources: a click selects one; the selected one's intensity and
+    /// colour can be edited, and a hint says how a drag moves it.
+    fn lights(&mut self, ui: &mut Ui, stats: &FrameStats) -> Option<Input> {
+        let selected = stats.selected.as_ref().and_then(|s| s.light);
+        let mut input = None;
+        for (index, light) in stats.lights.iter().enumerate() {
+            if ui.selectable_label(selected == Some(index), &light.name).clicked() {
+                input = Some(Input::SelectLight { index });
+            }
+            if selected != Some(index) {
+                continue;
+            }
+            let (mut intensity, mut colour) = (light.intensity, light.colour);
+            ui.horizontal(|ui| {
+                ui.label("intensity ×");
+                ui.add(
+                    DragValue::new(&mut intensity)
+                        .range(0.0..=igi_session::light_control::MAX_INTENSITY)
+                        .speed(0.02),
+                );
+                ui.label("colour");
+                ui.color_edit_button_rgb(&mut colour);
+            });
+            ui.small(match light.kind {
+                LightKind::Point => "right-drag in the image moves it",
+                LightKind::Sun => "right-drag in the image turns it",
+                LightKind::Emissive => "click its object in the image; right-drag moves it",
+            });
+            if (intensity, colour) != (light.intensity, light.colour) {
+                input = Some(Input::EditLight { index, intensity, colour });
+            }
+        }
         input
     }
 
