@@ -8,7 +8,8 @@
 //!   ([`obj`], [`mtl`]), glTF 2.0 ([`gltf_loader`]), Stanford PLY ([`ply`]) and igi's own TOML
 //!   scene files ([`scene_file`]) that place such files and add lights and a camera.
 //!   [`load_with_report`] also returns the [`LoadReport`] (dropped triangles, warnings);
-//!   [`load_named`] accepts a built-in scene name ([`builtin_names`]) as well as a path.
+//!   [`load_named`] accepts a built-in scene name ([`builtin_names`]) as well as a path;
+//!   [`scene_files_under`] lists the scene files of a folder (the viewers' "open scene").
 //! - Every format module also parses from memory (`parse`), which is what the fuzz targets and
 //!   property tests drive.
 //!
@@ -23,6 +24,7 @@
 
 pub mod animation;
 mod builtin;
+mod catalog;
 mod digest;
 mod environment;
 mod error;
@@ -46,6 +48,7 @@ use std::path::Path;
 
 pub use animation::{Animation, Pose, Track};
 pub use builtin::{MAX_GENERATED_TRIANGLES, builtin, builtin_names, builtin_spec, closest_builtin};
+pub use catalog::{MAX_CATALOG_FILES, scene_files_under};
 pub use environment::Environment;
 pub use error::{Location, SceneError};
 use format::{Format, format_of};

@@ -237,6 +237,19 @@ console.log(`invalid value: "${refusal}", cleared once fixed`);
 await page.locator("#accumulate").click();
 await waitFor(() => window.__igi.header.stats.settings.accumulate === false);
 
+// Another scene (issue 18): the server lists what it may open; choosing the Cornell box
+// says so while it loads and shows it; the animated room comes back the same way.
+assert.deepEqual(await page.locator("#open_scene option").allTextContents(), ["animated-room", "cornell-box"]);
+const roomTriangles = (await header()).stats.triangles;
+for (const name of ["cornell-box", "animated-room"]) {
+  await page.locator("#open_scene").selectOption(name);
+  await waitFor((n) => window.__igi.header.stats.scene === n && document.getElementById("status").textContent === "", name);
+}
+const reopened = (await header()).stats;
+assert.equal(reopened.triangles, roomTriangles);
+assert.equal(await page.evaluate(() => document.title), "igi: animated-room");
+console.log("open scene: cornell-box, then animated-room again");
+
 // 4. Latency with the animation playing (the renderer is always busy with a frame).
 await page.locator("#playing").click();
 await waitFor(() => window.__igi.header.stats.settings.playing === true);

@@ -78,20 +78,33 @@ struct AppState {
     /// The server listens on a loopback address: it answers to loopback names only.
     loopback: bool,
     budget: FrameBudget,
+    /// The names of the scenes the session may open (`GET /scenes`).
+    scenes: Arc<Vec<String>>,
 }
 
 /// Serves the viewer of `render_loop` on `listener` within `limits` until `shutdown`
-/// completes.
+/// completes; the page offers to open `scenes` (the session's catalog).
 pub async fn serve(
     render_loop: Arc<RenderLoop>,
+    scenes: Vec<String>,
     listener: TcpListener,
     limits: Limits,
     shutdown: impl Future<Output = ()> + Send + 'static,
 ) -> io::Result<()> {
     let loopback = listener.local_addr()?.ip().is_loopback();
     let encoder = Encoder::spawn(render_loop.clone());
-    let state = AppState { render_loop, frames: encoder.subscribe(), loopback, budget: limits.frame };
-    let app = Router::new().route("/", get(page)).route("/ws", get(stream)).with_state(state);
+    let state = AppState {
+        render_loop,
+        frames: encoder.subscribe(),
+        loopback,
+        budget: limits.frame,
+        scenes: Arc::new(scenes),
+    };
+    let app = Router::new()
+        .route("/", get(page))
+        .route("/ws", get(stream))
+        .route("/scenes", get(scene_list))
+        .with_state(state);
     // Open WebSockets would hold a graceful shutdown forever: stop serving at once instead.
     tokio::select! {
         () = accept(listener, app, limits) => Ok(()),
@@ -175,6 +188,16 @@ async fn page() -> Html<&'static str> {
     Html(PAGE)
 }
 
+/// The names of the scenes the page may ask to open, as a JSON array (a page names one of
+/// them, never a path).
+async fn scene_list(headers: HeaderMap, State(state): State<AppState>) -> Response {
+    if let Err(why) = access::check(&headers, state.loopback) {
+        return (StatusCode::FORBIDDEN, why).into_response();
+    }
+    let json = serde_json::to_string(state.scenes.as_ref()).unwrap_or_else(|_| "[]".into());
+    ([(axum::http::header::CONTENT_TYPE, "application/json")], json).into_response()
+}
+
 async fn stream(upgrade: WebSocketUpgrade, headers: HeaderMap, State(state): State<AppState>) -> Response {
     if let Err(why) = access::check(&headers, state.loopback) {
         return (StatusCode::FORBIDDEN, why).into_response();
@@ -206,8 +229,9 @@ pub fn run(session: Session, listen: SocketAddr, limits: Limits) -> anyhow::Resu
             );
         }
         // Nothing is rendered while no browser is connected.
+        let scenes = session.scene_names().to_vec();
         let render_loop = Arc::new(RenderLoop::spawn_on_demand(session));
-        serve(render_loop, listener, limits, stop_signal()).await.context("the server failed")
+        serve(render_loop, scenes, listener, limits, stop_signal()).await.context("the server failed")
     })
 }
 

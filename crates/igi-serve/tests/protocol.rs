@@ -182,11 +182,15 @@ fn get(address: std::net::SocketAddr, path: &str) -> (String, String) {
 }
 
 #[test]
-fn only_the_page_and_the_stream_are_served() {
+fn only_the_page_the_stream_and_the_scene_list_are_served() {
     let server = common::start(32, 24);
     let (status, body) = get(server.address, "/");
     assert!(status.contains("200"), "{status}");
     assert!(body.contains("<canvas") && body.contains("/ws"));
+    // The names of the scenes the page may open, and nothing else about the file system.
+    let (status, body) = get(server.address, "/scenes");
+    assert!(status.contains("200"), "{status}");
+    assert_eq!(body, r#"["animated-room","cornell-box"]"#);
     for path in ["/etc/passwd", "/../Cargo.toml", "/index.html", "/page/index.html", "/src/lib.rs"] {
         let (status, _) = get(server.address, path);
         assert!(status.contains("404"), "{path}: {status}");

@@ -109,6 +109,12 @@ pub enum Input {
     },
     /// Back to the scene's own camera, no object moved and every light as loaded.
     Reset,
+    /// Open the scene of this name from the viewer's list ([`crate::SceneCatalog`]) in place
+    /// of the current one (its camera, lights and clock start anew; the settings stay).
+    Open {
+        /// The name as listed.
+        name: String,
+    },
     /// Look from the scene's view of this name ([`crate::FrameStats::views`]); objects stay
     /// where they were moved.
     View {

@@ -12,12 +12,14 @@
 //! - [`light_control`]: [`LightControl`], a light source's intensity, colour and move as a
 //!   viewer edits them.
 //! - [`selection`]: [`Selection`], the picked object's name and outline on the image.
+//! - [`catalog`]: [`SceneCatalog`], the scenes a viewer may open instead (by name only).
 //! - [`frame_source`]: [`FrameSource`], where frames are rendered: this machine's threads or
 //!   a cluster.
 //! - [`render_loop`]: [`RenderLoop`], a thread rendering the next frame while the viewer
 //!   shows the newest one; inputs go in, only the newest frame comes out.
 
 pub mod camera_control;
+pub mod catalog;
 pub mod frame_source;
 pub mod input;
 pub mod light_control;
@@ -27,6 +29,7 @@ pub mod session;
 pub mod settings;
 
 pub use camera_control::CameraController;
+pub use catalog::{SceneCatalog, SceneOpener};
 pub use frame_source::{FrameSource, SourceError};
 pub use input::{Button, CameraMode, Input, Key};
 pub use light_control::{LightControl, LightKind};

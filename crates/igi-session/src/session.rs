@@ -8,6 +8,7 @@
 //! and shows their running mean, which converges (progressive refinement).
 
 use crate::camera_control::CameraController;
+use crate::catalog::SceneCatalog;
 use crate::frame_source::{FrameSource, SourceError};
 use crate::input::{Button, CameraMode, Input};
 use crate::light_control::{LightControl, LightKind};
@@ -17,7 +18,7 @@ use glam::{Affine3A, Vec3};
 use igi_render::frame::SettingsError;
 use igi_render::{
     CancelToken, FrameImage, FrameRenderer, FrameState, Phase, PinholeCamera, PixelFormat, PreparedScene,
-    Progressive, ScenePose, Shown,
+    Progressive, ScenePose, Shown, start_camera,
 };
 use igi_scene::Camera;
 use serde::Serialize;
@@ -67,6 +68,9 @@ pub struct FrameStats {
     pub camera: Camera,
     /// The names of the scene's views ([`Input::View`] picks one).
     pub views: Vec<String>,
+    /// The name of the scene shown, as the viewer's list of scenes names it (none without
+    /// a list).
+    pub scene: Option<String>,
     /// The scene's light sources and their settings ([`Input::SelectLight`] and
     /// [`Input::EditLight`] name them by index).
     pub lights: Vec<LightControl>,
@@ -80,6 +84,12 @@ pub struct Frame {
     /// The image: the display image, with the linear radiance (the mean of the accumulated
     /// frames, for EXR) unless a cluster sent the frame as 8-bit pixels.
     pub image: FrameImage,
+}
+
+/// How fast the fly camera starts in `scene`: 15 % of its diagonal per second.
+fn fly_speed_for(scene: &PreparedScene) -> f32 {
+    let diagonal = scene.bounds().diagonal();
+    if diagonal.is_finite() && diagonal > 0.0 { 0.15 * diagonal } else { 1.0 }
 }
 
 /// What is selected, and the distance from the eye at which a drag moves it.
@@ -130,6 +140,8 @@ pub struct Session {
     last_frame_end: Option<Instant>,
     fps: f64,
     seed: u32,
+    /// The scenes the session may open, if any, and the name of the one shown.
+    catalog: Option<(SceneCatalog, String)>,
 }
 
 impl Session {
@@ -152,8 +164,7 @@ impl Session {
         source: Box<dyn FrameSource>,
     ) -> Result<Self, SettingsError> {
         settings.validate()?;
-        let diagonal = scene.bounds().diagonal();
-        let fly_speed = if diagonal.is_finite() && diagonal > 0.0 { 0.15 * diagonal } else { 1.0 };
+        let fly_speed = fly_speed_for(&scene);
         Ok(Self {
             renderer: source,
             controller: CameraController::new(&camera, fly_speed),
@@ -173,8 +184,39 @@ impl Session {
             last_frame_end: None,
             fps: 0.0,
             seed: 0,
+            catalog: None,
             scene,
         })
+    }
+
+    /// Lets the session open the scenes of `catalog` ([`Input::Open`]); `current` is the
+    /// name of the scene it shows.
+    pub fn set_catalog(&mut self, catalog: SceneCatalog, current: &str) {
+        self.catalog = Some((catalog, current.to_string()));
+    }
+
+    /// The names of the scenes it may open (none without a catalog).
+    pub fn scene_names(&self) -> &[String] {
+        self.catalog.as_ref().map_or(&[], |(c, _)| c.names())
+    }
+
+    /// Shows `scene` instead, from its own start camera, with nothing moved or selected, its
+    /// lights as loaded, the clock at 0 and the clamp distance the new scene's default; the
+    /// other settings and the camera mode stay.
+    fn replace_scene(&mut self, scene: PreparedScene) {
+        let camera = start_camera(&scene);
+        self.fly_speed = fly_speed_for(&scene);
+        let mode = self.controller.mode();
+        self.controller = CameraController::new(&camera, self.fly_speed);
+        self.controller.handle(&Input::Mode { mode }, self.settings.height);
+        self.home = camera;
+        self.settings.clamp = igi_render::IgiSettings::clamp_for(scene.bounds().diagonal());
+        self.lights = LightControl::of(&scene);
+        self.scene = scene;
+        self.moved.clear();
+        self.selected = None;
+        self.clock = 0.0;
+        self.changed = true;
     }
 
     /// The current settings.
@@ -280,6 +322,15 @@ impl Session {
                     .set(*intensity, *colour)
                     .map_err(|message| SettingsError { field: "light", message })?;
                 self.changed |= before != (light.intensity, light.colour);
+            }
+            Input::Open { name } => {
+                let refuse = |message: String| SettingsError { field: "open", message };
+                let (catalog, current) = self.catalog.as_mut().ok_or_else(|| {
+                    refuse("this viewer opens no other scenes (a cluster's nodes hold theirs)".into())
+                })?;
+                let scene = catalog.open(name).map_err(refuse)?;
+                name.clone_into(current);
+                self.replace_scene(scene);
             }
             Input::Reset => {
                 self.controller = CameraController::new(&self.home, self.fly_speed);
@@ -487,6 +538,7 @@ impl Session {
             camera: self.controller.camera(),
             views: self.scene.views().iter().map(|v| v.name.clone()).collect(),
             lights: self.lights.clone(),
+            scene: self.catalog.as_ref().map(|(_, name)| name.clone()),
         };
         Ok(Frame { stats, image })
     }

@@ -462,3 +462,42 @@ fn lights_are_listed_edited_dragged_and_reset() {
     assert!((position(&session) - before).length() < 1e-6);
     assert!(reset.image.srgb8() == first.image.srgb8(), "as at the start");
 }
+
+#[test]
+fn a_listed_scene_opens_in_place_and_nothing_else_does() {
+    let mut session = session("cornell-box", |s| s.playing = false);
+    let err = session.handle(&Input::Open { name: "animated-room".into() }).unwrap_err();
+    assert!(
+        ViewSettings::panel_message(&err).starts_with("open: this viewer opens no other scenes"),
+        "{err}"
+    );
+    let names = vec!["cornell-box".to_string(), "animated-room".to_string(), "broken.obj".to_string()];
+    let opener: igi_session::SceneOpener = Box::new(|name: &str| match igi_scene::builtin(name) {
+        Some(scene) => Ok(PreparedScene::new(scene)),
+        None => Err(format!("{name}: cannot load")),
+    });
+    session.set_catalog(igi_session::SceneCatalog::new(names.clone(), opener), "cornell-box");
+    assert_eq!(session.scene_names(), names);
+    let cornell = session.render(0.0).unwrap();
+    assert_eq!(cornell.stats.scene.as_deref(), Some("cornell-box"));
+
+    // Not in the list: refused before any file is looked at; a failing load changes nothing.
+    for (name, message) in [
+        ("../../etc/passwd", "open: \"../../etc/passwd\" is not in the list of scenes"),
+        ("broken.obj", "open: broken.obj: cannot load"),
+    ] {
+        let err = session.handle(&Input::Open { name: name.into() }).unwrap_err();
+        assert_eq!(ViewSettings::panel_message(&err), message);
+    }
+    assert_eq!(session.render(0.0).unwrap().stats.triangles, cornell.stats.triangles);
+
+    session.handle(&Input::Open { name: "animated-room".into() }).unwrap();
+    let room = session.render(0.0).unwrap();
+    assert_eq!(room.stats.scene.as_deref(), Some("animated-room"));
+    assert_eq!((room.stats.accumulated, room.stats.time), (1, 0.0));
+    assert_eq!(room.stats.lights.len(), 2);
+    assert_eq!(room.stats.views, ["statue", "high corner"]);
+    let start = igi_render::start_camera(session.scene());
+    assert!((room.stats.camera.position - start.position).length() < 1e-5, "its own start camera");
+    assert_ne!(room.stats.triangles, cornell.stats.triangles);
+}

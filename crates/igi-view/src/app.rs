@@ -43,8 +43,14 @@ pub struct ViewerApp {
 }
 
 impl ViewerApp {
-    /// Sets up the window's state and starts the thread that wakes it for new frames.
-    pub fn new(cc: &eframe::CreationContext<'_>, render_loop: Arc<RenderLoop>, options: ViewOptions) -> Self {
+    /// Sets up the window's state and starts the thread that wakes it for new frames; the
+    /// panel offers to open `scenes` (names of the session's catalog).
+    pub fn new(
+        cc: &eframe::CreationContext<'_>,
+        render_loop: Arc<RenderLoop>,
+        options: ViewOptions,
+        scenes: Vec<String>,
+    ) -> Self {
         // Physical pixels = points: the image shows 1:1 and screenshots are comparable.
         cc.egui_ctx.set_pixels_per_point(1.0);
         let waker_stop = Arc::new(AtomicBool::new(false));
@@ -72,7 +78,7 @@ impl ViewerApp {
             first_shown: None,
             screenshot_requested: false,
             closing: false,
-            panel: Panel::new(options.resolution),
+            panel: Panel::new(options.resolution, scenes),
             options,
             waker_stop,
             asked: None,
@@ -126,6 +132,11 @@ impl ViewerApp {
         }
         self.frames_shown += 1;
         self.first_shown.get_or_insert_with(std::time::Instant::now);
+        let scene = |f: &Frame| f.stats.scene.clone();
+        if let Some(name) = scene(&frame).filter(|_| self.shown.as_deref().map(scene) != Some(scene(&frame)))
+        {
+            ctx.send_viewport_cmd(egui::ViewportCommand::Title(format!("igi: {name}")));
+        }
         self.panel.frame_shown(&frame.stats);
         self.shown = Some(frame);
     }
@@ -307,7 +318,7 @@ impl eframe::App for ViewerApp {
             },
         );
         for error in self.render_loop.take_errors() {
-            self.panel.message = error;
+            self.panel.refused(error);
         }
         egui::SidePanel::right("panel").exact_width(panel::WIDTH).resizable(false).show(ctx, |ui| {
             if let Some(input) = self.panel.show(ui, self.shown.as_deref()) {

@@ -62,6 +62,7 @@ pub fn run(session: Session, options: ViewOptions) -> Result<()> {
         settings.height.max(DEFAULT_WINDOW[1]),
     ]);
     let size = size.map(|s| s as f32);
+    let scenes = session.scene_names().to_vec();
     let render_loop = Arc::new(RenderLoop::spawn(session));
     let native = eframe::NativeOptions {
         viewport: eframe::egui::ViewportBuilder::default().with_inner_size(size).with_title(&options.title),
@@ -80,7 +81,7 @@ pub fn run(session: Session, options: ViewOptions) -> Result<()> {
         Box::new(move |cc| {
             #[cfg(unix)]
             signals.close_window(cc.egui_ctx.clone())?;
-            Ok(Box::new(app::ViewerApp::new(cc, app_loop, options)))
+            Ok(Box::new(app::ViewerApp::new(cc, app_loop, options, scenes)))
         }),
     )
     .map_err(|e| anyhow::anyhow!("cannot open the window: {e} (is there a display with OpenGL?)"));

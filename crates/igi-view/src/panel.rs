@@ -23,12 +23,16 @@ pub struct Panel {
     pub resolution: Resolution,
     frame_ms: VecDeque<f32>,
     shown_at: VecDeque<Instant>,
+    /// The scenes the session may open instead.
+    scenes: Vec<String>,
+    /// The scene asked for and not shown yet.
+    opening: Option<String>,
 }
 
 impl Panel {
-    /// A panel starting at `resolution`.
-    pub fn new(resolution: Resolution) -> Self {
-        Self { resolution, ..Self::default() }
+    /// A panel starting at `resolution`, offering to open `scenes`.
+    pub fn new(resolution: Resolution, scenes: Vec<String>) -> Self {
+        Self { resolution, scenes, ..Self::default() }
     }
 
     /// Records a newly shown frame (for the plot and the window's frame rate).
@@ -39,6 +43,16 @@ impl Panel {
         }
         self.frame_ms.push_back(stats.render_ms as f32);
         self.shown_at.push_back(Instant::now());
+        if self.opening.is_some() && self.opening == stats.scene {
+            self.opening = None;
+            self.message.clear();
+        }
+    }
+
+    /// Says why the session refused an input (a scene being opened is not any more).
+    pub fn refused(&mut self, error: String) {
+        self.message = error;
+        self.opening = None;
     }
 
     /// Frames shown per second over the recorded ones.
@@ -60,6 +74,24 @@ impl Panel {
         let stats = &frame.stats;
         let mut input = None;
         egui::ScrollArea::vertical().show(ui, |ui| {
+            if !self.scenes.is_empty() {
+                // Another scene, from the session's list (built-ins, files under the start
+                // folder); the view stays until it is loaded.
+                let mut chosen = None;
+                let current = stats.scene.as_deref().unwrap_or("");
+                egui::ComboBox::from_label("scene").selected_text(current).show_ui(ui, |ui| {
+                    for name in &self.scenes {
+                        if ui.selectable_label(name == current, name).clicked() && name != current {
+                            chosen = Some(name.clone());
+                        }
+                    }
+                });
+                if let Some(name) = chosen {
+                    self.message = format!("opening {name}…");
+                    self.opening = Some(name.clone());
+                    input = Some(Input::Open { name });
+                }
+            }
             ui.heading("Camera");
             let mut mode = stats.mode;
             ui.horizontal(|ui| {

@@ -94,6 +94,16 @@ pub struct FrameArgs {
     pub camera: crate::camera_args::CameraArgs,
 }
 
+/// `scene` prepared for rendering, with the default light it needs if `default_light` (one
+/// warning says what was added).
+pub fn prepare_scene(scene: Scene, default_light: bool) -> PreparedScene {
+    let mut prepared = PreparedScene::new(scene);
+    if let Some(warning) = add_default_light(&mut prepared, default_light) {
+        tracing::warn!("{warning}");
+    }
+    prepared
+}
+
 /// Parses `NxM` (an interleave pattern, a window size) into `[N, M]`.
 pub fn parse_nxm(s: &str) -> Result<[u32; 2], String> {
     let bad = || format!("{s:?} is not NxM with two whole numbers, e.g. 3x3");
@@ -116,11 +126,7 @@ impl FrameArgs {
     /// `scene` prepared for rendering, with the default light it needs unless
     /// `--no-default-light` (one warning says what was added).
     pub fn prepare(&self, scene: Scene) -> PreparedScene {
-        let mut prepared = PreparedScene::new(scene);
-        if let Some(warning) = add_default_light(&mut prepared, !self.no_default_light) {
-            tracing::warn!("{warning}");
-        }
-        prepared
+        prepare_scene(scene, !self.no_default_light)
     }
 
     /// The first frame of `scene` with these options, checked (errors name the flag).

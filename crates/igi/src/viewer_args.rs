@@ -2,13 +2,13 @@
 //! frame options of `igi render` and the clock, turned into an [`igi_session::Session`].
 
 use crate::cluster::{ClusterArgs, Rank};
-use crate::frame_args::FrameArgs;
+use crate::frame_args::{FrameArgs, prepare_scene};
 use crate::progress::StageSpinner;
 use anyhow::{Context, Result};
 use clap::Args;
 use igi_render::tonemap::DEFAULT_KEY;
 use igi_session::settings::DEFAULT_CONVERGE_FRAMES;
-use igi_session::{Session, ViewSettings};
+use igi_session::{SceneCatalog, Session, ViewSettings};
 
 /// Primary rays per pixel of the viewers: an interactive frame first.
 const VIEWER_AA: u32 = 1;
@@ -46,6 +46,25 @@ pub struct ViewerArgs {
 }
 
 impl ViewerArgs {
+    /// The scenes a local viewer may open instead: the built-in ones, then the scene files
+    /// under the folder it started in ([`igi_scene::scene_files_under`]), opened as the
+    /// first scene was (the default light unless `--no-default-light`).
+    fn catalog(&self) -> Result<SceneCatalog> {
+        let folder = std::env::current_dir().context("the current folder")?;
+        let mut names: Vec<String> = igi_scene::builtin_names().iter().map(|n| n.to_string()).collect();
+        names.extend(igi_scene::scene_files_under(&folder));
+        let default_light = !self.frame.no_default_light;
+        let open = move |name: &str| {
+            let spec = match igi_scene::builtin_names().contains(&name) {
+                true => name.to_string(),
+                false => folder.join(name).to_string_lossy().into_owned(),
+            };
+            let scene = igi_scene::load_named(&spec).map_err(|e| e.to_string())?;
+            Ok(prepare_scene(scene, default_light))
+        };
+        Ok(SceneCatalog::new(names, Box::new(open)))
+    }
+
     /// Loads the scene and starts a session with these options (errors name the flag).
     /// `None` on a render node of a cluster job, once the job is over.
     pub fn session(&self) -> Result<Option<Session>> {
@@ -92,7 +111,11 @@ impl ViewerArgs {
         };
         let mut session = match source {
             Some(source) => Session::with_source(prepared, frame.camera, settings, source)?,
-            None => Session::new(prepared, frame.camera, settings, self.frame.threads)?,
+            None => {
+                let mut session = Session::new(prepared, frame.camera, settings, self.frame.threads)?;
+                session.set_catalog(self.catalog()?, &self.scene);
+                session
+            }
         };
         session.set_clock(self.frame.time);
         Ok(Some(session))

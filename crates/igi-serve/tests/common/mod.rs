@@ -43,7 +43,12 @@ pub fn start_with(width: u32, height: u32, limits: igi_serve::Limits) -> TestSer
         accumulate: false,
         ..ViewSettings::for_scene(scene.bounds().diagonal())
     };
-    let session = Session::new(scene, camera, settings, 1).unwrap();
+    let mut session = Session::new(scene, camera, settings, 1).unwrap();
+    // Two built-in scenes to open.
+    let names = vec!["animated-room".to_string(), "cornell-box".to_string()];
+    let open =
+        |name: &str| igi_scene::builtin(name).map(PreparedScene::new).ok_or_else(|| format!("no {name}"));
+    session.set_catalog(igi_session::SceneCatalog::new(names.clone(), Box::new(open)), "animated-room");
     let (stop, stopped) = oneshot::channel::<()>();
     let (ready, address) = std::sync::mpsc::channel();
     let thread = std::thread::spawn(move || {
@@ -53,7 +58,7 @@ pub fn start_with(width: u32, height: u32, limits: igi_serve::Limits) -> TestSer
             let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
             ready.send(listener.local_addr().unwrap()).unwrap();
             let render_loop = Arc::new(RenderLoop::spawn_on_demand(session));
-            igi_serve::serve(render_loop, listener, limits, async {
+            igi_serve::serve(render_loop, names, listener, limits, async {
                 let _ = stopped.await;
             })
             .await
