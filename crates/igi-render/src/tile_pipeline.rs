@@ -99,8 +99,12 @@ struct PathState {
     /// Specular chain code: 1 for the camera ray, then one bit per bounce (0 reflection,
     /// 1 refraction) below a leading 1.
     path: u32,
-    /// Product of the reflectances along the chain.
+    /// Product of the reflectances along the chain; for a point of the bias compensation, the
+    /// weight of its light in the D of the camera path's point it compensates (`root`).
     throughput: Vec3,
+    /// For a point of the bias compensation: the index of the camera path's point whose D its
+    /// light joins ([`TilePipeline::compensate`]); unused otherwise.
+    root: u32,
     /// Distance travelled before this ray.
     depth: f32,
     /// Specular bounces so far.
@@ -132,6 +136,9 @@ struct ShadingPoint {
     /// Radiance reflected from point, spot and directional lights: exact, so never filtered
     /// (their shadow edges stay sharp).
     exact: Vec3,
+    /// The light the bias compensation found for this camera path's point, as a share of D:
+    /// it is filtered with D ([`TilePipeline::compensate`]).
+    compensation: Vec3,
     /// Where a camera ray's point stands for its whole pixel in a scene with exact lights:
     /// the first of the N shadow-ray origins at the positions its samples hit, in
     /// [`TileScratch::sample_origins`], from which the exact lights are seen, so their
@@ -368,6 +375,7 @@ impl<'a> TilePipeline<'a> {
                     coverage: aa as u32,
                     path: 1,
                     throughput: Vec3::ONE,
+                    root: 0,
                     depth: 0.0,
                     bounces: 0,
                 };
@@ -420,6 +428,7 @@ impl<'a> TilePipeline<'a> {
                     coverage: 1,
                     path: 1,
                     throughput: Vec3::ONE,
+                    root: 0,
                     depth: 0.0,
                     bounces: 0,
                 };
@@ -516,8 +525,12 @@ impl<'a> TilePipeline<'a> {
             (-sp.geometric_normal, -b.shading_normal)
         };
         if front && b.emission.max_element() > 0.0 {
-            s.emitted[(state.pixel * self.interleave.aa + state.sample) as usize] +=
-                state.coverage as f32 * state.throughput * b.emission;
+            if state.path & COMPENSATION != 0 {
+                s.points[state.root as usize].compensation += state.throughput * b.emission;
+            } else {
+                s.emitted[(state.pixel * self.interleave.aa + state.sample) as usize] +=
+                    state.coverage as f32 * state.throughput * b.emission;
+            }
         }
         let depth = state.depth + hit.t;
         if let Some(w) = hit.whole_pixel.filter(|_| b.mirror.max_element() > 0.0 || b.glass > 0.0) {
@@ -545,6 +558,7 @@ impl<'a> TilePipeline<'a> {
                 diffuse_radiance: Vec3::ZERO,
                 glossy_radiance: [Vec3::ZERO; 2],
                 exact: Vec3::ZERO,
+                compensation: Vec3::ZERO,
                 sample_origins,
             });
         }
@@ -620,11 +634,13 @@ impl<'a> TilePipeline<'a> {
     ///
     /// comes only from surfaces closer than d_min. One cosine-distributed ray per shading point,
     /// at most d_min long, estimates it as ρ_x · w(d) · L(y → x): the point y it hits becomes a
-    /// shading point of the set with throughput ρ_x · w(d) (its emission counts directly),
-    /// lit by the same VPLs, and is compensated in turn, up to [`COMPENSATION_LEVELS`]. What
-    /// remains biased is the clamp below the last level and the light of specular surfaces at
-    /// y, which it drops. The rays are short, and few hit anything away from creases and
-    /// contacts.
+    /// shading point of the set, lit by the same VPLs, and is compensated in turn, up to
+    /// [`COMPENSATION_LEVELS`]. w(d) · L(y → x) (and what the further levels find, weighted
+    /// down the chain) joins D at x, the camera path's point ([`PathState::root`]), which ρ_x
+    /// multiplies when the pixel is composed: so the filter averages the one-ray estimate over
+    /// the neighbours as it does the VPLs' light. What remains biased is the clamp below the
+    /// last level and the light of specular surfaces at y, which it drops. The rays are short,
+    /// and few hit anything away from creases and contacts.
     fn compensate(&self, region: &PixelRect, first: usize, s: &mut TileScratch, rays: &mut RayCounts) {
         let d_min = self.d_min2.sqrt();
         let accel = self.scene.accel();
@@ -661,9 +677,17 @@ impl<'a> TilePipeline<'a> {
                     if w <= 0.0 {
                         continue;
                     }
+                    // Weights relative to the camera path's point, whose throughput and ρ_x
+                    // multiply its D when the pixel is composed.
+                    let (root, throughput) = if p.state.path & COMPENSATION == 0 {
+                        (parents[lane] as u32, Vec3::splat(w))
+                    } else {
+                        (p.state.root, p.state.throughput * p.albedo * w)
+                    };
                     let state = PathState {
                         path: p.state.path | COMPENSATION,
-                        throughput: p.state.throughput * p.albedo * w,
+                        throughput,
+                        root,
                         depth: p.depth,
                         // No specular continuation from y.
                         bounces: self.specular_bounces,
@@ -775,6 +799,18 @@ impl<'a> TilePipeline<'a> {
     /// Filters the diffuse and glossy radiance and composes the tile's pixels.
     fn compose(&self, tile: &Tile, region: &PixelRect, s: &mut TileScratch) -> Vec<Vec3> {
         let TileScratch { points, emitted, filter_samples, glossy_radiance, filtered, filter, .. } = s;
+        // The light each compensation point reflects toward its parent joins the D of its camera
+        // path's point, and is filtered with it: one short ray per pixel is as noisy as one VPL
+        // set (more, where it finds a sunlit surface), and left unfiltered it leaves single
+        // bright pixels near creases and contacts.
+        for i in 0..points.len() {
+            let p = points[i];
+            if p.state.path & COMPENSATION != 0 {
+                let [g, schlick] = p.glossy_radiance;
+                let reflected = p.albedo * p.diffuse_radiance + p.glossy * g + schlick + p.exact;
+                points[p.state.root as usize].compensation += p.state.throughput * reflected;
+            }
+        }
         // Most tiles have no glossy point; their glossy term stays out of the filter.
         glossy_radiance.clear();
         if points.iter().any(|p| p.glossy_radiance != [Vec3::ZERO; 2]) {
@@ -791,24 +827,14 @@ impl<'a> TilePipeline<'a> {
                     normal: p.ns,
                     depth: p.depth,
                     material: p.material,
-                    diffuse_radiance: p.diffuse_radiance,
+                    diffuse_radiance: p.diffuse_radiance + p.compensation,
                 }));
                 let input = (&filter_samples[..], &glossy_radiance[..]);
                 filter.filter(region, tile, &self.interleave, settings, input, filtered);
-                // The compensation's points lie wherever its rays landed, not on a pixel grid:
-                // averaging their D over neighbours would weight it by the wrong distances.
-                for (i, p) in points.iter().enumerate() {
-                    if p.state.path & COMPENSATION != 0 {
-                        filtered.diffuse_radiance[i] = p.diffuse_radiance;
-                        if let Some(g) = filtered.glossy_radiance.get_mut(i) {
-                            *g = p.glossy_radiance;
-                        }
-                    }
-                }
             }
             None => {
                 filtered.diffuse_radiance.clear();
-                filtered.diffuse_radiance.extend(points.iter().map(|p| p.diffuse_radiance));
+                filtered.diffuse_radiance.extend(points.iter().map(|p| p.diffuse_radiance + p.compensation));
                 filtered.glossy_radiance.clear();
                 filtered.glossy_radiance.extend_from_slice(glossy_radiance);
             }
@@ -821,6 +847,9 @@ impl<'a> TilePipeline<'a> {
             tile.rect.contains(x, y).then(|| tile.rect.index(x, y))
         };
         for (i, (p, d)) in points.iter().zip(&filtered.diffuse_radiance).enumerate() {
+            if p.state.path & COMPENSATION != 0 {
+                continue;
+            }
             if let Some(pixel) = tile_index(p.state.pixel) {
                 let g = filtered.glossy_radiance.get(i).map_or(Vec3::ZERO, |[g, s]| p.glossy * *g + *s);
                 pixels[pixel] += p.state.coverage as f32 * p.state.throughput * (p.albedo * *d + g + p.exact);
