@@ -206,9 +206,7 @@ impl Session {
     fn replace_scene(&mut self, scene: PreparedScene) {
         let camera = start_camera(&scene);
         self.fly_speed = fly_speed_for(&scene);
-        let mode = self.controller.mode();
-        self.controller = CameraController::new(&camera, self.fly_speed);
-        self.controller.handle(&Input::Mode { mode }, self.settings.height);
+        self.look_from(&camera, self.fly_speed);
         self.home = camera;
         self.settings.clamp = igi_render::IgiSettings::clamp_for(scene.bounds().diagonal());
         self.lights = LightControl::of(&scene);
@@ -217,6 +215,13 @@ impl Session {
         self.selected = None;
         self.clock = 0.0;
         self.changed = true;
+    }
+
+    /// Moves the camera to `camera` with fly speed `speed`, in the same camera mode.
+    fn look_from(&mut self, camera: &Camera, speed: f32) {
+        let mode = self.controller.mode();
+        self.controller = CameraController::new(camera, speed);
+        self.controller.handle(&Input::Mode { mode }, self.settings.height);
     }
 
     /// The current settings.
@@ -303,9 +308,8 @@ impl Session {
                         message: format!("the scene has no view {name:?}"),
                     });
                 };
-                let mode = self.controller.mode();
-                self.controller = CameraController::new(&view.camera, self.controller.speed());
-                self.controller.handle(&Input::Mode { mode }, self.settings.height);
+                let (camera, speed) = (view.camera, self.controller.speed());
+                self.look_from(&camera, speed);
                 self.changed = true;
             }
             Input::SelectLight { index } => {
