@@ -459,6 +459,10 @@ impl Session {
         settings.reseed_per_frame = self.settings.accumulate;
         // Linear radiance where it is averaged: a cluster sends 8-bit pixels otherwise.
         let averaged = self.settings.accumulate && !changed;
+        // A still view's frames are still images: the clamp's bias is compensated, so the mean
+        // converges to the unclamped solution as `igi render --frames N` does; a moving view
+        // keeps the speed (ARCHITECTURE.md, "Still images are bias-compensated").
+        settings.compensate_clamp = averaged && settings.clamp > 0.0;
         let frame = FrameState {
             camera: self.controller.camera(),
             settings,

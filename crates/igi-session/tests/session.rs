@@ -501,3 +501,22 @@ fn a_listed_scene_opens_in_place_and_nothing_else_does() {
     assert!((room.stats.camera.position - start.position).length() < 1e-5, "its own start camera");
     assert_ne!(room.stats.triangles, cornell.stats.triangles);
 }
+
+#[test]
+fn a_still_view_compensates_the_clamp_and_a_moving_one_does_not() {
+    // The Cornell box's creases and contacts are where the clamp removes light: a
+    // compensated frame traces compensation rays there, a moving frame none.
+    let mut session = session("cornell-box", |_| {});
+    let compensation_ms = |frame: &igi_session::Frame| {
+        frame.stats.phases_ms.iter().find(|(name, _)| name == "compensation").map_or(0.0, |&(_, ms)| ms)
+    };
+    let first = session.render(0.01).unwrap();
+    assert_eq!(compensation_ms(&first), 0.0, "the first frame of a view is a moving frame");
+    let still = session.render(0.01).unwrap();
+    assert_eq!(still.stats.accumulated, 2);
+    assert!(compensation_ms(&still) > 0.0, "a still view's frame compensates the clamp");
+    session.handle(&Input::Drag { dx: 12.0, dy: 0.0, button: Button::Primary }).unwrap();
+    let moved = session.render(0.01).unwrap();
+    assert_eq!(moved.stats.accumulated, 1);
+    assert_eq!(compensation_ms(&moved), 0.0, "a moving frame skips the compensation");
+}

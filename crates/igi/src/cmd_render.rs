@@ -44,6 +44,10 @@ pub struct RenderArgs {
     /// solution: with more than one frame the clamp's bias is compensated).
     #[arg(long, default_value_t = 1, help_heading = "Sampling")]
     pub frames: u32,
+    /// IGI: render one frame as a viewer shows it while the view moves: without the bias
+    /// compensation, with the viewers' clamp (2 % of the scene's diagonal unless `--clamp`).
+    #[arg(long, help_heading = "Sampling")]
+    pub moving_frame: bool,
     /// Path tracer: samples per pixel.
     #[arg(long, default_value_t = 64, help_heading = "Sampling")]
     pub spp: u32,
@@ -76,6 +80,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     }
     if !(1..=1_000_000).contains(&args.frames) {
         bail!("--frames must be between 1 and 1000000");
+    }
+    if args.moving_frame && args.frames > 1 {
+        bail!("--moving-frame renders one frame as a viewer shows it while moving; leave out --frames");
     }
     if !(1..=1_000_000).contains(&args.sequence) {
         bail!("--sequence must be between 1 and 1000000");
@@ -112,7 +119,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let build = t_build.elapsed();
 
     let mut frame = args.frame.frame_state(&prepared)?;
-    args.frame.accumulating(&mut frame, &prepared, args.frames);
+    if !args.moving_frame {
+        args.frame.still_image(&mut frame, &prepared, args.frames);
+    }
 
     if source.is_some() || args.sequence > 1 {
         let mut source = source.unwrap_or_else(|| Box::new(FrameRenderer::new(args.frame.threads)));
@@ -184,9 +193,14 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         args.output.display()
     );
     if args.mode == Mode::Igi && args.frames == 1 {
+        let what = if args.moving_frame {
+            "one frame as a viewer shows it while the view moves"
+        } else {
+            "one frame with fresh VPLs and the clamp's bias compensated (`--moving-frame`: as a viewer shows it \
+             while moving)"
+        };
         outln!(
-            "one frame with fresh VPLs, as the viewers show it; `--frames 64` averages 64 of them into a \
-             converged image (about {:.1} s here)",
+            "{what}; `--frames 64` averages 64 compensated frames into a converged image (about {:.1} s here)",
             64.0 * elapsed.as_secs_f64()
         );
     }

@@ -56,13 +56,13 @@ pub struct FrameArgs {
     #[arg(long, default_value_t = FilterSettings::default().max_depth_ratio, help_heading = "Filter")]
     pub filter_depth: f32,
     /// d_min of the VPL contribution 1/max(d², d_min²) in scene units; 0 turns clamping off.
-    /// Default: 2 % of the scene's bounding-box diagonal (5 % with the bias compensation of
-    /// `render --frames` above 1, so accumulation converges to the unclamped solution).
+    /// Default: 2 % of the scene's bounding-box diagonal for the viewers' and benchmarks' frames,
+    /// 5 % for `igi render`'s bias-compensated still images.
     #[arg(long, allow_hyphen_values = true, help_heading = "Instant radiosity")]
     pub clamp: Option<f32>,
     /// Recover the light the clamp removes with short path-traced rays (bias compensation):
-    /// nearly unbiased at the clamp's low noise, for about one ray more per pixel. On by
-    /// default for `render --frames` above 1.
+    /// nearly unbiased at the clamp's low noise, for about one ray more per pixel. Always on
+    /// for `igi render`.
     #[arg(long, help_heading = "Instant radiosity")]
     pub compensate: bool,
     /// Largest number of mirror and glass bounces followed from the camera.
@@ -163,11 +163,13 @@ impl FrameArgs {
         Ok(frame)
     }
 
-    /// `frame` set up to be the mean of `frames` frames: with more than one, the clamp's bias
-    /// is compensated and, unless `--clamp` was given, the larger clamp of compensation keeps
-    /// the VPLs' near-field noise low, so accumulation converges to what it averages.
-    pub fn accumulating(&self, frame: &mut FrameState, scene: &PreparedScene, frames: u32) {
-        if frames > 1 && frame.settings.clamp > 0.0 {
+    /// `frame` set up to be a still image, the mean of `frames` frames (one or more): the
+    /// clamp's bias is compensated and, unless `--clamp` was given, the larger clamp of
+    /// compensation keeps the VPLs' near-field noise low, so accumulation converges to the
+    /// unclamped solution and even one frame shows the light of creases, contacts and thin
+    /// slats that the clamp removes (ARCHITECTURE.md, "Still images are bias-compensated").
+    pub fn still_image(&self, frame: &mut FrameState, scene: &PreparedScene, frames: u32) {
+        if frames >= 1 && frame.settings.clamp > 0.0 {
             frame.settings.compensate_clamp = true;
             if self.clamp.is_none() {
                 frame.settings.clamp = IgiSettings::compensated_clamp_for(scene.bounds().diagonal());

@@ -68,7 +68,7 @@ fn the_window_shows_the_rendered_frame_pixel_for_pixel() {
 
     let size = [w.to_string(), h.to_string()];
     let render = Command::new(IGI)
-        .arg("render")
+        .args(["render", "--moving-frame"])
         .args(SCENE)
         .args(["--width", &size[0], "--height", &size[1], "-o"])
         .arg(&reference)

@@ -1,4 +1,5 @@
-//! `igi bench quality`: how far one frame, and the mean of N frames, are from the converged
+//! `igi bench quality`: how far one frame (bias-compensated, as `igi render` writes it, and as
+//! a viewer shows it while the view moves), and the mean of N frames, are from the converged
 //! image, and how much an animation flickers (issue 16 measures every change to image quality
 //! with it).
 //!
@@ -93,7 +94,11 @@ struct Report {
     reference_method: String,
     /// Time to render the reference (0 when it was read from its file).
     reference_seconds: f64,
+    /// One frame as `igi render` writes it (bias-compensated).
     one_frame: Figures,
+    /// One frame as a viewer shows it while the view moves (no compensation, the smaller
+    /// clamp).
+    moving_frame: Figures,
     accumulated_frames: u32,
     accumulated: Figures,
     /// The flicker figure, if measured.
@@ -132,9 +137,12 @@ pub fn run(args: &QualityBenchArgs) -> Result<()> {
         reference(args, &mut prepared, &frame, method, &reference_path, &renderer)?;
     let reference_display = display(&reference);
 
-    let one_frame = figures(&reference_display, &renderer, &mut prepared, &frame, 1)?;
+    let mut still = frame.clone();
+    args.frame.still_image(&mut still, &prepared, 1);
+    let one_frame = figures(&reference_display, &renderer, &mut prepared, &still, 1)?;
+    let moving_frame = figures(&reference_display, &renderer, &mut prepared, &frame, 1)?;
     let mut accumulating = frame.clone();
-    args.frame.accumulating(&mut accumulating, &prepared, args.accumulate);
+    args.frame.still_image(&mut accumulating, &prepared, args.accumulate);
     let accumulated = figures(&reference_display, &renderer, &mut prepared, &accumulating, args.accumulate)?;
     let flicker = if args.flicker > 1 {
         Some(flicker(
@@ -164,6 +172,7 @@ pub fn run(args: &QualityBenchArgs) -> Result<()> {
         reference_method: method.to_string(),
         reference_seconds,
         one_frame,
+        moving_frame,
         accumulated_frames: args.accumulate,
         accumulated,
         flicker,
@@ -260,7 +269,7 @@ fn reference(
         }
         Method::Accumulated { frames } => {
             let mut mean = frame.clone();
-            args.frame.accumulating(&mut mean, scene, frames);
+            args.frame.still_image(&mut mean, scene, frames);
             mean.frame = REFERENCE_FIRST_FRAME;
             let out = renderer.render_accumulated(scene, &mean, frames, &progress)?;
             out.image.into_film().context("an accumulated frame without its film")?
@@ -395,6 +404,7 @@ fn print(r: &Report) {
         outln!("  {name:<12} mean FLIP {:.4}  RMSE {:.4}  {:.3} s", f.flip, f.rmse, f.seconds);
     };
     line("one frame".into(), &r.one_frame);
+    line("moving frame".into(), &r.moving_frame);
     line(format!("{} frames", r.accumulated_frames), &r.accumulated);
     if let Some(flicker) = r.flicker {
         outln!(
