@@ -459,10 +459,14 @@ impl Session {
         settings.reseed_per_frame = self.settings.accumulate;
         // Linear radiance where it is averaged: a cluster sends 8-bit pixels otherwise.
         let averaged = self.settings.accumulate && !changed;
-        // A still view's frames are still images: the clamp's bias is compensated, so the mean
-        // converges to the unclamped solution as `igi render --frames N` does; a moving view
-        // keeps the speed (ARCHITECTURE.md, "Still images are bias-compensated").
-        settings.compensate_clamp = averaged && settings.clamp > 0.0;
+        // A still view's frames after the first of its mean are still images: the clamp's bias
+        // is compensated, so the mean converges to the unclamped solution as `igi render
+        // --frames N` does. The first frame of a mean is the moving frame shown at once after a
+        // change, which keeps the speed (ARCHITECTURE.md, "Still images are bias-compensated");
+        // on a cluster, whose moving frames come as 8-bit pixels outside the mean, the mean's
+        // first frame is thereby the same as a local session's.
+        settings.compensate_clamp =
+            self.settings.accumulate && self.progressive.frames() > 0 && settings.clamp > 0.0;
         let frame = FrameState {
             camera: self.controller.camera(),
             settings,
