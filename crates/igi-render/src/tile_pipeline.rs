@@ -771,9 +771,9 @@ impl<'a> TilePipeline<'a> {
         if state.path & COMPENSATION == 0 {
             return (skip, step);
         }
-        let stride = COMPENSATION_VPL_STRIDE;
-        let offset = hash_combine(pixel_seed(x, y, self.sequence.seed), !self.sequence.first) % stride;
-        (skip + step * offset, step * stride)
+        let offset = hash_combine(pixel_seed(x, y, self.sequence.seed), !self.sequence.first)
+            % COMPENSATION_VPL_STRIDE;
+        (skip + step * offset, step * COMPENSATION_VPL_STRIDE)
     }
 
     /// The light of the exact lights (point, spot, directional) reflected at the points

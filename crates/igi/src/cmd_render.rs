@@ -120,7 +120,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
 
     let mut frame = args.frame.frame_state(&prepared)?;
     if !args.moving_frame {
-        args.frame.still_image(&mut frame, &prepared, args.frames);
+        args.frame.still_image(&mut frame, &prepared);
     }
 
     if source.is_some() || args.sequence > 1 {

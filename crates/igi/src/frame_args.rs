@@ -163,13 +163,13 @@ impl FrameArgs {
         Ok(frame)
     }
 
-    /// `frame` set up to be a still image, the mean of `frames` frames (one or more): the
-    /// clamp's bias is compensated and, unless `--clamp` was given, the larger clamp of
+    /// `frame` set up to be a still image or a frame of one (a mean of several): the clamp's
+    /// bias is compensated and, unless `--clamp` was given, the larger clamp of
     /// compensation keeps the VPLs' near-field noise low, so accumulation converges to the
     /// unclamped solution and even one frame shows the light of creases, contacts and thin
     /// slats that the clamp removes (ARCHITECTURE.md, "Still images are bias-compensated").
-    pub fn still_image(&self, frame: &mut FrameState, scene: &PreparedScene, frames: u32) {
-        if frames >= 1 && frame.settings.clamp > 0.0 {
+    pub fn still_image(&self, frame: &mut FrameState, scene: &PreparedScene) {
+        if frame.settings.clamp > 0.0 {
             frame.settings.compensate_clamp = true;
             if self.clamp.is_none() {
                 frame.settings.clamp = IgiSettings::compensated_clamp_for(scene.bounds().diagonal());

@@ -138,11 +138,11 @@ pub fn run(args: &QualityBenchArgs) -> Result<()> {
     let reference_display = display(&reference);
 
     let mut still = frame.clone();
-    args.frame.still_image(&mut still, &prepared, 1);
+    args.frame.still_image(&mut still, &prepared);
     let one_frame = figures(&reference_display, &renderer, &mut prepared, &still, 1)?;
     let moving_frame = figures(&reference_display, &renderer, &mut prepared, &frame, 1)?;
     let mut accumulating = frame.clone();
-    args.frame.still_image(&mut accumulating, &prepared, args.accumulate);
+    args.frame.still_image(&mut accumulating, &prepared);
     let accumulated = figures(&reference_display, &renderer, &mut prepared, &accumulating, args.accumulate)?;
     let flicker = if args.flicker > 1 {
         Some(flicker(
@@ -269,7 +269,7 @@ fn reference(
         }
         Method::Accumulated { frames } => {
             let mut mean = frame.clone();
-            args.frame.still_image(&mut mean, scene, frames);
+            args.frame.still_image(&mut mean, scene);
             mean.frame = REFERENCE_FIRST_FRAME;
             let out = renderer.render_accumulated(scene, &mean, frames, &progress)?;
             out.image.into_film().context("an accumulated frame without its film")?
