@@ -3,7 +3,8 @@
 
 use std::path::Path;
 
-use crate::format::format_of;
+use crate::format::{Format, format_of};
+use crate::scene_file::is_scene_file;
 
 /// Most files listed: a folder of thousands of meshes (a fuzzing corpus, say) lists its first.
 pub const MAX_CATALOG_FILES: usize = 200;
@@ -12,7 +13,8 @@ const MAX_DEPTH: usize = 2;
 /// Folders not looked into besides hidden ones: build output and packages.
 const SKIPPED: [&str; 2] = ["target", "node_modules"];
 
-/// The files under `folder` that igi loads (by extension, as [`crate::load`] decides), as
+/// The files under `folder` that igi loads (mesh files by extension, as [`crate::load`]
+/// decides; `.toml` files only if they hold a scene file's tables, not a `Cargo.toml`), as
 /// paths relative to it with `/` between components, sorted; at most [`MAX_CATALOG_FILES`],
 /// at most two folder levels deep (`a/b/scene.obj`), not in hidden folders, `target` or `node_modules`, not
 /// through symbolic links to folders (a link loop, or a link out of the folder). A folder that
@@ -26,7 +28,14 @@ pub fn scene_files_under(folder: &Path) -> Vec<String> {
                 || !(name.starts_with('.') || (e.file_type().is_dir() && SKIPPED.contains(&&*name)))
         })
         .filter_map(Result::ok)
-        .filter(|e| e.file_type().is_file() && format_of(e.path()).is_some())
+        .filter(|e| {
+            e.file_type().is_file()
+                && match format_of(e.path()) {
+                    Some(Format::SceneFile) => is_scene_file(e.path()),
+                    Some(Format::Mesh(_)) => true,
+                    None => false,
+                }
+        })
         .filter_map(|e| {
             let relative = e.path().strip_prefix(folder).ok()?;
             let parts: Option<Vec<&str>> = relative.components().map(|c| c.as_os_str().to_str()).collect();
@@ -46,8 +55,13 @@ mod tests {
     fn lists_scene_files_by_relative_path_and_skips_the_rest() {
         let dir = tempfile::tempdir().unwrap();
         let root = dir.path();
+        for (file, text) in [
+            ("a.toml", "[camera]\nposition = [0, 1, 2]\ntarget = [0, 0, 0]\nfov = 40\n"),
+            ("Cargo.toml", "[package]\nname = \"x\"\n"),
+        ] {
+            std::fs::write(root.join(file), text).unwrap();
+        }
         for file in [
-            "a.toml",
             "scenes/b.obj",
             "scenes/deep/c.glb",
             "x/y/z/too-deep.ply",

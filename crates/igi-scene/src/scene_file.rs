@@ -234,6 +234,16 @@ fn camera_from(
     Ok(Camera { up: camera.up.normalize(), ..camera })
 }
 
+/// True if `path` holds a scene file as far as its tables go: TOML that parses into a scene
+/// file's tables ([`SceneSpec`]), so that a folder's `Cargo.toml` or a tool's settings are not
+/// offered as scenes. Nothing is loaded and no value is checked beyond its type; a file over
+/// the size limit, or unreadable, is not one.
+pub(crate) fn is_scene_file(path: &Path) -> bool {
+    let small = std::fs::metadata(path).is_ok_and(|m| m.len() <= MAX_SCENE_FILE_BYTES as u64);
+    let Some(text) = small.then(|| std::fs::read_to_string(path).ok()).flatten() else { return false };
+    check_size(&text, path).is_ok() && toml::from_str::<SceneSpec>(&text).is_ok()
+}
+
 /// Largest scene file. Scene files place and light meshes that live in files of their own;
 /// a scene of [`MAX_INSTANCES`] instances takes a few MiB.
 const MAX_SCENE_FILE_BYTES: usize = 16 << 20;

@@ -48,21 +48,30 @@ pub struct ViewerArgs {
 impl ViewerArgs {
     /// The scenes a local viewer may open instead: the built-in ones, then the scene files
     /// under the folder it started in ([`igi_scene::scene_files_under`]), opened as the
-    /// first scene was (the default light unless `--no-default-light`).
-    fn catalog(&self) -> Result<SceneCatalog> {
+    /// first scene was (the default light unless `--no-default-light`); and the catalog's name
+    /// of the scene shown, so that the list shows it: its path relative to that folder, else
+    /// the scene as named on the command line, added to the list if it is not in it.
+    fn catalog(&self) -> Result<(SceneCatalog, String)> {
         let folder = std::env::current_dir().context("the current folder")?;
         let mut names: Vec<String> = igi_scene::builtin_names().iter().map(|n| n.to_string()).collect();
         names.extend(igi_scene::scene_files_under(&folder));
+        let current = catalog_name(&folder, &self.scene);
+        if !names.contains(&current) {
+            names.push(current.clone());
+        }
         let default_light = !self.frame.no_default_light;
         let open = move |name: &str| {
-            let spec = match igi_scene::builtin_names().contains(&name) {
-                true => name.to_string(),
-                false => folder.join(name).to_string_lossy().into_owned(),
+            // A file under the folder (or an absolute path: `join` keeps it), else a built-in
+            // scene's name with its parameters.
+            let file = folder.join(name);
+            let spec = match file.is_file() {
+                true => file.to_string_lossy().into_owned(),
+                false => name.to_string(),
             };
             let scene = igi_scene::load_named(&spec).map_err(|e| e.to_string())?;
             Ok(prepare_scene(scene, default_light))
         };
-        Ok(SceneCatalog::new(names, Box::new(open)))
+        Ok((SceneCatalog::new(names, Box::new(open)), current))
     }
 
     /// Loads the scene and starts a session with these options (errors name the flag).
@@ -113,11 +122,51 @@ impl ViewerArgs {
             Some(source) => Session::with_source(prepared, frame.camera, settings, source)?,
             None => {
                 let mut session = Session::new(prepared, frame.camera, settings, self.frame.threads)?;
-                session.set_catalog(self.catalog()?, &self.scene);
+                let (catalog, current) = self.catalog()?;
+                session.set_catalog(catalog, &current);
                 session
             }
         };
         session.set_clock(self.frame.time);
         Ok(Some(session))
+    }
+}
+
+/// The name the catalog of `folder` gives the scene named `scene` on the command line: a
+/// file's path relative to `folder` with `/` between components, as
+/// [`igi_scene::scene_files_under`] names it; a file elsewhere by its absolute path; a
+/// built-in scene by its name.
+fn catalog_name(folder: &std::path::Path, scene: &str) -> String {
+    let Ok(file) = std::fs::canonicalize(scene) else { return scene.to_string() };
+    if !file.is_file() {
+        return scene.to_string();
+    }
+    let relative = std::fs::canonicalize(folder).ok().and_then(|folder| {
+        let parts: Option<Vec<&str>> =
+            file.strip_prefix(folder).ok()?.components().map(|c| c.as_os_str().to_str()).collect();
+        Some(parts?.join("/"))
+    });
+    relative.unwrap_or_else(|| file.to_string_lossy().into_owned())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::catalog_name;
+
+    /// The scene a viewer starts with is named as the catalog names it, so that the list of
+    /// scenes shows it selected: relative to the folder, absolute outside it, built-in by name.
+    #[test]
+    fn the_starting_scene_is_named_as_the_catalog_names_it() {
+        let folder = tempfile::tempdir().unwrap();
+        let elsewhere = tempfile::tempdir().unwrap();
+        let inside = folder.path().join("scenes/room.toml");
+        std::fs::create_dir_all(inside.parent().unwrap()).unwrap();
+        std::fs::write(&inside, "").unwrap();
+        let outside = elsewhere.path().join("room.obj");
+        std::fs::write(&outside, "").unwrap();
+        assert_eq!(catalog_name(folder.path(), inside.to_str().unwrap()), "scenes/room.toml");
+        let absolute = std::fs::canonicalize(&outside).unwrap();
+        assert_eq!(catalog_name(folder.path(), outside.to_str().unwrap()), absolute.to_str().unwrap());
+        assert_eq!(catalog_name(folder.path(), "cornell-box"), "cornell-box");
     }
 }
