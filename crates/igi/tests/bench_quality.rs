@@ -1,5 +1,6 @@
 //! `igi bench quality` (issue 16): the figures it reports behave as image errors must, the
-//! reference is written once and read by later runs, and bad flags are refused by name.
+//! reference is written once and read by later runs (which do not claim to know how it was
+//! made), and bad flags are refused by name.
 
 use std::process::Command;
 
@@ -48,6 +49,9 @@ fn accumulated_frames_are_closer_to_the_reference_than_one_frame_and_the_referen
     // The second run reads the reference and measures the same images.
     let second = report(igi(&args));
     assert_eq!(second["reference_seconds"].as_f64(), Some(0.0));
+    // Read from a file it was given, it does not claim to know how the file was made.
+    assert_eq!(first["reference_method"], "path tracer, 64 spp");
+    assert!(second["reference_method"].as_str().unwrap().contains("not recorded"), "{second}");
     assert_eq!(second["one_frame"]["flip"], first["one_frame"]["flip"]);
     let _ = std::fs::remove_dir_all(&dir);
 }

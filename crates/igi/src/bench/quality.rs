@@ -90,7 +90,8 @@ struct Report {
     coarse_interleave: u32,
     filter: bool,
     reference: PathBuf,
-    /// How the reference was made, e.g. "path tracer, 256 spp".
+    /// How the reference was made, e.g. "path tracer, 256 spp" (unknown for a file given
+    /// with `--reference` that already existed).
     reference_method: String,
     /// Time to render the reference (0 when it was read from its file).
     reference_seconds: f64,
@@ -169,7 +170,12 @@ pub fn run(args: &QualityBenchArgs) -> Result<()> {
         coarse_interleave: s.coarse_interleave,
         filter: s.filter.is_some(),
         reference: reference_path,
-        reference_method: method.to_string(),
+        // A file named with --reference may have been made any way; the default file's name
+        // records its method.
+        reference_method: match (&args.reference, reference_seconds) {
+            (Some(_), 0.0) => "the file given with --reference (how it was made is not recorded)".into(),
+            _ => method.to_string(),
+        },
         reference_seconds,
         one_frame,
         moving_frame,
