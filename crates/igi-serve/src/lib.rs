@@ -33,4 +33,4 @@ pub mod server;
 
 pub use budget::FrameBudget;
 pub use connection::{ClientMessage, FrameHeader, MAX_MESSAGE_BYTES};
-pub use server::{Limits, run, serve};
+pub use server::{Limits, bind, run, serve};

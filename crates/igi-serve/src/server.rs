@@ -209,9 +209,25 @@ async fn stream(upgrade: WebSocketUpgrade, headers: HeaderMap, State(state): Sta
         .into_response()
 }
 
-/// Runs the browser viewer of `session` on `listen` within `limits` until SIGINT (Ctrl-C) or
-/// SIGTERM. Settings over the frame budget are refused from the start.
-pub fn run(session: Session, listen: SocketAddr, limits: Limits) -> anyhow::Result<()> {
+/// Listens on `listen` and says where: the address a browser opens, and a warning if it is not
+/// this machine's own. Bound before the scene loads, so a port in use is reported at once and a
+/// browser opened meanwhile waits for the page instead of being refused.
+pub fn bind(listen: SocketAddr) -> anyhow::Result<std::net::TcpListener> {
+    let listener =
+        std::net::TcpListener::bind(listen).with_context(|| format!("cannot listen on {listen}"))?;
+    // Tokio takes a listener that does not block.
+    listener.set_nonblocking(true).context("cannot set up the listening socket")?;
+    let address = listener.local_addr()?;
+    println!("igi serve: open http://{address}/ in a browser (Ctrl-C stops)");
+    if !address.ip().is_loopback() {
+        tracing::warn!("listening on {address}: anyone who can reach it can watch and steer this session");
+    }
+    Ok(listener)
+}
+
+/// Runs the browser viewer of `session` on `listener` ([`bind`]) within `limits` until SIGINT
+/// (Ctrl-C) or SIGTERM. Settings over the frame budget are refused from the start.
+pub fn run(session: Session, listener: std::net::TcpListener, limits: Limits) -> anyhow::Result<()> {
     limits.frame.check(session.settings()).context("the starting settings are over the frame budget")?;
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
@@ -219,15 +235,7 @@ pub fn run(session: Session, listen: SocketAddr, limits: Limits) -> anyhow::Resu
         .build()
         .context("cannot start the async runtime")?;
     runtime.block_on(async {
-        let listener =
-            TcpListener::bind(listen).await.with_context(|| format!("cannot listen on {listen}"))?;
-        let address = listener.local_addr()?;
-        println!("igi serve: open http://{address}/ in a browser (Ctrl-C stops)");
-        if !address.ip().is_loopback() {
-            tracing::warn!(
-                "listening on {address}: anyone who can reach it can watch and steer this session"
-            );
-        }
+        let listener = TcpListener::from_std(listener).context("cannot serve on the listening socket")?;
         // Nothing is rendered while no browser is connected.
         let scenes = session.scene_names().to_vec();
         let render_loop = Arc::new(RenderLoop::spawn_on_demand(session));

@@ -60,8 +60,11 @@ fn parse_listen(s: &str) -> Result<SocketAddr, String> {
         .ok_or_else(|| format!("{usage}; {s} has no address"))
 }
 
-/// Runs `igi serve` until SIGINT (Ctrl-C) or SIGTERM.
+/// Runs `igi serve` until SIGINT (Ctrl-C) or SIGTERM. A local session listens before its
+/// scene loads (a large one takes a while), so the address is printed at once; on a cluster
+/// only rank 0 serves, and which rank this is is known once the job has started.
 pub fn run(args: &ServeArgs) -> Result<()> {
+    let listener = (!args.viewer.cluster.cluster).then(|| igi_serve::bind(args.listen)).transpose()?;
     let Some(session) = args.viewer.session()? else { return Ok(()) };
     let limits = Limits {
         frame: FrameBudget { max_mrays: args.max_frame_mrays },
@@ -69,7 +72,11 @@ pub fn run(args: &ServeArgs) -> Result<()> {
         max_connections: args.max_connections as usize,
         ..Limits::default()
     };
-    igi_serve::run(session, args.listen, limits)
+    let listener = match listener {
+        Some(listener) => listener,
+        None => igi_serve::bind(args.listen)?,
+    };
+    igi_serve::run(session, listener, limits)
 }
 
 #[cfg(test)]

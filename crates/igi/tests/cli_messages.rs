@@ -1,7 +1,8 @@
 //! What the command line tells a new user (issue 18): `render -h` grouped with the built-in
 //! scenes listed, the top-level help naming every command, "did you mean" for a mistyped
 //! built-in and the scene files of a folder, `--listen` with a bare port, logs without colour
-//! codes or times into a pipe, and a single render saying how to converge.
+//! codes or times into a pipe, a single render saying how to converge, and `igi serve` saying
+//! where to point the browser before it loads the scene.
 
 use std::process::{Command, Output};
 
@@ -144,4 +145,29 @@ fn a_view_renders_from_the_scenes_named_camera_and_an_unknown_one_lists_them() {
     let info = text(&igi(&["info", "animated-room"]).stdout);
     assert!(info.contains(r#"views        "statue", "high corner""#), "{info}");
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn serve_listens_and_says_where_before_it_loads_the_scene() {
+    use std::io::{BufRead, BufReader};
+    // One pipe for both streams (the shell joins them), so their lines keep their order.
+    let mut serve = Command::new("sh")
+        .args(["-c", "exec \"$0\" serve cornell-box --listen 127.0.0.1:0 2>&1", IGI])
+        .env("RUST_LOG", "info")
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let lines = BufReader::new(serve.stdout.take().unwrap()).lines().map_while(Result::ok);
+    let mut seen = Vec::new();
+    for line in lines {
+        seen.push(line);
+        if seen.last().unwrap().contains("loaded in") {
+            break;
+        }
+    }
+    serve.kill().unwrap();
+    serve.wait().unwrap();
+    let at = |what: &str| seen.iter().position(|l| l.contains(what));
+    let (address, loaded) = (at("open http://127.0.0.1:"), at("loaded in"));
+    assert!(address.is_some() && loaded.is_some() && address < loaded, "{seen:#?}");
 }

@@ -82,8 +82,12 @@ fn serve_ends_within_seconds_of_sigint_or_sigterm_mid_frame() {
 
 #[test]
 fn serve_refuses_starting_settings_over_its_frame_budget() {
-    let out =
-        Command::new(IGI).arg("serve").args(LONG_FRAME).args(["--max-frame-mrays", "100"]).output().unwrap();
+    let out = Command::new(IGI)
+        .arg("serve")
+        .args(LONG_FRAME)
+        .args(["--max-frame-mrays", "100", "--listen", "127.0.0.1:0"])
+        .output()
+        .unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success());
     assert!(stderr.contains("--max-frame-mrays") && stderr.contains("5112 million rays"), "{stderr}");
