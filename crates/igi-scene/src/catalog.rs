@@ -36,15 +36,19 @@ pub fn scene_files_under(folder: &Path) -> Vec<String> {
                     None => false,
                 }
         })
-        .filter_map(|e| {
-            let relative = e.path().strip_prefix(folder).ok()?;
-            let parts: Option<Vec<&str>> = relative.components().map(|c| c.as_os_str().to_str()).collect();
-            Some(parts?.join("/"))
-        })
+        .filter_map(|e| name_under(folder, e.path()))
         .take(MAX_CATALOG_FILES)
         .collect();
     names.sort();
     names
+}
+
+/// The name [`scene_files_under`] gives `path` under `folder`: its path relative to `folder`
+/// with `/` between components; `None` if it is not under `folder` or not UTF-8.
+pub fn name_under(folder: &Path, path: &Path) -> Option<String> {
+    let parts: Option<Vec<&str>> =
+        path.strip_prefix(folder).ok()?.components().map(|c| c.as_os_str().to_str()).collect();
+    Some(parts?.join("/"))
 }
 
 #[cfg(test)]

@@ -48,7 +48,7 @@ use std::path::Path;
 
 pub use animation::{Animation, Pose, Track};
 pub use builtin::{MAX_GENERATED_TRIANGLES, builtin, builtin_names, builtin_spec, closest_builtin};
-pub use catalog::{MAX_CATALOG_FILES, scene_files_under};
+pub use catalog::{MAX_CATALOG_FILES, name_under, scene_files_under};
 pub use environment::Environment;
 pub use error::{Location, SceneError};
 use format::{Format, format_of};

@@ -133,19 +133,16 @@ impl ViewerArgs {
 }
 
 /// The name the catalog of `folder` gives the scene named `scene` on the command line: a
-/// file's path relative to `folder` with `/` between components, as
-/// [`igi_scene::scene_files_under`] names it; a file elsewhere by its absolute path; a
+/// file under `folder` as [`igi_scene::scene_files_under`] names it
+/// ([`igi_scene::name_under`]); a file elsewhere by its absolute path; a
 /// built-in scene by its name.
 fn catalog_name(folder: &std::path::Path, scene: &str) -> String {
     let Ok(file) = std::fs::canonicalize(scene) else { return scene.to_string() };
     if !file.is_file() {
         return scene.to_string();
     }
-    let relative = std::fs::canonicalize(folder).ok().and_then(|folder| {
-        let parts: Option<Vec<&str>> =
-            file.strip_prefix(folder).ok()?.components().map(|c| c.as_os_str().to_str()).collect();
-        Some(parts?.join("/"))
-    });
+    let relative =
+        std::fs::canonicalize(folder).ok().and_then(|folder| igi_scene::name_under(&folder, &file));
     relative.unwrap_or_else(|| file.to_string_lossy().into_owned())
 }
 
