@@ -26,6 +26,11 @@ r cornell-box "${small[@]}" --frames 8 -o "$out/cornell-frames8.exr"
 r animated-room "${small[@]}" --sequence 4 --fps 4 -o "$out/animated-seq.png"
 r cornell-box "${small[@]}" --mode path --spp 4 -o "$out/cornell-path.exr"
 r cornell-box "${small[@]}" --no-filter --interleave 2x2 --vpls 6 -o "$out/cornell-raw.png"
+r cornell-box "${small[@]}" --mode path --spp 4 -o "$out/cornell-path.png"
+r cornell-box "${small[@]}" --moving-frame -o "$out/cornell-moving.png"
+r cornell-box "${small[@]}" --seed 3 --tile-size 16 --coarse-interleave 1 -o "$out/cornell-seed3.png"
+r shirley-room "${small[@]}" --compensate --clamp 0.3 --frames 2 --aa 2 -o "$out/shirley-compensate.exr"
+r animated-room "${small[@]}" --time 1.5 --exposure 1 -o "$out/animated-time.png"
 S=../shared/scenes
 for f in $S/gltf-samples/DamagedHelmet/glTF/DamagedHelmet.gltf $S/gltf-samples/Fox/glTF/Fox.gltf \
     $S/stanford-bunny/bun_zipper_res2.ply $S/cornell-box/CornellBox-Original.obj $S/lost-empire/lost_empire.obj; do

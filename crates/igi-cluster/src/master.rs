@@ -21,8 +21,8 @@ use crate::protocol::{FrameJob, Message, Ready, Setup, TileResult};
 use crate::tile_queue::TileQueue;
 use crate::transport::Transport;
 use crate::worker::HEARTBEAT;
-use igi_render::stats::{PhaseTimes, RayCounts};
-use igi_render::tonemap::LuminanceStats;
+use igi_render::image::stats::{PhaseTimes, RayCounts};
+use igi_render::image::tonemap::LuminanceStats;
 use igi_render::{CancelToken, FrameImage, FrameOutput, TileGrid};
 use std::time::{Duration, Instant};
 

@@ -7,8 +7,8 @@
 //! [`TileResult`]s: 8-bit pixels and the tile's luminance statistics, from which rank 0 combines
 //! the next frame's tone map in tile order.
 
-use igi_render::stats::{PhaseTimes, RayCounts};
-use igi_render::tonemap::LuminanceStats;
+use igi_render::image::stats::{PhaseTimes, RayCounts};
+use igi_render::image::tonemap::LuminanceStats;
 use igi_render::{FrameState, Pixels};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;

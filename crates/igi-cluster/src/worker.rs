@@ -12,7 +12,7 @@
 use crate::error::ClusterError;
 use crate::protocol::{FrameJob, Message, PROTOCOL_VERSION, Ready, Setup, TileResult};
 use crate::transport::Transport;
-use igi_render::tile_pipeline::{TileOutput, TileScratch};
+use igi_render::igi::tile_pipeline::{TileOutput, TileScratch};
 use igi_render::{CancelToken, FrameRenderer, PreparedScene, add_default_light};
 use igi_scene::Scene;
 use std::collections::VecDeque;

@@ -4,10 +4,10 @@
 //! and serialisable, so a cluster node or a viewer thread can receive it, pose its copy of the
 //! scene and derive the VPLs and every pixel deterministically.
 
-use crate::frame_image::PixelFormat;
-use crate::light_edit::LightEdit;
+use crate::image::frame_image::PixelFormat;
+use crate::image::tonemap::ToneMapper;
+use crate::prepared::light_edit::LightEdit;
 use crate::sampling::hash_combine;
-use crate::tonemap::ToneMapper;
 use glam::Affine3A;
 use igi_scene::Camera;
 use serde::{Deserialize, Serialize};
@@ -127,7 +127,7 @@ pub mod limits {
     /// Surface interactions (diffuse, mirror or glass) followed per light path; a path leaves
     /// at most `MAX_BOUNCES + 1` VPLs. The walk is truncated there: with a scene albedo of 0.8
     /// the energy dropped is 0.8³² ≈ 0.08 % of the indirect light, and every interaction keeps
-    /// its own Sobol dimensions (see [`crate::vpl`]).
+    /// its own Sobol dimensions (see [`crate::igi::vpl`]).
     pub const MAX_BOUNCES: u32 = 32;
     /// Largest tile side.
     pub const MAX_TILE: u32 = 1024;

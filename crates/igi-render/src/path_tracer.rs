@@ -33,10 +33,10 @@
 //! 1. Emission where the path hits the front of an emitter.
 //! 2. Next-event estimation of the area lights: one point y per vertex with a non-delta lobe,
 //!    chosen by power and uniformly by area
-//!    ([`AreaLights::sample`](crate::lights::AreaLights::sample), density p_A), one shadow ray.
+//!    ([`AreaLights::sample`](crate::prepared::lights::AreaLights::sample), density p_A), one shadow ray.
 //! 3. Every point, spot and directional light, one shadow ray each (E_l = I/d² or E).
 //! 4. Next-event estimation of the sky: one direction ω drawn by its importance
-//!    ([`EnvironmentLight::sample`](crate::environment::EnvironmentLight::sample)), one shadow
+//!    ([`EnvironmentLight::sample`](crate::prepared::environment::EnvironmentLight::sample)), one shadow
 //!    ray; the sky seen by a path leaving the scene and this estimate are weighted against
 //!    each other by the power heuristic as (1) and (2) are.
 //!
@@ -93,14 +93,14 @@
 //! pixel) alone, the same bit for bit at any thread count and tile size.
 
 use crate::camera::PinholeCamera;
-use crate::cancel::{CancelToken, Cancelled};
-use crate::film::Film;
 use crate::frame::FrameState;
-use crate::lights::{self, SHADOW_SHORTEN};
+use crate::image::film::Film;
+use crate::prepared::lights::{self, SHADOW_SHORTEN};
 use crate::prepared::{PreparedScene, SurfacePoint};
 use crate::sampling::{MAX_SAMPLES, hash_combine, pixel_seed, sobol4};
-use crate::scheduler::TileScheduler;
-use crate::tile::{Tile, TileGrid};
+use crate::schedule::cancel::{CancelToken, Cancelled};
+use crate::schedule::scheduler::TileScheduler;
+use crate::schedule::tile::{Tile, TileGrid};
 use glam::{Vec2, Vec3};
 use igi_bvh::{Ray, offset_ray_origin};
 use igi_scene::Light;
@@ -439,7 +439,7 @@ pub fn render_path_traced_cancellable(
 
 /// The solid-angle density p_l = p_A |x − y|² / cosθ_y with which next-event estimation picks
 /// the direction toward an emitter point y of area density `pdf_area`
-/// ([`AreaLights::pdf_area`](crate::lights::AreaLights::pdf_area)) at squared distance `dist2`,
+/// ([`AreaLights::pdf_area`](crate::prepared::lights::AreaLights::pdf_area)) at squared distance `dist2`,
 /// seen at cosine `cos_l` from its normal.
 fn light_pdf(pdf_area: f32, dist2: f32, cos_l: f32) -> f32 {
     pdf_area * dist2 / cos_l

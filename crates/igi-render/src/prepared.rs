@@ -16,15 +16,24 @@
 //! texels ([`AlphaCutouts`], given to [`Accel::set_cutouts`]), so no query of any renderer
 //! sees them.
 
-use crate::cutout::{AlphaCutouts, MeshMaterials};
-use crate::default_light::DefaultLight;
-use crate::environment::EnvironmentLight;
+//!
+//! Its parts: the light sources as the renderers sample them ([`lights`]), the environment
+//! (sky) light ([`environment`]), alpha cut-outs ([`cutout`]) and a viewer's changes to the
+//! lights ([`light_edit`]).
+
+pub mod cutout;
+pub mod environment;
+pub mod light_edit;
+pub mod lights;
+
 use crate::frame::ScenePose;
-use crate::light_edit::{LightEdit, LightId};
-use crate::lights::{AreaLights, EmissionMap, EmissiveTriangle, eye_light, footprint_mean};
+use crate::prepared::cutout::{AlphaCutouts, MeshMaterials};
+use crate::prepared::environment::EnvironmentLight;
+use crate::prepared::light_edit::{LightEdit, LightId};
+use crate::prepared::lights::{AreaLights, EmissionMap, EmissiveTriangle, eye_light, footprint_mean};
 use glam::{Affine3A, Mat3A, Vec2, Vec3};
 use igi_bvh::{Aabb, Accel, Hit, TriangleMesh};
-use igi_scene::{Animation, Camera, Light, Material, Pose, Scene, Texture, View};
+use igi_scene::{Animation, Camera, Environment, Light, Material, Pose, Scene, Texture, View};
 use igi_shade::texture::MipMap;
 use igi_shade::{BrdfParams, BrdfParams8, MaterialShader, ShaderTable, ShadingHit8, SurfaceShader};
 use igi_simd::{F32x8, I32x8, M32x8, Vec3x8};
@@ -139,7 +148,7 @@ pub struct PreparedScene {
     /// True if the last placement moved some instance away from its animation's pose.
     is_displaced: bool,
     /// True if the headlight [`eye_light`] lights the scene: as prepared, a scene without any
-    /// light source; after [`PreparedScene::set_default_light`], as that says.
+    /// light source; after [`PreparedScene::set_headlight`], as that says.
     headlight: bool,
 }
 
@@ -163,7 +172,7 @@ impl PreparedScene {
     /// Builds the acceleration structure over `scene` and the shading tables. Material ids
     /// out of range (which a valid scene never has) fall back to a default grey material.
     /// A scene without any light source is lit by the headlight at the camera until
-    /// [`PreparedScene::set_default_light`] says otherwise.
+    /// [`PreparedScene::set_headlight`] says otherwise.
     pub fn new(scene: Scene) -> Self {
         let Scene {
             meshes,
@@ -479,7 +488,7 @@ impl PreparedScene {
 
     /// The point, spot and directional lights the renderers evaluate exactly: the scene's,
     /// and the headlight [`eye_light`] of `camera` where it is on (see
-    /// [`PreparedScene::set_default_light`]).
+    /// [`PreparedScene::set_headlight`]).
     pub fn punctual_lights(&self, camera: &Camera) -> Vec<Light> {
         let mut lights = self.lights.clone();
         if self.headlight {
@@ -488,20 +497,23 @@ impl PreparedScene {
         lights
     }
 
-    /// Lights the scene with `light` besides its own lights: a sun joins the punctual lights
-    /// (after the scene's, so its animation tracks keep their indices) and a sky becomes the
-    /// environment, replacing none (a scene with a sky has lights of its own); the headlight
-    /// is on for [`DefaultLight::Headlight`] and off otherwise, so `None` leaves a scene
-    /// without lights dark.
-    pub fn set_default_light(&mut self, light: Option<DefaultLight>) {
-        self.headlight = light == Some(DefaultLight::Headlight);
-        if let Some(sun) = light.and_then(|l| l.sun()) {
-            self.lights.push(sun.clone());
-            self.rest_lights.push(sun);
-        }
-        if let Some(sky) = light.and_then(|l| l.sky()) {
-            self.environment = Some(EnvironmentLight::new(&sky, &self.textures));
-        }
+    /// Turns the headlight [`eye_light`] on or off (first sight's default light, see
+    /// [`crate::first_sight::default_light`]; as prepared it is on for a scene without any
+    /// light source).
+    pub fn set_headlight(&mut self, on: bool) {
+        self.headlight = on;
+    }
+
+    /// Adds a point, spot or directional light after the scene's own (so their animation
+    /// tracks keep their indices).
+    pub fn add_light(&mut self, light: Light) {
+        self.lights.push(light.clone());
+        self.rest_lights.push(light);
+    }
+
+    /// Makes `sky` the scene's environment light.
+    pub fn set_sky(&mut self, sky: &Environment) {
+        self.environment = Some(EnvironmentLight::new(sky, &self.textures));
     }
 
     /// The scene's own camera, if it had one, or the one [`PreparedScene::set_camera`] fixed.
@@ -520,7 +532,7 @@ impl PreparedScene {
     }
 
     /// Fixes the camera the scene starts with (for a scene without one, the default camera
-    /// chosen once, [`crate::viewpoint::default_camera`]).
+    /// chosen once, [`crate::first_sight::viewpoint::default_camera`]).
     pub fn set_camera(&mut self, camera: Camera) {
         self.camera = Some(camera);
     }
@@ -543,9 +555,8 @@ impl PreparedScene {
         self.environment().map_or(Vec3::ZERO, |e| e.radiance(dir))
     }
 
-    /// True if the scene has any light source of its own or added by
-    /// [`PreparedScene::set_default_light`] (emissive triangle, punctual light or sky; not the
-    /// headlight).
+    /// True if the scene has any light source of its own or added to it (emissive triangle,
+    /// punctual light or sky; not the headlight).
     pub fn has_lights(&self) -> bool {
         !self.lights.is_empty() || !self.area_lights.is_empty() || self.environment.is_some()
     }

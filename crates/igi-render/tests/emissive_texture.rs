@@ -64,8 +64,9 @@ fn rect_form_factor(px: f64, pz: f64, [x0, x1, z0, z1]: [f64; 4], h: f64) -> f64
 fn only_the_lit_half_of_an_emission_texture_is_a_light_and_it_carries_its_power() {
     let prepared = half_lit_case();
     let lights = prepared.area_lights();
-    let strip =
-        |t: &igi_render::lights::EmissiveTriangle| ((t.p0.x + t.e1.x / 3.0 + t.e2.x / 3.0 + HX) / 0.5) as u32;
+    let strip = |t: &igi_render::prepared::lights::EmissiveTriangle| {
+        ((t.p0.x + t.e1.x / 3.0 + t.e2.x / 3.0 + HX) / 0.5) as u32
+    };
     let strips: Vec<u32> = lights.triangles().iter().map(strip).collect();
     assert!(!strips.contains(&0), "the black strip is no light: {strips:?}");
     assert_eq!(strips.iter().filter(|&&s| s >= 2).count(), 4, "both white strips are: {strips:?}");

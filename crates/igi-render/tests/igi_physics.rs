@@ -18,7 +18,7 @@ use common::*;
 use glam::{Affine3A, Quat, Vec2, Vec3};
 use igi_render::frame::FrameState;
 use igi_render::path_tracer::render_path_traced;
-use igi_render::{FrameRenderer, PinholeCamera, PreparedScene, lights::eye_light};
+use igi_render::{FrameRenderer, PinholeCamera, PreparedScene, prepared::lights::eye_light};
 use igi_scene::{Instance, Light, Material, Texture};
 use std::f32::consts::PI;
 

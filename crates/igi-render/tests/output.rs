@@ -1,8 +1,8 @@
 //! Image files: EXR keeps the linear values exactly, PNG holds the tone-mapped sRGB bytes.
 
 use glam::Vec3;
-use igi_render::output::{ImageFormat, to_srgb8, write_png_rgb8};
-use igi_render::tonemap::{LuminanceStats, ToneMapper, linear_to_srgb, srgb_to_linear};
+use igi_render::image::output::{ImageFormat, to_srgb8, write_png_rgb8};
+use igi_render::image::tonemap::{LuminanceStats, ToneMapper, linear_to_srgb, srgb_to_linear};
 use igi_render::{Film, ToneMap, write_exr, write_image, write_png};
 use std::path::PathBuf;
 
@@ -113,7 +113,7 @@ fn exposure_is_a_plain_scale_and_srgb_round_trips() {
 
 #[test]
 fn srgb8_encoding_rounds_the_transfer_function() {
-    use igi_render::tonemap::encode_srgb8;
+    use igi_render::image::tonemap::encode_srgb8;
     for i in 0..=100_000 {
         let c = i as f32 / 100_000.0;
         let exact = linear_to_srgb(c) * 255.0;

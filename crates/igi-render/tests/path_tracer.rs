@@ -10,8 +10,8 @@ use glam::{Vec2, Vec3};
 use igi_render::frame::{FrameState, IgiSettings};
 use igi_render::path_tracer::{MAX_VERTICES, PathTracer, render_path_traced};
 use igi_render::sampling::MAX_SAMPLES;
-use igi_render::scheduler::TileScheduler;
-use igi_render::{Film, PinholeCamera, PreparedScene, lights::eye_light};
+use igi_render::schedule::scheduler::TileScheduler;
+use igi_render::{Film, PinholeCamera, PreparedScene, prepared::lights::eye_light};
 use igi_scene::{Camera, Light, Material, MaterialKind};
 
 fn frame(camera: Camera, width: u32, height: u32, seed: u32, tile_size: u32) -> FrameState {

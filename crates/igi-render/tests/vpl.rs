@@ -9,9 +9,9 @@ use glam::{Vec2, Vec3};
 use igi_render::PreparedScene;
 use igi_render::frame::limits::MAX_BOUNCES;
 use igi_render::frame::{FrameState, IgiSettings};
-use igi_render::lights::eye_light;
-use igi_render::view_importance::{UNSEEN_ACCEPTANCE, ViewImportance};
-use igi_render::vpl::{Vpl, VplSets};
+use igi_render::igi::view_importance::{UNSEEN_ACCEPTANCE, ViewImportance};
+use igi_render::igi::vpl::{Vpl, VplSets};
+use igi_render::prepared::lights::eye_light;
 use igi_scene::{Light, Material, MaterialKind, Mesh};
 use std::f64::consts::PI;
 

@@ -3,8 +3,8 @@
 //! nodes, which send back 8-bit pixels (paper section 3.4) unless the frame asks for linear
 //! radiance to accumulate.
 
+use igi_render::image::tonemap::LuminanceStats;
 use igi_render::path_tracer::render_path_traced_cancellable;
-use igi_render::tonemap::LuminanceStats;
 use igi_render::{
     CancelToken, Cancelled, FrameError, FrameImage, FrameOutput, FrameRenderer, FrameState, PhaseTimes,
     PreparedScene, RayCounts,

@@ -91,7 +91,7 @@ impl ViewSettings {
             specular_bounces: igi.specular_bounces,
             bounces: igi.bounces,
             exposure: None,
-            key: igi_render::tonemap::DEFAULT_KEY,
+            key: igi_render::image::tonemap::DEFAULT_KEY,
             path_tracer: false,
             accumulate: true,
             converge_frames: DEFAULT_CONVERGE_FRAMES,

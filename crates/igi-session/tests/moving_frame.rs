@@ -3,7 +3,7 @@
 //! scene lit from outside through an opening (Sponza's atrium, a courtyard under a roof with a
 //! skylight), most light paths used to leave their VPLs outside, so one frame lit the view
 //! with a handful: its shadows went black, and tone-mapped with the still view's statistics
-//! it was far darker (Sponza: 45 against 111 of 255). `igi_render::view_importance` keeps the
+//! it was far darker (Sponza: 45 against 111 of 255). `igi_render::igi::view_importance` keeps the
 //! VPLs the view needs.
 
 use igi_render::PreparedScene;

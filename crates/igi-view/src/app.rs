@@ -421,5 +421,5 @@ fn fly_key(key: Key) -> Option<igi_session::Key> {
 }
 
 fn save_png(path: &Path, rgb: &[u8], width: u32, height: u32) -> Result<(), String> {
-    igi_render::output::write_png_rgb8(rgb, width, height, path).map_err(|e| e.to_string())
+    igi_render::image::output::write_png_rgb8(rgb, width, height, path).map_err(|e| e.to_string())
 }

@@ -45,7 +45,7 @@ pub struct ViewOptions {
 /// Opens the window on `session` and runs until it is closed (or SIGINT or SIGTERM closes it).
 pub fn run(session: Session, options: ViewOptions) -> Result<()> {
     if let Some(path) = &options.screenshot {
-        igi_render::output::check_writable(path).context("--screenshot")?;
+        igi_render::image::output::check_writable(path).context("--screenshot")?;
     }
     if cfg!(target_os = "linux")
         && std::env::var_os("DISPLAY").is_none()

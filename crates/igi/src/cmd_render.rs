@@ -6,10 +6,10 @@ use crate::frame_args::FrameArgs;
 use crate::progress::LateProgress;
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
-use igi_render::frame_renderer::{FrameOutput, FrameRenderer};
-use igi_render::output::{ImageFormat, check_writable, write_png_rgb8};
+use igi_render::image::output::{ImageFormat, check_writable, write_png_rgb8};
 use igi_render::path_tracer::render_path_traced;
 use igi_render::sampling::MAX_SAMPLES;
+use igi_render::schedule::frame_renderer::{FrameOutput, FrameRenderer};
 use igi_render::{
     Film, FrameImage, FrameState, PixelFormat, PreparedScene, Progressive, ScenePose, Shown, ToneMap,
     ToneMapper, write_exr, write_image,
@@ -169,7 +169,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 rays as f64 * 1e-6,
                 rays as f64 * 1e-6 / elapsed.max(1e-9)
             );
-            let stats = igi_render::tonemap::LuminanceStats::of_pixels(film.pixels());
+            let stats = igi_render::image::tonemap::LuminanceStats::of_pixels(film.pixels());
             (film, stats, summary)
         }
     };

@@ -6,7 +6,7 @@ use crate::frame_args::{FrameArgs, prepare_scene};
 use crate::progress::StageSpinner;
 use anyhow::{Context, Result};
 use clap::Args;
-use igi_render::tonemap::DEFAULT_KEY;
+use igi_render::image::tonemap::DEFAULT_KEY;
 use igi_session::settings::DEFAULT_CONVERGE_FRAMES;
 use igi_session::{SceneCatalog, Session, ViewSettings};
 

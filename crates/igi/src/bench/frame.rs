@@ -6,8 +6,8 @@
 use crate::frame_args::FrameArgs;
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use igi_render::frame_renderer::FrameRenderer;
-use igi_render::lights::luminance;
+use igi_render::prepared::lights::luminance;
+use igi_render::schedule::frame_renderer::FrameRenderer;
 use igi_render::{FrameState, Phase, PreparedScene, Progressive, ToneMap};
 use serde::Serialize;
 use std::collections::BTreeMap;

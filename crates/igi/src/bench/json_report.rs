@@ -1,7 +1,7 @@
 //! The benchmarks' `--json` reports: checked before a benchmark starts, written atomically.
 
 use anyhow::{Context, Result};
-use igi_render::output::{check_writable, write_atomically};
+use igi_render::image::output::{check_writable, write_atomically};
 use serde::Serialize;
 use std::io::Write;
 use std::path::Path;

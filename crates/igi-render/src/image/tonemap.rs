@@ -17,8 +17,8 @@
 //! Image statistics are gathered in [`LuminanceStats`], which merge: a tile can report its own
 //! and the compositor combines them in tile order (paper 3.4).
 
-use crate::film::Film;
-use crate::lights::luminance;
+use crate::image::film::Film;
+use crate::prepared::lights::luminance;
 use glam::Vec3;
 use igi_simd::{F32x8, M32x8};
 

@@ -5,7 +5,7 @@
 //! # Lights
 //!
 //! Point, spot and directional lights (or, in a scene without any light, the headlight
-//! [`eye_light`](crate::lights::eye_light)) are evaluated exactly by the renderer in every set; they are kept in
+//! [`eye_light`](crate::prepared::lights::eye_light)) are evaluated exactly by the renderer in every set; they are kept in
 //! [`VplSets::lights`] and paths starting at them leave no VPL at the light. The emissive
 //! triangles have no such exact term: the first vertex of a path on an area light is a VPL
 //! ("light-surface samples are VPLs too"), and these VPLs are the direct light of area lights.
@@ -117,7 +117,7 @@
 //!
 //! Each VPL a path leaves, on a surface or in the sky, is kept with the probability
 //! [`ViewImportance`] gives it: 1 if it can light a point the camera sees, else
-//! [`UNSEEN_ACCEPTANCE`](crate::view_importance::UNSEEN_ACCEPTANCE), its power then divided
+//! [`UNSEEN_ACCEPTANCE`](crate::igi::view_importance::UNSEEN_ACCEPTANCE), its power then divided
 //! by that probability (unbiased). The decision is a hash of the frame's seed, the path and
 //! the vertex, so the sets still depend only on the scene and the [`FrameState`]; the walk
 //! goes on either way, so the paths and their Sobol dimensions do not change. A scene lit
@@ -125,16 +125,16 @@
 //! view with V VPLs per set instead of a handful, and a viewer's one-frame solution after a
 //! camera move is as bright as the still view's mean instead of half as bright.
 //!
-//! [`AreaLights::sample`]: crate::lights::AreaLights::sample
+//! [`AreaLights::sample`]: crate::prepared::lights::AreaLights::sample
 
 use crate::frame::FrameState;
 use crate::frame::limits::MAX_BOUNCES;
-use crate::lights::{SpotCone, luminance};
+use crate::igi::view_importance::ViewImportance;
+use crate::igi::vpl_lighting::GlossyLobe;
 use crate::prepared::PreparedScene;
+use crate::prepared::lights::{SpotCone, luminance};
 use crate::sampling::{Cdf, MAX_SAMPLES, hash_combine, sobol4};
 use crate::sampling::{concentric_disc, uniform_cone, uniform_sphere};
-use crate::view_importance::ViewImportance;
-use crate::vpl_lighting::GlossyLobe;
 use glam::{Vec2, Vec3};
 use igi_bvh::{Ray, offset_ray_origin};
 use igi_scene::Light;

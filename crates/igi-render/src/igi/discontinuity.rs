@@ -14,9 +14,9 @@
 //! without a similar neighbour keeps its own value, so a constant irradiance stays constant.
 
 use crate::frame::FilterSettings;
-use crate::interleave::{Interleave, Window};
-use crate::pixel_rect::PixelRect;
-use crate::tile::Tile;
+use crate::igi::interleave::{Interleave, Window};
+use crate::schedule::pixel_rect::PixelRect;
+use crate::schedule::tile::Tile;
 use glam::Vec3;
 
 /// A shading point as the filter sees it.
@@ -38,7 +38,7 @@ pub struct FilterSample {
     /// Material index.
     pub material: u32,
     /// D = E/π before filtering: the radiance a white Lambertian surface at the point
-    /// reflects, so that ρ_d·D is the diffuse term (see [`crate::vpl_lighting`]).
+    /// reflects, so that ρ_d·D is the diffuse term (see [`crate::igi::vpl_lighting`]).
     pub diffuse_radiance: Vec3,
 }
 
@@ -49,7 +49,7 @@ pub struct Filtered {
     pub diffuse_radiance: Vec<Vec3>,
     /// Filtered G and S per point: the radiance a glossy lobe of unit reflectance at the point
     /// reflects, so that ρ_s·G is the glossy term, and a GGX lobe's Schlick radiance (see
-    /// [`crate::vpl_lighting`]; empty if the tile has no glossy point).
+    /// [`crate::igi::vpl_lighting`]; empty if the tile has no glossy point).
     pub glossy_radiance: Vec<[Vec3; 2]>,
 }
 

@@ -39,9 +39,9 @@
 //! paper mentions). Point and directional lights are exact direct light, not samples of it,
 //! so they are neither clamped nor weighted.
 
-use crate::lights::{SHADOW_SHORTEN, SpotCone};
-use crate::stats::RayCounts;
-use crate::vpl::Vpl;
+use crate::igi::vpl::Vpl;
+use crate::image::stats::RayCounts;
+use crate::prepared::lights::{SHADOW_SHORTEN, SpotCone};
 use glam::Vec3;
 use igi_bvh::{Accel, RayPacket8, ShadowCache, offset_ray_origin};
 use igi_scene::Light;

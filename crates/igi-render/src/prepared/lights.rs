@@ -10,7 +10,7 @@
 //! area; a point carries the texel's radiance there, so Φ = L_e(y)/p_A(y) stays an unbiased
 //! estimate wherever the chosen triangle has power (a triangle whose footprint is black is no
 //! light at all).
-//! The same table starts the light paths of instant radiosity ([`crate::vpl`], paper 2.1) and
+//! The same table starts the light paths of instant radiosity ([`crate::igi::vpl`], paper 2.1) and
 //! the path tracer's next-event estimation ([`crate::path_tracer`]).
 
 use crate::sampling::{Cdf, uniform_triangle};

@@ -6,8 +6,8 @@ mod atomic_file;
 
 pub use atomic_file::{check_writable, write_atomically};
 
-use crate::film::Film;
-use crate::tonemap::ToneMapper;
+use crate::image::film::Film;
+use crate::image::tonemap::ToneMapper;
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 

@@ -33,7 +33,7 @@ impl AddAssign for RayCounts {
     }
 }
 
-/// The phases of a frame, in the order the pipeline runs them ([`crate::tile_pipeline`];
+/// The phases of a frame, in the order the pipeline runs them ([`crate::igi::tile_pipeline`];
 /// ARCHITECTURE.md, "Data flow").
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Phase {

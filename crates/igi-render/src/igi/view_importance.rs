@@ -1,7 +1,7 @@
 //! [`ViewImportance`]: which VPLs can light what the camera sees, and with what probability a
 //! frame keeps the others.
 //!
-//! Light paths start where the lights' power is (see [`crate::vpl`]), not where the camera
+//! Light paths start where the lights' power is (see [`crate::igi::vpl`]), not where the camera
 //! looks. Where light enters through an opening, most of them leave their VPLs where no
 //! visible point can see them: the sun and the sky of Sponza's atrium send their paths through
 //! a disc across the whole model, and nine in ten end on the outside of the roof or under the
@@ -15,14 +15,14 @@
 //! hits sees is kept; any other is kept with probability [`UNSEEN_ACCEPTANCE`] and its power
 //! divided by it, so every VPL keeps its expected contribution and the estimate stays
 //! unbiased (a grid point stands for the pixels around it, which may see a VPL it does not).
-//! The frame then starts as many more paths as it takes to keep V VPLs per set ([`crate::vpl`],
+//! The frame then starts as many more paths as it takes to keep V VPLs per set ([`crate::igi::vpl`],
 //! "Paths per set"), so a frame's VPLs light what the camera sees. Where the camera sees
 //! every VPL, as in the Cornell box, all are kept and nothing changes.
 
 use crate::camera::PinholeCamera;
 use crate::frame::FrameState;
-use crate::lights::SHADOW_SHORTEN;
 use crate::prepared::PreparedScene;
+use crate::prepared::lights::SHADOW_SHORTEN;
 use glam::Vec3;
 use igi_bvh::{Accel, Ray, offset_ray_origin};
 use igi_shade::brdf::dielectric::{Interface, glass_exit_side, reflect, refract};

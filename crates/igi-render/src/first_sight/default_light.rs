@@ -17,13 +17,13 @@
 //! same decision from the same scene.
 
 use crate::camera::PinholeCamera;
+use crate::first_sight::viewpoint::start_camera;
 use crate::frame::{FrameState, IgiSettings};
-use crate::frame_renderer::FrameRenderer;
-use crate::lights::luminance;
+use crate::image::tonemap::{ToneMap, ToneMapper};
 use crate::prepared::PreparedScene;
+use crate::prepared::lights::luminance;
 use crate::sampling::fibonacci_sphere;
-use crate::tonemap::{ToneMap, ToneMapper};
-use crate::viewpoint::start_camera;
+use crate::schedule::frame_renderer::FrameRenderer;
 use glam::Vec3;
 use igi_bvh::Ray;
 use igi_scene::{Camera, Environment, Light};
@@ -62,7 +62,7 @@ pub enum DefaultLight {
         /// The sky's radiance.
         sky: Vec3,
     },
-    /// The headlight at the camera ([`crate::lights::eye_light`]), for an enclosed camera.
+    /// The headlight at the camera ([`crate::prepared::lights::eye_light`]), for an enclosed camera.
     Headlight,
 }
 
@@ -105,6 +105,19 @@ impl DefaultLight {
         }
     }
 
+    /// Lights `scene` with this light besides its own lights: a sun joins the punctual lights
+    /// and a sky becomes the environment (a scene with a sky has lights of its own, so none is
+    /// replaced); the headlight is on for [`DefaultLight::Headlight`] only.
+    pub fn add_to(&self, scene: &mut PreparedScene) {
+        scene.set_headlight(*self == Self::Headlight);
+        if let Some(sun) = self.sun() {
+            scene.add_light(sun);
+        }
+        if let Some(sky) = self.sky() {
+            scene.set_sky(&sky);
+        }
+    }
+
     /// The one warning that says what was added, why, and how to turn it off; `had_lights`
     /// tells whether the scene had lights of its own.
     pub fn warning(&self, had_lights: bool) -> String {
@@ -129,14 +142,14 @@ pub fn add_default_light(scene: &mut PreparedScene, enabled: bool) -> Option<Str
     let camera = start_camera(scene);
     scene.set_camera(camera);
     if !enabled {
-        scene.set_default_light(None);
+        scene.set_headlight(false);
         return (!scene.has_lights())
             .then(|| "the scene has no light source and --no-default-light leaves it dark".to_owned());
     }
     let had_lights = scene.has_lights();
     let light = DefaultLight::choose(scene, &camera);
-    scene.set_default_light(light);
-    light.map(|l| l.warning(had_lights))
+    scene.set_headlight(false);
+    light.inspect(|l| l.add_to(scene)).map(|l| l.warning(had_lights))
 }
 
 /// True if rays from `eye` leave the scene in at least [`OPEN_SHARE`] of all directions.

@@ -6,10 +6,10 @@
 //! for where it is averaged (progressive refinement), written to EXR, or tone-mapped from the
 //! image's own statistics; a linear frame still carries its display image.
 
-use crate::film::{Film, copy_tile};
-use crate::output::to_srgb8;
-use crate::tile::Tile;
-use crate::tonemap::ToneMapper;
+use crate::image::film::{Film, copy_tile};
+use crate::image::output::to_srgb8;
+use crate::image::tonemap::ToneMapper;
+use crate::schedule::tile::Tile;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 

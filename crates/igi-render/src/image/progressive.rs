@@ -14,9 +14,9 @@
 //! last frame's ([`TONE_MAP_ADAPTATION`]), so exposure and white point do not jump with the
 //! VPLs of each frame.
 
-use crate::film::Film;
-use crate::frame_image::FrameImage;
-use crate::tonemap::{LuminanceStats, ToneMap, ToneMapper};
+use crate::image::film::Film;
+use crate::image::frame_image::FrameImage;
+use crate::image::tonemap::{LuminanceStats, ToneMap, ToneMapper};
 use glam::Vec3;
 
 /// The share of the way, in log exposure and log white point, that the tone map of a moving

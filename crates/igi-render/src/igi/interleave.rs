@@ -14,12 +14,12 @@
 //! samples per pixel, a pixel whose samples all see one surface is shaded once and lit by its
 //! whole set; in a pixel across an edge, sample j is lit by the VPLs j, j + N, j + 2N, … of
 //! the pixel's set, weighted by N. Either way each pixel uses each VPL of its set once, so
-//! anti-aliasing costs extra primary rays only ([`crate::tile_pipeline`]).
+//! anti-aliasing costs extra primary rays only ([`crate::igi::tile_pipeline`]).
 
 use crate::frame::IgiSettings;
-use crate::pixel_rect::PixelRect;
 use crate::sampling::sobol4;
-use crate::tile::Tile;
+use crate::schedule::pixel_rect::PixelRect;
+use crate::schedule::tile::Tile;
 
 /// The interleaving pattern of a frame: n×m fine sets in K² coarse groups, and N samples per
 /// pixel.

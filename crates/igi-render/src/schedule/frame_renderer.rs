@@ -9,17 +9,17 @@
 //! patterns ([`Progressive`]): the progressive mode of a still scene, converging to the
 //! instant-radiosity solution (unclamped with `clamp` 0).
 
-use crate::cancel::{CancelToken, Cancelled};
 use crate::frame::{FrameState, SettingsError};
-use crate::frame_image::{FrameImage, PixelFormat};
+use crate::igi::tile_pipeline::{TilePipeline, TileScratch};
+use crate::igi::vpl::VplSets;
+use crate::image::frame_image::{FrameImage, PixelFormat};
+use crate::image::progressive::{Progressive, Shown};
+use crate::image::stats::{Phase, PhaseTimes, RayCounts};
+use crate::image::tonemap::{LuminanceStats, ToneMap};
 use crate::prepared::PreparedScene;
-use crate::progressive::{Progressive, Shown};
-use crate::scheduler::TileScheduler;
-use crate::stats::{Phase, PhaseTimes, RayCounts};
-use crate::tile::TileGrid;
-use crate::tile_pipeline::{TilePipeline, TileScratch};
-use crate::tonemap::{LuminanceStats, ToneMap};
-use crate::vpl::VplSets;
+use crate::schedule::cancel::{CancelToken, Cancelled};
+use crate::schedule::scheduler::TileScheduler;
+use crate::schedule::tile::TileGrid;
 use std::time::{Duration, Instant};
 
 /// A rendered frame and what it cost.

@@ -1,0 +1,11 @@
+//! The image of a frame: the framebuffer of linear radiance ([`film`]), the pixels a frame
+//! delivers ([`frame_image`]), tone mapping from per-tile statistics ([`tonemap`], paper 3.4),
+//! the running mean of a still view ([`progressive`]), what a frame cost ([`stats`]), and the
+//! image files igi writes ([`output`]).
+
+pub mod film;
+pub mod frame_image;
+pub mod output;
+pub mod progressive;
+pub mod stats;
+pub mod tonemap;
