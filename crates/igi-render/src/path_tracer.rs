@@ -95,12 +95,12 @@
 use crate::camera::PinholeCamera;
 use crate::frame::FrameState;
 use crate::image::film::Film;
+use crate::image::tile::{Tile, TileGrid};
 use crate::prepared::lights::{self, SHADOW_SHORTEN};
 use crate::prepared::{PreparedScene, SurfacePoint};
 use crate::sampling::{MAX_SAMPLES, hash_combine, pixel_seed, sobol4};
 use crate::schedule::cancel::{CancelToken, Cancelled};
 use crate::schedule::scheduler::TileScheduler;
-use crate::schedule::tile::{Tile, TileGrid};
 use glam::{Vec2, Vec3};
 use igi_bvh::{Ray, offset_ray_origin};
 use igi_scene::Light;

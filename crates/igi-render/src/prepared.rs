@@ -18,19 +18,20 @@
 
 //!
 //! Its parts: the light sources as the renderers sample them ([`lights`]), the environment
-//! (sky) light ([`environment`]), alpha cut-outs ([`cutout`]) and a viewer's changes to the
-//! lights ([`light_edit`]).
+//! (sky) light ([`environment`]), alpha cut-outs ([`cutout`]), a viewer's changes to the
+//! lights ([`light_edit`]) and where the scene stands for a frame ([`scene_pose`]).
 
 pub mod cutout;
 pub mod environment;
 pub mod light_edit;
 pub mod lights;
+pub mod scene_pose;
 
-use crate::frame::ScenePose;
 use crate::prepared::cutout::{AlphaCutouts, MeshMaterials};
 use crate::prepared::environment::EnvironmentLight;
 use crate::prepared::light_edit::{LightEdit, LightId};
 use crate::prepared::lights::{AreaLights, EmissionMap, EmissiveTriangle, eye_light, footprint_mean};
+use crate::prepared::scene_pose::ScenePose;
 use glam::{Affine3A, Mat3A, Vec2, Vec3};
 use igi_bvh::{Aabb, Accel, Hit, TriangleMesh};
 use igi_scene::{Animation, Camera, Environment, Light, Material, Pose, Scene, Texture, View};

@@ -1,10 +1,7 @@
-//! Scheduling a frame (paper 2.1, 3.4): rectangles of pixels ([`pixel_rect`]) and the frame's
-//! tiles ([`tile`]), persistent worker threads taking tiles on demand ([`scheduler`]), the
-//! token that abandons a frame between tiles ([`cancel`]), and [`frame_renderer`], which poses
-//! the scene, plans a frame and puts its tiles together.
+//! Scheduling a frame (paper 2.1, 3.4): persistent worker threads taking tiles on demand
+//! ([`scheduler`]), the token that abandons a frame between tiles ([`cancel`]), and
+//! [`frame_renderer`], which poses the scene, plans a frame and puts its tiles together.
 
 pub mod cancel;
 pub mod frame_renderer;
-pub mod pixel_rect;
 pub mod scheduler;
-pub mod tile;

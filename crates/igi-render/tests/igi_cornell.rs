@@ -16,8 +16,8 @@ mod common;
 
 use common::*;
 use glam::Vec3;
+use igi_render::image::tonemap::luminance;
 use igi_render::path_tracer::render_path_traced;
-use igi_render::prepared::lights::luminance;
 use igi_render::{Film, FrameRenderer, FrameState, IgiSettings, PinholeCamera, PreparedScene};
 
 const SIZE: u32 = 48;

@@ -9,7 +9,7 @@ use common::*;
 use glam::{Vec2, Vec3};
 use igi_render::igi::vpl::VplSets;
 use igi_render::igi::vpl_lighting::GlossyLobe;
-use igi_render::prepared::lights::luminance;
+use igi_render::image::tonemap::luminance;
 use igi_render::{PinholeCamera, PreparedScene};
 use igi_scene::{Light, Material, MaterialKind};
 use std::f32::consts::PI;

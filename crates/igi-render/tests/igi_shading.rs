@@ -6,7 +6,7 @@ mod common;
 
 use common::*;
 use igi_render::PreparedScene;
-use igi_render::prepared::lights::luminance;
+use igi_render::image::tonemap::luminance;
 
 #[test]
 fn converged_igi_matches_the_path_tracer_in_the_procedural_room() {

@@ -5,7 +5,7 @@
 mod common;
 
 use common::*;
-use igi_render::prepared::lights::luminance;
+use igi_render::image::tonemap::luminance;
 use igi_render::{FrameState, PreparedScene};
 
 fn frame(scene: &PreparedScene, bounces: u32) -> FrameState {

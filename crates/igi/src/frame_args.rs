@@ -4,7 +4,8 @@
 
 use anyhow::Result;
 use clap::Args;
-use igi_render::frame::{FilterSettings, FrameState, IgiSettings, ScenePose};
+use igi_render::ScenePose;
+use igi_render::frame::{FilterSettings, FrameState, IgiSettings};
 use igi_render::{PreparedScene, add_default_light};
 use igi_scene::Scene;
 

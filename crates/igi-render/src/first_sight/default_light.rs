@@ -19,9 +19,9 @@
 use crate::camera::PinholeCamera;
 use crate::first_sight::viewpoint::start_camera;
 use crate::frame::{FrameState, IgiSettings};
+use crate::image::tonemap::luminance;
 use crate::image::tonemap::{ToneMap, ToneMapper};
 use crate::prepared::PreparedScene;
-use crate::prepared::lights::luminance;
 use crate::sampling::fibonacci_sphere;
 use crate::schedule::frame_renderer::FrameRenderer;
 use glam::Vec3;

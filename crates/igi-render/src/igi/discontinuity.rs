@@ -15,8 +15,8 @@
 
 use crate::frame::FilterSettings;
 use crate::igi::interleave::{Interleave, Window};
-use crate::schedule::pixel_rect::PixelRect;
-use crate::schedule::tile::Tile;
+use crate::image::pixel_rect::PixelRect;
+use crate::image::tile::Tile;
 use glam::Vec3;
 
 /// A shading point as the filter sees it.

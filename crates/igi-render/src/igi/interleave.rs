@@ -17,9 +17,9 @@
 //! anti-aliasing costs extra primary rays only ([`crate::igi::tile_pipeline`]).
 
 use crate::frame::IgiSettings;
+use crate::image::pixel_rect::PixelRect;
+use crate::image::tile::Tile;
 use crate::sampling::sobol4;
-use crate::schedule::pixel_rect::PixelRect;
-use crate::schedule::tile::Tile;
 
 /// The interleaving pattern of a frame: n×m fine sets in K² coarse groups, and N samples per
 /// pixel.

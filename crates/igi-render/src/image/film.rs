@@ -1,6 +1,6 @@
 //! [`Film`]: the framebuffer, linear RGB radiance in f32, row-major with row 0 at the top.
 
-use crate::schedule::tile::Tile;
+use crate::image::tile::Tile;
 use glam::Vec3;
 
 /// A `width` × `height` image of linear RGB values.

@@ -8,8 +8,8 @@
 
 use crate::image::film::{Film, copy_tile};
 use crate::image::output::to_srgb8;
+use crate::image::tile::Tile;
 use crate::image::tonemap::ToneMapper;
-use crate::schedule::tile::Tile;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 

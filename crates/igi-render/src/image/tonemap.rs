@@ -18,7 +18,6 @@
 //! and the compositor combines them in tile order (paper 3.4).
 
 use crate::image::film::Film;
-use crate::prepared::lights::luminance;
 use glam::Vec3;
 use igi_simd::{F32x8, M32x8};
 
@@ -132,6 +131,12 @@ impl Soa8 {
 fn histogram_bin(log2: f32) -> usize {
     // NaN cannot occur (counted pixels have 0 < L < ∞); `as` saturates.
     (((log2 + 32.0) * 0.5).floor() as i64).clamp(0, HISTOGRAM_BINS as i64 - 1) as usize
+}
+
+/// Relative luminance of linear RGB (Rec. 709 primaries).
+#[inline]
+pub fn luminance(rgb: Vec3) -> f32 {
+    0.2126 * rgb.x + 0.7152 * rgb.y + 0.0722 * rgb.z
 }
 
 /// [`luminance`] of eight colours, with its operations in its order.

@@ -6,7 +6,7 @@
 //! footprint, so the texel is read bilinearly at full resolution (as the VPL walks and the path
 //! tracer read every texture).
 
-use crate::prepared::lights::luminance;
+use crate::image::tonemap::luminance;
 use glam::Vec2;
 use igi_bvh::HitFilter;
 use igi_scene::{CoverageChannel, Material};

@@ -36,7 +36,7 @@ use std::f32::consts::{PI, TAU};
 use glam::{Vec2, Vec3};
 use igi_scene::{Environment, Image, Texture};
 
-use crate::prepared::lights::luminance;
+use crate::image::tonemap::luminance;
 use crate::sampling::Cdf;
 
 /// Texel channels are clamped to this, so that sums over the largest image (16k × 16k

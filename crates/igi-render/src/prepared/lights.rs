@@ -13,6 +13,7 @@
 //! The same table starts the light paths of instant radiosity ([`crate::igi::vpl`], paper 2.1) and
 //! the path tracer's next-event estimation ([`crate::path_tracer`]).
 
+use crate::image::tonemap::luminance;
 use crate::sampling::{Cdf, uniform_triangle};
 use glam::{Vec2, Vec3};
 use igi_bvh::Aabb;
@@ -20,12 +21,6 @@ use igi_scene::{Camera, Light};
 use igi_shade::texture::MipMap;
 use std::collections::HashMap;
 use std::sync::Arc;
-
-/// Relative luminance of linear RGB (Rec. 709 primaries).
-#[inline]
-pub fn luminance(rgb: Vec3) -> f32 {
-    0.2126 * rgb.x + 0.7152 * rgb.y + 0.0722 * rgb.z
-}
 
 /// One emissive triangle in world space.
 #[derive(Clone, Copy, Debug, PartialEq)]

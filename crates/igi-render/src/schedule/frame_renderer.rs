@@ -15,11 +15,11 @@ use crate::igi::vpl::VplSets;
 use crate::image::frame_image::{FrameImage, PixelFormat};
 use crate::image::progressive::{Progressive, Shown};
 use crate::image::stats::{Phase, PhaseTimes, RayCounts};
+use crate::image::tile::TileGrid;
 use crate::image::tonemap::{LuminanceStats, ToneMap};
 use crate::prepared::PreparedScene;
 use crate::schedule::cancel::{CancelToken, Cancelled};
 use crate::schedule::scheduler::TileScheduler;
-use crate::schedule::tile::TileGrid;
 use std::time::{Duration, Instant};
 
 /// A rendered frame and what it cost.

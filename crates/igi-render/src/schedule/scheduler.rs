@@ -7,8 +7,8 @@
 //! from them (the image, luminance statistics) is the same at any thread count. A
 //! [`CancelToken`] stops the hand-out: each thread looks at it before taking a tile.
 
+use crate::image::tile::{Tile, TileGrid};
 use crate::schedule::cancel::{CancelToken, Cancelled};
-use crate::schedule::tile::{Tile, TileGrid};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicU32, Ordering};
 

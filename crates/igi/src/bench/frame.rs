@@ -6,7 +6,7 @@
 use crate::frame_args::FrameArgs;
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use igi_render::prepared::lights::luminance;
+use igi_render::image::tonemap::luminance;
 use igi_render::schedule::frame_renderer::FrameRenderer;
 use igi_render::{FrameState, Phase, PreparedScene, Progressive, ToneMap};
 use serde::Serialize;

@@ -3,9 +3,9 @@
 
 use super::{COMPENSATION, PathState, TilePipeline, TileScratch};
 use crate::igi::packet::Packet8;
+use crate::image::pixel_rect::PixelRect;
 use crate::image::stats::RayCounts;
 use crate::sampling::{pixel_seed, sobol4};
-use crate::schedule::pixel_rect::PixelRect;
 use glam::Vec3;
 use igi_bvh::Ray;
 use igi_shade::brdf::cosine_hemisphere;

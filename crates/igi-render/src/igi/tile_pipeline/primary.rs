@@ -4,10 +4,10 @@
 
 use super::{PathState, PendingHit, PrimaryPacket, TilePipeline, TileScratch, WholePixel};
 use crate::igi::packet::unpack_hits;
+use crate::image::pixel_rect::PixelRect;
 use crate::image::stats::RayCounts;
 use crate::prepared::SurfacePoint;
 use crate::sampling::{hash_combine, pixel_seed};
-use crate::schedule::pixel_rect::PixelRect;
 use glam::Vec3;
 use igi_bvh::RayPacket8;
 use igi_simd::{F32x8, M32x8, Vec3x8};

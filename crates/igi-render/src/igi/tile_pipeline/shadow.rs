@@ -3,9 +3,9 @@
 
 use super::{COMPENSATION, COMPENSATION_VPL_STRIDE, PathState, ShadingPoint, TilePipeline, TileScratch};
 use crate::igi::vpl_lighting::Receivers;
+use crate::image::pixel_rect::PixelRect;
 use crate::image::stats::RayCounts;
 use crate::sampling::{hash_combine, pixel_seed};
-use crate::schedule::pixel_rect::PixelRect;
 use glam::Vec3;
 
 impl TilePipeline<'_> {

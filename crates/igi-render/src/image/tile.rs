@@ -3,7 +3,7 @@
 //! only on the scene, the settings and the tile, so tiles can be rendered in any order, on any
 //! thread or node (paper 3.4).
 
-use crate::schedule::pixel_rect::PixelRect;
+use crate::image::pixel_rect::PixelRect;
 
 /// One tile: its index in the grid and its rectangle of pixels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
