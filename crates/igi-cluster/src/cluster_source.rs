@@ -1,13 +1,13 @@
-//! [`ClusterSource`]: a viewer session's frames rendered by a cluster. Rank 0 runs the
-//! session (input, clock, display); each frame becomes a [`FrameJob`] for the nodes. Moving
-//! frames come back as 8-bit pixels, accumulating still frames as linear radiance.
+//! [`ClusterSource`]: frames rendered by a cluster, for `igi render` or a viewer session on
+//! rank 0 (input, clock, display); each frame becomes a [`FrameJob`] for the nodes, which run
+//! the frame's estimator. Moving frames come back as 8-bit pixels, accumulating still frames
+//! as linear radiance.
 
 use crate::error::ClusterError;
 use crate::master::Master;
 use crate::protocol::FrameJob;
 use crate::transport::Transport;
-use igi_render::{CancelToken, Cancelled, FrameOutput, FrameState, PreparedScene};
-use igi_session::{FrameSource, SourceError};
+use igi_render::{CancelToken, Cancelled, FrameError, FrameOutput, FrameSource, FrameState, PreparedScene};
 
 /// What to do when the cluster fails mid-session: end the job (an MPI abort, so no rank is
 /// left waiting) after the message is shown.
@@ -33,15 +33,16 @@ impl<T: Transport> ClusterSource<T> {
 }
 
 impl<T: Transport> FrameSource for ClusterSource<T> {
-    fn render_cancellable(
+    fn render_frame(
         &mut self,
         scene: &mut PreparedScene,
         frame: &FrameState,
         cancel: &CancelToken,
-    ) -> Result<FrameOutput, SourceError> {
+        _progress: &(dyn Fn(u32, u32) + Sync),
+    ) -> Result<FrameOutput, FrameError> {
         let fail = |e: ClusterError| {
             (self.on_failure)(&e);
-            SourceError::Failed(e.to_string())
+            FrameError::Failed(e.to_string())
         };
         self.master.begin(FrameJob { id: 0, frame: frame.clone() }).map_err(fail)?;
         // Rank 0's copy of the scene answers the session's picks: it stands where the nodes'
@@ -49,7 +50,7 @@ impl<T: Transport> FrameSource for ClusterSource<T> {
         scene.pose(&frame.pose);
         // A cancelled frame is abandoned on rank 0; the nodes drop its tiles with the next job.
         let out =
-            self.master.finish_cancellable(cancel).map_err(fail)?.ok_or(SourceError::Cancelled(Cancelled))?;
+            self.master.finish_cancellable(cancel).map_err(fail)?.ok_or(FrameError::Cancelled(Cancelled))?;
         Ok(out.output)
     }
 

@@ -12,7 +12,8 @@
 use crate::error::ClusterError;
 use crate::protocol::{FrameJob, Message, PROTOCOL_VERSION, Ready, Setup, TileResult};
 use crate::transport::Transport;
-use igi_render::igi::tile_pipeline::{TileOutput, TileScratch};
+use igi_render::igi::tile_pipeline::TileScratch;
+use igi_render::image::frame_image::TileOutput;
 use igi_render::{CancelToken, FrameRenderer, PreparedScene, add_default_light};
 use igi_scene::Scene;
 use std::collections::VecDeque;
@@ -209,7 +210,7 @@ fn render_job<T: Transport>(
     };
     let vpl_count = u32::try_from(plan.vpl_count()).unwrap_or(u32::MAX);
     let grid = plan.grid;
-    let pipeline = plan.pipeline();
+    let frame_tiles = plan.tiles();
     let queue =
         LocalQueue { tiles: Mutex::new(VecDeque::new()), ready: Condvar::new(), cancel: CancelToken::new() };
     let (done_tx, done_rx) = channel::<TileOutput>();
@@ -218,12 +219,12 @@ fn render_job<T: Transport>(
     std::thread::scope(|threads| -> Result<(u64, Option<Message>), ClusterError> {
         // The renderer's persistent threads take the tiles as rank 0 queues them; this
         // thread only waits for them to finish.
-        let (queue, pipeline) = (&queue, &pipeline);
+        let (queue, frame_tiles) = (&queue, &frame_tiles);
         threads.spawn(move || {
             renderer.scheduler().run_queue(
                 || queue.pop().map(|index| grid.tile(index)),
                 TileScratch::default,
-                |scratch, tile| pipeline.render_tile(tile, scratch),
+                |scratch, tile| frame_tiles.render(tile, scratch),
                 |_, out| {
                     // The receiver is gone only once the job is over (and cancelled).
                     let _ = done_tx.send(out);

@@ -8,8 +8,8 @@ use igi_cluster::protocol::{Message, Ready};
 use igi_cluster::transport::TransportError;
 use igi_cluster::{ClusterError, FrameJob, InProcess, Master, MasterConfig, Setup, Transport, WorkerSummary};
 use igi_render::{
-    FrameRenderer, FrameState, IgiSettings, PixelFormat, PreparedScene, ScenePose, ToneMap, ToneMapper,
-    start_camera,
+    Estimator, FrameRenderer, FrameState, IgiSettings, PixelFormat, PreparedScene, ScenePose, ToneMap,
+    ToneMapper, start_camera,
 };
 use std::sync::{Arc, Condvar, Mutex};
 use std::thread::JoinHandle;
@@ -112,6 +112,26 @@ fn a_still_scene_equals_the_local_renderer_bit_for_bit() {
 #[test]
 fn an_animated_scene_equals_the_local_renderer_frame_by_frame() {
     sequence_matches_local("animated-room", 3, &[0.0, 0.4, 1.3]);
+}
+
+#[test]
+fn the_nodes_run_the_frame_s_estimator_the_path_tracer_too() {
+    // The estimator is part of the frame: a path-traced frame from the cluster is the local
+    // path tracer's, bit for bit, and not instant radiosity's image.
+    let mut local_scene = PreparedScene::new(load("cornell-box"));
+    let state = first_frame(&local_scene);
+    let traced = FrameState { estimator: Estimator::PathTracer { spp: 2 }, ..state.clone() };
+    let local = FrameRenderer::new(2).render(&mut local_scene, &traced, &|_, _| {}).unwrap();
+    let (root, handles) = start(2);
+    let mut master = Master::connect(root, &setup("cornell-box"), MasterConfig::default()).unwrap();
+    let remote = master.render(FrameJob { id: 0, frame: traced }).unwrap().output;
+    let igi = master.render(FrameJob { id: 1, frame: state }).unwrap().output;
+    let film = |o: &igi_render::FrameOutput| o.image.film().unwrap().pixels().to_vec();
+    assert!(film(&remote) == film(&local), "the cluster's path-traced film differs from the local one");
+    assert_eq!((remote.rays, remote.vpls), (local.rays, 0));
+    assert!(film(&igi) != film(&remote), "the IGI frame must not be the path tracer's");
+    drop(master);
+    handles.into_iter().for_each(|h| assert!(h.join().unwrap().is_ok(), "nodes end cleanly"));
 }
 
 #[test]

@@ -8,7 +8,7 @@ use igi_render::PreparedScene;
 use igi_session::{Session, ViewSettings};
 use std::thread::JoinHandle;
 
-fn session(source: Option<Box<dyn igi_session::FrameSource>>) -> Session {
+fn session(source: Option<Box<dyn igi_render::FrameSource>>) -> Session {
     let scene = PreparedScene::new(igi_scene::builtin("cornell-box").unwrap());
     let camera = *scene.camera().unwrap();
     let settings = ViewSettings {

@@ -226,8 +226,23 @@ impl IgiSettings {
     }
 }
 
-/// One frame, completely: camera, settings, scene pose, tone map, pixel format, frame index
-/// and seed. The same value describes a frame to the local renderer and, as a cluster job, to
+/// How a frame's radiance is estimated: the one choice between the estimators a frame source
+/// runs (as pbrt's integrators; [`crate::schedule::frame_renderer::FramePlan`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Estimator {
+    /// Instant global illumination: VPLs, interleaved sampling and the discontinuity filter
+    /// ([`crate::igi`]).
+    #[default]
+    Igi,
+    /// The unbiased reference path tracer ([`crate::path_tracer`]) with `spp` paths per pixel.
+    PathTracer {
+        /// Paths per pixel, clamped to 1..=[`MAX_SAMPLES`](crate::sampling::MAX_SAMPLES).
+        spp: u32,
+    },
+}
+
+/// One frame, completely: camera, settings, estimator, scene pose, tone map, pixel format,
+/// frame index and seed. The same value describes a frame to the local renderer and, as a cluster job, to
 /// every render node.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FrameState {
@@ -235,6 +250,8 @@ pub struct FrameState {
     pub camera: Camera,
     /// Render settings.
     pub settings: IgiSettings,
+    /// How the radiance is estimated.
+    pub estimator: Estimator,
     /// Where the scene stands: clock and moved instances.
     pub pose: ScenePose,
     /// Tone mapping for 8-bit output of this frame, fixed from the previous frame's tile
@@ -259,12 +276,13 @@ pub struct SequenceSpan {
 }
 
 impl FrameState {
-    /// Frame 0 of `camera` with `settings`: the scene at time 0 as loaded, the linear tone
-    /// map, linear radiance delivered, seed 0.
+    /// Frame 0 of `camera` with `settings`, estimated by instant global illumination: the
+    /// scene at time 0 as loaded, the linear tone map, linear radiance delivered, seed 0.
     pub fn new(camera: Camera, settings: IgiSettings) -> Self {
         Self {
             camera,
             settings,
+            estimator: Estimator::Igi,
             pose: ScenePose::default(),
             tone_map: ToneMapper::LINEAR,
             pixels: PixelFormat::Linear,

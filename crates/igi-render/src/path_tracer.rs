@@ -94,13 +94,13 @@
 
 use crate::camera::PinholeCamera;
 use crate::frame::FrameState;
-use crate::image::film::Film;
-use crate::image::tile::{Tile, TileGrid};
+use crate::image::frame_image::{PixelFormat, Pixels, TileOutput};
+use crate::image::stats::{PhaseTimes, RayCounts};
+use crate::image::tile::Tile;
+use crate::image::tonemap::{LuminanceStats, ToneMapper};
 use crate::prepared::lights::{self, SHADOW_SHORTEN};
 use crate::prepared::{PreparedScene, SurfacePoint};
 use crate::sampling::{MAX_SAMPLES, hash_combine, pixel_seed, sobol4};
-use crate::schedule::cancel::{CancelToken, Cancelled};
-use crate::schedule::scheduler::TileScheduler;
 use glam::{Vec2, Vec3};
 use igi_bvh::{Ray, offset_ray_origin};
 use igi_scene::Light;
@@ -122,6 +122,9 @@ pub struct PathTracer<'a> {
     punctual: Vec<Light>,
     spp: u32,
     seed: u32,
+    /// The pixels the frame delivers and their tone map.
+    pixels: PixelFormat,
+    tone_map: ToneMapper,
 }
 
 impl<'a> PathTracer<'a> {
@@ -135,6 +138,8 @@ impl<'a> PathTracer<'a> {
             punctual: scene.punctual_lights(&frame.camera),
             spp: spp.clamp(1, MAX_SAMPLES),
             seed: frame.sample_seed(),
+            pixels: frame.pixels,
+            tone_map: frame.tone_map,
         }
     }
 
@@ -153,17 +158,24 @@ impl<'a> PathTracer<'a> {
         sum / self.spp as f32
     }
 
-    /// Renders `tile` row-major into `out` (resized); returns rays traced.
-    pub fn render_tile(&self, tile: &Tile, out: &mut Vec<Vec3>) -> u64 {
-        out.clear();
-        out.reserve(tile.rect.pixel_count());
+    /// Renders `tile` in the frame's pixel format, tone-mapped with its tone map.
+    pub fn render_tile(&self, tile: Tile) -> TileOutput {
+        let mut radiance = Vec::with_capacity(tile.rect.pixel_count());
         let mut rays = 0;
         for y in tile.rect.y0..tile.rect.y1 {
             for x in tile.rect.x0..tile.rect.x1 {
-                out.push(self.pixel(x, y, &mut rays));
+                radiance.push(self.pixel(x, y, &mut rays));
             }
         }
-        rays
+        let stats = LuminanceStats::of_pixels(&radiance);
+        TileOutput {
+            tile,
+            pixels: Pixels::encode(radiance, self.pixels, &self.tone_map),
+            stats,
+            // The path tracer's rays are camera paths: counted as primary rays.
+            rays: RayCounts { primary: rays, ..RayCounts::default() },
+            times: PhaseTimes::default(),
+        }
     }
 
     /// The radiance one camera path through pixel (x, y) brings back (see the module
@@ -382,59 +394,6 @@ impl PathSamples {
 #[inline]
 fn unit_float(x: u32) -> f32 {
     (x >> 8) as f32 * (1.0 / (1u32 << 24) as f32)
-}
-
-/// Poses `scene` as `frame` says and renders the whole image on `scheduler`'s threads (tiles of
-/// frame.settings.tile_size), calling progress(done, total) after each tile. Returns the film
-/// and the number of rays traced.
-pub fn render_path_traced(
-    scene: &mut PreparedScene,
-    frame: &FrameState,
-    spp: u32,
-    scheduler: &TileScheduler,
-    progress: &(dyn Fn(u32, u32) + Sync),
-) -> (Film, u64) {
-    let Ok(done) =
-        render_path_traced_cancellable(scene, frame, spp, scheduler, &CancelToken::new(), progress)
-    else {
-        unreachable!("nobody else holds the token")
-    };
-    done
-}
-
-/// [`render_path_traced`], unless `cancel` stops it between tiles (the viewers' reference
-/// mode: a frame gives way to the next input).
-pub fn render_path_traced_cancellable(
-    scene: &mut PreparedScene,
-    frame: &FrameState,
-    spp: u32,
-    scheduler: &TileScheduler,
-    cancel: &CancelToken,
-    progress: &(dyn Fn(u32, u32) + Sync),
-) -> Result<(Film, u64), Cancelled> {
-    scene.pose(&frame.pose);
-    let scene = &*scene;
-    let tracer = PathTracer::new(scene, frame, spp);
-    let (width, height) = (frame.settings.width, frame.settings.height);
-    let grid = TileGrid::new(width, height, frame.settings.tile_size);
-    let tiles = scheduler.run(
-        &grid,
-        cancel,
-        || (),
-        |(), tile| {
-            let mut pixels = Vec::new();
-            let rays = tracer.render_tile(&tile, &mut pixels);
-            (pixels, rays)
-        },
-        progress,
-    )?;
-    let mut film = Film::new(width, height);
-    let mut rays = 0;
-    for (tile, (pixels, n)) in grid.tiles().zip(&tiles) {
-        film.write_tile(&tile, pixels);
-        rays += n;
-    }
-    Ok((film, rays))
 }
 
 /// The solid-angle density p_l = p_A |x − y|² / cosθ_y with which next-event estimation picks

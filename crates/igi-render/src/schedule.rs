@@ -4,4 +4,5 @@
 
 pub mod cancel;
 pub mod frame_renderer;
+pub mod frame_source;
 pub mod scheduler;

@@ -7,7 +7,7 @@ mod common;
 
 use common::*;
 use glam::{Vec2, Vec3};
-use igi_render::path_tracer::render_path_traced;
+use igi_render::FrameSource;
 use igi_render::{Film, FrameRenderer, PinholeCamera, PreparedScene};
 use igi_scene::{Material, Mesh, Texture, Wrap};
 use igi_shade::texture::MipMap;
@@ -137,7 +137,7 @@ fn a_half_black_emitter_lights_the_plane_from_its_white_half_in_both_renderers()
     let (full_left, _) = region_means(&full, &pin, eye);
     assert!(want_left.x < 0.7 * full_left.x, "the case tells the halves apart: {want_left} {full_left}");
 
-    let renderer = FrameRenderer::new(2);
+    let mut renderer = FrameRenderer::new(2);
     let mut frame = igi_frame(cam, size, size);
     // One filter level: the second level's 9-pixel window, a third of this 24-pixel image,
     // would average the irradiance across the light's edge that the halves measure.
@@ -148,7 +148,7 @@ fn a_half_black_emitter_lights_the_plane_from_its_white_half_in_both_renderers()
         .image
         .into_film()
         .unwrap();
-    let (pt, _) = render_path_traced(&mut prepared, &frame, 256, renderer.scheduler(), &|_, _| {});
+    let (pt, _) = path_traced(&mut prepared, &frame, 256, 2);
     for (name, film) in [("IGI", &igi), ("path tracer", &pt)] {
         let (left, right) = region_means(film, &pin, eye);
         eprintln!("{name}: left {left} (want {want_left}), right {right} (want {want_right})");

@@ -6,7 +6,7 @@ mod common;
 
 use common::*;
 use glam::{Vec2, Vec3};
-use igi_render::path_tracer::render_path_traced;
+use igi_render::FrameSource;
 use igi_render::{FrameRenderer, PinholeCamera, PreparedScene};
 use igi_scene::Environment;
 
@@ -68,8 +68,7 @@ fn igi_plane_under_a_uniform_sky_reflects_rho_times_the_sky() {
 fn path_traced_plane_under_a_uniform_sky_reflects_rho_times_the_sky() {
     let (mut scene, cam) = plane_under_sky();
     let frame = igi_frame(cam, 40, 30);
-    let renderer = FrameRenderer::new(2);
-    let (film, _) = render_path_traced(&mut scene, &frame, 64, renderer.scheduler(), &|_, _| {});
+    let (film, _) = path_traced(&mut scene, &frame, 64, 2);
     let (plane, sky, _, _) = plane_and_sky_means(&film, &cam);
     assert!(rel_err(sky, SKY) < 1e-5, "the sky seen directly: {sky}");
     assert!(rel_err(plane, RHO * SKY) < 0.01, "plane {plane}, want {}", RHO * SKY);

@@ -16,8 +16,8 @@ mod common;
 
 use common::*;
 use glam::Vec3;
+use igi_render::FrameSource;
 use igi_render::image::tonemap::luminance;
-use igi_render::path_tracer::render_path_traced;
 use igi_render::{Film, FrameRenderer, FrameState, IgiSettings, PinholeCamera, PreparedScene};
 
 const SIZE: u32 = 48;
@@ -107,7 +107,7 @@ fn worst_block(a: &Film, b: &Film, skip: &[bool]) -> f32 {
 
 /// `frames` IGI frames of `frame` with seed `seed`, accumulated.
 fn accumulate(
-    renderer: &FrameRenderer,
+    renderer: &mut FrameRenderer,
     scene: &mut PreparedScene,
     frame: &FrameState,
     seed: u32,
@@ -125,11 +125,11 @@ fn accumulate(
 #[test]
 fn converged_igi_matches_the_path_tracer_and_the_default_clamp_loses_little() {
     let (mut scene, camera) = cornell();
-    let renderer = FrameRenderer::new(2);
+    let mut renderer = FrameRenderer::new(2);
     let frame = cornell_frame(camera);
     let skip = light_pixels(&scene, &PinholeCamera::new(&camera, SIZE, SIZE));
     assert!((10..60).contains(&skip.iter().filter(|s| **s).count()), "the light covers a few dozen pixels");
-    let (pt, _) = render_path_traced(&mut scene, &frame, SPP, renderer.scheduler(), &|_, _| {});
+    let (pt, _) = path_traced(&mut scene, &frame, SPP, 2);
     let mp = masked_mean(&pt, &skip);
 
     // Unclamped IGI is unbiased: its image mean must match the path tracer's. Its error is
@@ -140,7 +140,7 @@ fn converged_igi_matches_the_path_tracer_and_the_default_clamp_loses_little() {
     // light is about 40 % of the reflected light here, so a lost bounce order or a wrong VPL
     // power fails by far.
     let mut runs: Vec<Vec3> = (1..=4)
-        .map(|seed| masked_mean(&accumulate(&renderer, &mut scene, &frame, seed, FRAMES / 4), &skip))
+        .map(|seed| masked_mean(&accumulate(&mut renderer, &mut scene, &frame, seed, FRAMES / 4), &skip))
         .collect();
     let median = Vec3::from_array(std::array::from_fn(|c| {
         runs.sort_by(|a, b| a[c].total_cmp(&b[c]));
@@ -152,7 +152,7 @@ fn converged_igi_matches_the_path_tracer_and_the_default_clamp_loses_little() {
         median / mp
     );
     assert!(rel_err(median, mp) < 0.02, "IGI median of means {median}, path-traced mean {mp}");
-    let igi = accumulate(&renderer, &mut scene, &frame, frame.seed, FRAMES);
+    let igi = accumulate(&mut renderer, &mut scene, &frame, frame.seed, FRAMES);
     let mi = masked_mean(&igi, &skip);
 
     // The default clamp d_min = 2 % of the scene diagonal (7 cm here) bounds the 1/d² spikes.
@@ -199,10 +199,10 @@ fn bias_compensation_restores_what_a_large_clamp_removes() {
     // back to the path tracer's. Both runs use the same VPLs (same seed and frames), so the
     // difference is the compensation alone.
     let (mut scene, camera) = cornell();
-    let renderer = FrameRenderer::new(2);
+    let mut renderer = FrameRenderer::new(2);
     let mut frame = cornell_frame(camera);
     let skip = light_pixels(&scene, &PinholeCamera::new(&camera, SIZE, SIZE));
-    let (pt, _) = render_path_traced(&mut scene, &frame, SPP, renderer.scheduler(), &|_, _| {});
+    let (pt, _) = path_traced(&mut scene, &frame, SPP, 2);
     let mp = luminance(masked_mean(&pt, &skip));
     frame.settings.clamp = 0.3;
     let mut mean = |compensate: bool| {
@@ -261,7 +261,7 @@ fn bias_compensation_leaves_no_single_bright_pixels() {
         ..IgiSettings::default()
     };
     let frame = FrameState::new(camera, settings);
-    let renderer = FrameRenderer::new(2);
+    let mut renderer = FrameRenderer::new(2);
     let skip = light_pixels(&scene, &PinholeCamera::new(&camera, 320, 240));
     let mut count = |compensate_clamp: bool| {
         let frame =

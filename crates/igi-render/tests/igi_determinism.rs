@@ -8,6 +8,7 @@ mod common;
 
 use common::*;
 use glam::Vec3;
+use igi_render::FrameSource;
 use igi_render::frame::{FilterSettings, FrameState};
 use igi_render::{Film, FrameOutput, FrameRenderer, PixelFormat};
 
@@ -128,7 +129,7 @@ fn accumulation_is_the_mean_of_the_reseeded_frames() {
     // same as rendering those frames with reseeding and averaging (sum in order, then × 1/n),
     // bit for bit; one frame is the plain render.
     let mut scene = every_path_room();
-    let r = FrameRenderer::new(2);
+    let mut r = FrameRenderer::new(2);
     let mut f = frame(5);
     f.frame = 10;
     let accumulated = r.render_accumulated(&mut scene, &f, 3, &|_, _| {}).expect("valid settings");

@@ -16,8 +16,8 @@ mod common;
 
 use common::*;
 use glam::{Affine3A, Quat, Vec2, Vec3};
+use igi_render::FrameSource;
 use igi_render::frame::FrameState;
-use igi_render::path_tracer::render_path_traced;
 use igi_render::{FrameRenderer, PinholeCamera, PreparedScene, prepared::lights::eye_light};
 use igi_scene::{Instance, Light, Material, Texture};
 use std::f32::consts::PI;
@@ -313,7 +313,7 @@ fn white_furnace_converges_to_le_over_one_minus_albedo() {
     // 1.5 L_e + …, a double-counted one 2.5 L_e).
     let (mut prepared, cam, want) = white_furnace_case();
     let (w, h) = (32, 32);
-    let renderer = FrameRenderer::new(2);
+    let mut renderer = FrameRenderer::new(2);
 
     // IGI, unclamped (unbiased): VPLs on the adjacent wall near an edge give the 1/d² spikes,
     // so single pixels are heavy-tailed (the worst pixel is 20-70 % off after 128 frames).
@@ -333,8 +333,7 @@ fn white_furnace_converges_to_le_over_one_minus_albedo() {
 
     // The reference path tracer on the same box and camera: mean within 2 % with 64 spp
     // (its own test asks 1 % of a slightly different view).
-    let (film, _) =
-        render_path_traced(&mut prepared, &igi_frame(cam, w, h), 64, renderer.scheduler(), &|_, _| {});
+    let (film, _) = path_traced(&mut prepared, &igi_frame(cam, w, h), 64, 2);
     let pt = film_mean(&film);
     eprintln!("path-traced furnace, 64 spp: mean {pt}");
     assert!(rel_err(pt, want) < 0.02, "path-traced image mean {pt}, want {want}");

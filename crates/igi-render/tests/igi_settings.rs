@@ -8,6 +8,7 @@ mod common;
 use common::*;
 use glam::{Vec2, Vec3};
 use igi_render::frame::{FilterSettings, FrameState, SettingsError, limits};
+use igi_render::{FrameError, FrameSource};
 use igi_render::{FrameRenderer, IgiSettings, PreparedScene};
 use igi_scene::{Camera, Light, Scene};
 
@@ -102,7 +103,7 @@ fn view() -> Camera {
 #[test]
 fn renderer_returns_the_settings_error_instead_of_rendering() {
     let mut scene = lit_floor();
-    let r = FrameRenderer::new(2);
+    let mut r = FrameRenderer::new(2);
     for (field, change) in [
         ("vpls", (|s: &mut IgiSettings| s.vpls_per_pixel = 0) as fn(&mut IgiSettings)),
         ("interleave", |s| s.interleave = [0, 3]),
@@ -114,10 +115,10 @@ fn renderer_returns_the_settings_error_instead_of_rendering() {
         change(&mut f.settings);
         let progress = |_: u32, _: u32| panic!("no tile may be rendered with bad settings");
         assert_eq!(r.render(&mut scene, &f, &progress).expect_err("bad settings").field, field);
-        assert_eq!(
-            r.render_accumulated(&mut scene, &f, 4, &progress).expect_err("bad settings").field,
-            field
-        );
+        match r.render_accumulated(&mut scene, &f, 4, &progress) {
+            Err(FrameError::Settings(e)) => assert_eq!(e.field, field),
+            other => panic!("{field}: bad settings must be refused, not {other:?}"),
+        }
     }
 }
 

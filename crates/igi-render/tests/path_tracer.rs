@@ -8,9 +8,8 @@ mod common;
 use common::*;
 use glam::{Vec2, Vec3};
 use igi_render::frame::{FrameState, IgiSettings};
-use igi_render::path_tracer::{MAX_VERTICES, PathTracer, render_path_traced};
+use igi_render::path_tracer::{MAX_VERTICES, PathTracer};
 use igi_render::sampling::MAX_SAMPLES;
-use igi_render::schedule::scheduler::TileScheduler;
 use igi_render::{Film, PinholeCamera, PreparedScene, prepared::lights::eye_light};
 use igi_scene::{Camera, Light, Material, MaterialKind};
 
@@ -23,7 +22,7 @@ fn frame(camera: Camera, width: u32, height: u32, seed: u32, tile_size: u32) -> 
 
 /// The whole image on two threads.
 fn render(scene: &mut PreparedScene, frame: &FrameState, spp: u32) -> Film {
-    render_path_traced(scene, frame, spp, &TileScheduler::new(2), &|_, _| {}).0
+    path_traced(scene, frame, spp, 2).0
 }
 
 /// The closed-form radiance over one pixel, from `f` at a 9 × 9 grid of points spanning the
@@ -319,8 +318,7 @@ fn paths_between_two_perfect_mirrors_stop_at_the_cap() {
     // A 1° view: after 64 bounces (128 units of travel) a ray has drifted at most 1.2 sideways.
     let cam = camera(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0), 1.0);
     let (w, h, spp) = (4, 4, 2);
-    let (film, rays) =
-        render_path_traced(&mut prepared, &frame(cam, w, h, 0, 4), spp, &TileScheduler::new(1), &|_, _| {});
+    let (film, rays) = path_traced(&mut prepared, &frame(cam, w, h, 0, 4), spp, 1);
     assert!(film.pixels().iter().all(|&p| p == Vec3::ZERO));
     assert_eq!(rays, u64::from(w * h * spp * MAX_VERTICES));
 }
@@ -336,13 +334,7 @@ fn same_image_for_any_thread_count_and_tile_size() {
     // A size that is a multiple of neither tile size.
     let (w, h, spp) = (37, 23, 4);
     let mut render_with = |threads, tile, seed| {
-        let (film, rays) = render_path_traced(
-            &mut scene,
-            &frame(cam, w, h, seed, tile),
-            spp,
-            &TileScheduler::new(threads),
-            &|_, _| {},
-        );
+        let (film, rays) = path_traced(&mut scene, &frame(cam, w, h, seed, tile), spp, threads);
         (bits(&film), rays)
     };
     let one = render_with(1, 16, 7);

@@ -7,20 +7,18 @@
 //! - [`settings`]: [`ViewSettings`], the render and display settings a viewer exposes.
 //! - [`session`]: [`Session`], which owns the prepared scene, the scene clock, the selection
 //!   and the view's [`igi_render::Progressive`] (accumulation and tone-map feedback), and
-//!   turns inputs into frames: while the camera and the scene are still, frames accumulate with fresh VPL sets (progressive convergence); any change shows
+//!   turns inputs into frames rendered by an [`igi_render::FrameSource`] (this machine's
+//!   threads or a cluster): while the camera and the scene are still, frames accumulate with fresh VPL sets (progressive convergence); any change shows
 //!   the instant one-frame solution at once (paper section 1).
 //! - [`light_control`]: [`LightControl`], a light source's intensity, colour and move as a
 //!   viewer edits them.
 //! - [`selection`]: [`Selection`], the picked object's name and outline on the image.
 //! - [`catalog`]: [`SceneCatalog`], the scenes a viewer may open instead (by name only).
-//! - [`frame_source`]: [`FrameSource`], where frames are rendered: this machine's threads or
-//!   a cluster.
 //! - [`render_loop`]: [`RenderLoop`], a thread rendering the next frame while the viewer
 //!   shows the newest one; inputs go in, only the newest frame comes out.
 
 pub mod camera_control;
 pub mod catalog;
-pub mod frame_source;
 pub mod input;
 pub mod light_control;
 pub mod render_loop;
@@ -30,7 +28,6 @@ pub mod settings;
 
 pub use camera_control::CameraController;
 pub use catalog::{SceneCatalog, SceneOpener};
-pub use frame_source::{FrameSource, SourceError};
 pub use input::{Button, CameraMode, Input, Key};
 pub use light_control::{LightControl, LightKind};
 pub use render_loop::{LatestFrame, RenderLoop, Watching};

@@ -13,10 +13,10 @@
 //! A loop started with [`RenderLoop::spawn_on_demand`] renders only while someone watches
 //! ([`RenderLoop::watch`]): a server with no browser connected does not spend its cores.
 
-use crate::frame_source::SourceError;
 use crate::input::Input;
 use crate::session::{Frame, Session};
 use igi_render::CancelToken;
+use igi_render::FrameError;
 use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
@@ -269,7 +269,7 @@ fn run(mut session: Session, shared: &Shared, latest: &LatestFrame) {
                 frame_time = start.elapsed();
                 latest.publish(frame);
             }
-            Err(SourceError::Cancelled(_)) => {}
+            Err(FrameError::Cancelled(_)) => {}
             Err(e) => state.errors.push(e.to_string()),
         }
     }

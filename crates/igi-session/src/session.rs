@@ -9,7 +9,6 @@
 
 use crate::camera_control::CameraController;
 use crate::catalog::SceneCatalog;
-use crate::frame_source::{FrameSource, SourceError};
 use crate::input::{Button, CameraMode, Input};
 use crate::light_control::{LightControl, LightKind};
 use crate::selection::Selection;
@@ -17,8 +16,8 @@ use crate::settings::{MAX_ACCUMULATION, ViewSettings};
 use glam::{Affine3A, Vec3};
 use igi_render::frame::SettingsError;
 use igi_render::{
-    CancelToken, FrameImage, FrameRenderer, FrameState, Phase, PinholeCamera, PixelFormat, PreparedScene,
-    Progressive, ScenePose, Shown, start_camera,
+    CancelToken, Estimator, FrameError, FrameImage, FrameRenderer, FrameSource, FrameState, Phase,
+    PinholeCamera, PixelFormat, PreparedScene, Progressive, ScenePose, Shown, start_camera,
 };
 use igi_scene::Camera;
 use serde::Serialize;
@@ -431,14 +430,14 @@ impl Session {
 
     /// Renders the next frame, `dt` seconds of wall-clock time after the previous one (the
     /// clock and held keys advance by it).
-    pub fn render(&mut self, dt: f32) -> Result<Frame, SourceError> {
+    pub fn render(&mut self, dt: f32) -> Result<Frame, FrameError> {
         self.render_cancellable(dt, &CancelToken::new())
     }
 
     /// [`Session::render`], unless `cancel` stops the frame between tiles: then the error is
-    /// [`SourceError::Cancelled`], nothing is accumulated, and the next frame is rendered as
+    /// [`FrameError::Cancelled`], nothing is accumulated, and the next frame is rendered as
     /// if this one had never started (the clock and held keys have still moved on).
-    pub fn render_cancellable(&mut self, dt: f32, cancel: &CancelToken) -> Result<Frame, SourceError> {
+    pub fn render_cancellable(&mut self, dt: f32, cancel: &CancelToken) -> Result<Frame, FrameError> {
         let start = Instant::now();
         let dt = if dt.is_finite() { dt.clamp(0.0, 0.25) } else { 0.0 };
         if self.is_animating() {
@@ -470,6 +469,11 @@ impl Session {
         let frame = FrameState {
             camera: self.controller.camera(),
             settings,
+            // The path tracer: one path per pixel and frame, averaged like IGI frames.
+            estimator: match self.settings.path_tracer {
+                true => Estimator::PathTracer { spp: 1 },
+                false => Estimator::Igi,
+            },
             pose: ScenePose {
                 sky: self.settings.sky,
                 time: self.clock,
@@ -485,12 +489,7 @@ impl Session {
             frame: self.progressive.frames(),
             seed: self.seed,
         };
-        let rendered = if self.settings.path_tracer {
-            self.renderer.render_path_traced(&mut self.scene, &frame, cancel)
-        } else {
-            self.renderer.render_cancellable(&mut self.scene, &frame, cancel)
-        };
-        let out = match rendered {
+        let out = match self.renderer.render_frame(&mut self.scene, &frame, cancel, &|_, _| {}) {
             Ok(out) => out,
             Err(e) => {
                 // The change still has to be shown.

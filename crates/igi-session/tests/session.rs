@@ -4,10 +4,12 @@
 //! cancelling a long frame when input comes or the loop is dropped.
 
 use glam::Vec3;
-use igi_render::path_tracer::render_path_traced;
-use igi_render::{CancelToken, Film, FrameOutput, FrameRenderer, FrameState, PreparedScene};
+use igi_render::{
+    CancelToken, Estimator, Film, FrameError, FrameOutput, FrameRenderer, FrameSource, FrameState,
+    PreparedScene,
+};
 use igi_session::settings::MAX_ACCUMULATION;
-use igi_session::{Button, FrameSource, Input, RenderLoop, Session, SourceError, ViewSettings};
+use igi_session::{Button, Input, RenderLoop, Session, ViewSettings};
 use std::time::Duration;
 
 const SIZE: u32 = 40;
@@ -29,6 +31,13 @@ fn session(name: &str, configure: impl FnOnce(&mut ViewSettings)) -> Session {
     Session::new(scene, camera, s, 2).unwrap()
 }
 
+/// The path tracer's image of `frame` with `spp` paths per pixel.
+fn path_traced(scene: &mut PreparedScene, frame: &FrameState, spp: u32) -> Film {
+    let traced = FrameState { estimator: Estimator::PathTracer { spp }, ..frame.clone() };
+    let out = FrameRenderer::new(2).render(scene, &traced, &|_, _| {}).expect("valid settings");
+    out.image.into_film().expect("linear radiance")
+}
+
 fn rmse(a: &Film, b: &Film) -> f64 {
     let sum: f64 =
         a.pixels().iter().zip(b.pixels()).map(|(p, q)| f64::from((*p - *q).length_squared())).sum();
@@ -43,7 +52,7 @@ fn a_still_view_converges_towards_the_path_tracer_and_a_change_resets_it() {
         let mut scene = PreparedScene::new(igi_scene::builtin("cornell-box").unwrap());
         let frame =
             FrameState { seed: 7, ..FrameState::new(session.camera().camera(), session.settings().igi()) };
-        render_path_traced(&mut scene, &frame, 2048, FrameRenderer::new(2).scheduler(), &|_, _| {}).0
+        path_traced(&mut scene, &frame, 2048)
     };
     let mut errors = Vec::new();
     for n in 1..=64u32 {
@@ -238,9 +247,7 @@ fn the_path_tracer_switch_renders_the_reference_and_converges_towards_it() {
     let scene = PreparedScene::new(igi_scene::builtin("cornell-box").unwrap());
     let mut reference_scene = scene;
     let frame = FrameState::new(*reference_scene.camera().unwrap(), session.settings().igi());
-    let renderer = FrameRenderer::new(2);
-    let (reference, _) =
-        render_path_traced(&mut reference_scene, &frame, 64, renderer.scheduler(), &|_, _| {});
+    let reference = path_traced(&mut reference_scene, &frame, 64);
     let mean = last.image.film().expect("linear radiance");
     // Per pixel both are noisy; over the image, their brightness agrees.
     let brightness = |f: &Film| f.pixels().iter().map(|p| f64::from(p.x + p.y + p.z)).sum::<f64>();
@@ -344,13 +351,14 @@ struct Reporting {
 }
 
 impl FrameSource for Reporting {
-    fn render_cancellable(
+    fn render_frame(
         &mut self,
         scene: &mut PreparedScene,
         frame: &FrameState,
         cancel: &CancelToken,
-    ) -> Result<FrameOutput, SourceError> {
-        let out = FrameSource::render_cancellable(&mut self.renderer, scene, frame, cancel);
+        progress: &(dyn Fn(u32, u32) + Sync),
+    ) -> Result<FrameOutput, FrameError> {
+        let out = self.renderer.render_frame(scene, frame, cancel, progress);
         let _ = self.outcomes.send(out.as_ref().map(|_| ()).map_err(|e| e.to_string()));
         out
     }

@@ -8,8 +8,8 @@ use anyhow::Result;
 use clap::Args;
 use igi_cluster::protocol::PROTOCOL_VERSION;
 use igi_cluster::{ClusterError, ClusterSource, Master, MasterConfig, Setup, Transport};
+use igi_render::FrameSource;
 use igi_scene::Scene;
-use igi_session::FrameSource;
 use std::path::{Component, Path, PathBuf};
 
 /// The cluster options of `render`, `view` and `serve`.

@@ -7,14 +7,11 @@ use crate::progress::LateProgress;
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
 use igi_render::image::output::{ImageFormat, check_writable, write_png_rgb8};
-use igi_render::path_tracer::render_path_traced;
 use igi_render::sampling::MAX_SAMPLES;
-use igi_render::schedule::frame_renderer::{FrameOutput, FrameRenderer};
 use igi_render::{
-    Film, FrameImage, FrameState, PixelFormat, PreparedScene, Progressive, ScenePose, Shown, ToneMap,
-    ToneMapper, write_exr, write_image,
+    Estimator, Film, FrameImage, FrameRenderer, FrameSource, FrameState, PixelFormat, PreparedScene,
+    Progressive, ToneMap, ToneMapper, write_exr, write_image,
 };
-use igi_session::FrameSource;
 use std::path::Path;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -91,9 +88,6 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         bail!("--fps must be a positive number");
     }
     ImageFormat::from_path(&args.output)?;
-    if args.cluster.cluster && args.mode == Mode::Path {
-        bail!("--cluster renders with --mode igi only");
-    }
     // A render can take hours: a folder that takes no files fails now, not at the end. On a
     // cluster only rank 0 writes, so there the check waits until this process knows its rank.
     if !args.cluster.cluster {
@@ -122,77 +116,55 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if !args.moving_frame {
         args.frame.still_image(&mut frame, &prepared);
     }
+    frame.estimator = match args.mode {
+        Mode::Igi => Estimator::Igi,
+        Mode::Path => Estimator::PathTracer { spp: args.spp },
+    };
 
-    if source.is_some() || args.sequence > 1 {
-        let mut source = source.unwrap_or_else(|| Box::new(FrameRenderer::new(args.frame.threads)));
-        let start = Instant::now();
-        let rays = render_frames(args, source.as_mut(), &mut prepared, &frame)?;
-        let elapsed = start.elapsed().as_secs_f64();
-        outln!(
-            "{}: {}x{}, {} triangles, {} thread(s){}: {} frame(s), each the mean of {}, in {:.3} s ({:.2} fps, {:.1} Mrays/s; load {:.3} s, build {:.3} s) -> {}",
-            args.scene,
-            frame.settings.width,
-            frame.settings.height,
-            prepared.triangle_count(),
-            source.threads(),
-            if args.cluster.cluster { " on the cluster" } else { "" },
+    let mut source = source.unwrap_or_else(|| Box::new(FrameRenderer::new(args.frame.threads)));
+    let bar = LateProgress::new();
+    let start = Instant::now();
+    let totals = render_frames(args, source.as_mut(), &mut prepared, &frame, &|done, total| {
+        bar.tile_done(done, total)
+    })?;
+    let elapsed = start.elapsed().as_secs_f64();
+    bar.finish();
+
+    let s = &frame.settings;
+    let what = if args.cluster.cluster || args.sequence > 1 {
+        format!(
+            "{} frame(s), each the mean of {}, in {:.3} s ({:.2} fps, {:.1} Mrays/s; ",
             args.sequence,
             args.frames,
             elapsed,
             f64::from(args.sequence) / elapsed.max(1e-9),
-            rays as f64 * 1e-6 / elapsed.max(1e-9),
-            load.as_secs_f64(),
-            build.as_secs_f64(),
-            args.output.display()
-        );
-        return Ok(());
-    }
-
-    let renderer = FrameRenderer::new(args.frame.threads);
-    let bar = LateProgress::new();
-    let progress = |done, total| bar.tile_done(done, total);
-    let start = Instant::now();
-    let (film, stats, summary) = match args.mode {
-        Mode::Igi => {
-            let out = renderer.render_accumulated(&mut prepared, &frame, args.frames, &progress)?;
-            let summary = igi_summary(&out, args.frames, &frame.settings);
-            let film = out.image.into_film().context("an accumulated frame without its film")?;
-            (film, out.stats, summary)
-        }
-        Mode::Path => {
-            let (film, rays) =
-                render_path_traced(&mut prepared, &frame, args.spp, renderer.scheduler(), &progress);
-            let elapsed = start.elapsed().as_secs_f64();
-            let summary = format!(
+            totals.rays as f64 * 1e-6 / elapsed.max(1e-9),
+        )
+    } else {
+        let summary = match args.mode {
+            Mode::Igi => igi_summary(&totals, args.frames, s, elapsed),
+            Mode::Path => format!(
                 "path tracer, {} spp: {:.2} M rays, {:.1} Mrays/s",
                 args.spp,
-                rays as f64 * 1e-6,
-                rays as f64 * 1e-6 / elapsed.max(1e-9)
-            );
-            let stats = igi_render::image::tonemap::LuminanceStats::of_pixels(film.pixels());
-            (film, stats, summary)
-        }
+                totals.rays as f64 * 1e-6,
+                totals.rays as f64 * 1e-6 / elapsed.max(1e-9)
+            ),
+        };
+        format!("{summary} in {elapsed:.3} s (")
     };
-    let elapsed = start.elapsed();
-    bar.finish();
-
-    let mapper = ToneMapper::new(ToneMap::from_exposure(args.exposure), &stats);
-    write_image(&film, &args.output, &mapper).context("cannot write the image")?;
-
     outln!(
-        "{}: {}x{}, {} triangles, {} thread(s): {} in {:.3} s (load {:.3} s, build {:.3} s) -> {}",
+        "{}: {}x{}, {} triangles, {} thread(s){}: {what}load {:.3} s, build {:.3} s) -> {}",
         args.scene,
-        frame.settings.width,
-        frame.settings.height,
+        s.width,
+        s.height,
         prepared.triangle_count(),
-        renderer.threads(),
-        summary,
-        elapsed.as_secs_f64(),
+        source.threads(),
+        if args.cluster.cluster { " on the cluster" } else { "" },
         load.as_secs_f64(),
         build.as_secs_f64(),
         args.output.display()
     );
-    if args.mode == Mode::Igi && args.frames == 1 {
+    if args.mode == Mode::Igi && args.frames == 1 && args.sequence == 1 {
         let what = if args.moving_frame {
             "one frame as a viewer shows it while the view moves"
         } else {
@@ -201,63 +173,69 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         };
         outln!(
             "{what}; `--frames 64` averages 64 compensated frames into a converged image (about {:.1} s here)",
-            64.0 * elapsed.as_secs_f64()
+            64.0 * elapsed
         );
     }
     Ok(())
 }
 
-/// Renders `--sequence` frames (each the mean of `--frames`) through `source` and writes
-/// them; returns the rays traced. The first frame, every accumulated frame and EXR output
-/// come back as linear radiance (a PNG is then tone-mapped from the image's own statistics, as
-/// a single `igi render` does); later PNG frames come back as 8-bit pixels tone-mapped with
-/// the previous frame's statistics, which is what a cluster sends (paper 3.4). The local
-/// renderer and a cluster therefore write the same bytes.
+/// What a render traced, over all its frames.
+#[derive(Clone, Copy, Debug, Default)]
+struct Totals {
+    /// Rays.
+    rays: u64,
+    /// VPLs (surface and sky) of all frames.
+    vpls: usize,
+}
+
+/// Renders `--sequence` images (each the mean of `--frames` frames) of `first`'s estimator
+/// through `source` and writes them; `progress` follows the tiles of each image. The first
+/// image, every accumulated one and EXR output come back as linear radiance (a PNG is then
+/// tone-mapped from the image's own statistics); later PNG images of a sequence come back as
+/// 8-bit pixels tone-mapped with the previous image's statistics, which is what a cluster
+/// sends (paper 3.4). This machine and a cluster therefore write the same bytes.
 fn render_frames(
     args: &RenderArgs,
     source: &mut dyn FrameSource,
     scene: &mut PreparedScene,
     first: &FrameState,
-) -> Result<u64> {
+    progress: &(dyn Fn(u32, u32) + Sync),
+) -> Result<Totals> {
     let tone_map = ToneMap::from_exposure(args.exposure);
     let exr = ImageFormat::from_path(&args.output)? == ImageFormat::Exr;
     let (width, height) = (first.settings.width, first.settings.height);
     // Files are written on their own thread, so frame k + 1 renders (on the cluster: the nodes
     // start it) while frame k is encoded.
-    std::thread::scope(|s| -> Result<u64> {
+    std::thread::scope(|s| -> Result<Totals> {
         let (to_writer, images) = std::sync::mpsc::sync_channel::<(std::path::PathBuf, Image)>(2);
         let writer = s.spawn(move || -> Result<()> {
             for (path, image) in images {
                 match image {
-                    Image::Srgb8(bytes) => write_png_rgb8(&bytes, width, height, &path)?,
-                    Image::Exr(film) => write_exr(&film, &path)?,
-                    Image::Png(film, mapper) => write_image(&film, &path, &mapper)?,
+                    Image::Srgb8(bytes) => write_png_rgb8(&bytes, width, height, &path),
+                    Image::Exr(film) => write_exr(&film, &path),
+                    Image::Png(film, mapper) => write_image(&film, &path, &mapper),
                 }
+                .with_context(|| format!("cannot write the image {}", path.display()))?;
             }
             Ok(())
         });
         let mut view = Progressive::new(tone_map);
-        let mut rays = 0;
+        let mut totals = Totals::default();
         for k in 0..args.sequence {
             let path = sequence_path(&args.output, k, args.sequence);
             let mut frame = first.clone();
-            frame.pose = ScenePose::at(args.frame.time + k as f32 / args.fps);
+            frame.pose.time = first.pose.time + k as f32 / args.fps;
             frame.tone_map = view.tone_mapper();
             let linear = exr || args.frames > 1 || k == 0;
             frame.pixels = if linear { PixelFormat::Linear } else { PixelFormat::Srgb8 };
-            frame.settings.reseed_per_frame |= linear && args.frames > 1;
-            view.reset();
-            for i in 0..if linear { args.frames } else { 1 } {
-                frame.frame = first.frame.wrapping_add(i);
-                let out = source.render(scene, &frame)?;
-                rays += out.rays.total();
-                view.add(out.image, out.stats);
-            }
-            let Shown { image, stats } = view.show();
-            let image = match image {
+            let frames = if linear { args.frames } else { 1 };
+            let out = source.accumulate(scene, &frame, frames, &mut view, progress)?;
+            totals.rays += out.rays.total();
+            totals.vpls += out.vpls;
+            let image = match out.image {
                 FrameImage::Srgb8 { bytes, .. } => Image::Srgb8(bytes),
                 FrameImage::Linear { film, .. } if exr => Image::Exr(film),
-                FrameImage::Linear { film, .. } => Image::Png(film, ToneMapper::new(tone_map, &stats)),
+                FrameImage::Linear { film, .. } => Image::Png(film, ToneMapper::new(tone_map, &out.stats)),
             };
             if to_writer.send((path, image)).is_err() {
                 break;
@@ -265,7 +243,7 @@ fn render_frames(
         }
         drop(to_writer);
         writer.join().map_err(|_| anyhow::anyhow!("the image writer panicked"))??;
-        Ok(rays)
+        Ok(totals)
     })
 }
 
@@ -289,20 +267,20 @@ fn sequence_path(output: &Path, k: u32, frames: u32) -> std::path::PathBuf {
     output.with_file_name(format!("{stem}-{k:04}.{ext}"))
 }
 
-/// The summary of an IGI render of `frames` frames: VPLs, rays.
-fn igi_summary(out: &FrameOutput, frames: u32, s: &igi_render::frame::IgiSettings) -> String {
+/// The summary of an IGI render of `frames` frames in `seconds`: VPLs, rays.
+fn igi_summary(totals: &Totals, frames: u32, s: &igi_render::frame::IgiSettings, seconds: f64) -> String {
     let pixels = f64::from(s.width) * f64::from(s.height) * f64::from(frames);
     format!(
         "igi, {} frame(s), {} VPLs/frame in {}, aa {}, filter {}, clamp {:.3}: {:.2} M rays ({:.1} per pixel), {:.1} Mrays/s",
         frames,
-        out.vpls / frames.max(1) as usize,
+        totals.vpls / frames.max(1) as usize,
         crate::frame_args::sets_label(s.interleave, s.coarse_interleave),
         s.aa,
         if s.filter.is_some() { "on" } else { "off" },
         s.clamp,
-        out.rays.total() as f64 * 1e-6,
-        out.rays.total() as f64 / pixels.max(1.0),
-        out.rays.total() as f64 * 1e-6 / out.elapsed.as_secs_f64().max(1e-9)
+        totals.rays as f64 * 1e-6,
+        totals.rays as f64 / pixels.max(1.0),
+        totals.rays as f64 * 1e-6 / seconds.max(1e-9)
     )
 }
 

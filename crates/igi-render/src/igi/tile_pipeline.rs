@@ -34,7 +34,7 @@ use crate::igi::discontinuity::{DiscontinuityBuffer, FilterSample, Filtered};
 use crate::igi::interleave::Interleave;
 use crate::igi::vpl::VplSets;
 use crate::igi::vpl_lighting::{GlossyLobe, Receivers};
-use crate::image::frame_image::{PixelFormat, Pixels};
+use crate::image::frame_image::{PixelFormat, Pixels, TileOutput};
 use crate::image::pixel_rect::PixelRect;
 use crate::image::stats::{Phase, PhaseTimes, RayCounts};
 use crate::image::tile::Tile;
@@ -59,23 +59,6 @@ const COMPENSATION: u32 = 1 << 31;
 /// compensated frame) 4 instead of 1 takes a frame from 746 to 657 ms and its mean FLIP against
 /// the converged image from 0.129 to 0.131.
 const COMPENSATION_VPL_STRIDE: u32 = 4;
-
-/// A finished tile: its pixels and what it cost.
-#[derive(Clone, Debug)]
-pub struct TileOutput {
-    /// The tile.
-    pub tile: Tile,
-    /// Its pixels in the frame's [`FrameState::pixels`] format: linear radiance, or tone-mapped
-    /// with the frame's [`FrameState::tone_map`] and sRGB-encoded, what a display shows (and
-    /// what a render node sends while the view moves, paper 3.4).
-    pub pixels: Pixels,
-    /// Luminance statistics of the pixels (for the next frame's tone mapping, paper 3.4).
-    pub stats: LuminanceStats,
-    /// Rays traced.
-    pub rays: RayCounts,
-    /// Time per phase.
-    pub times: PhaseTimes,
-}
 
 /// Where a camera path stands: which sample it belongs to and what it carries.
 #[derive(Clone, Copy, Debug)]
@@ -288,13 +271,7 @@ impl<'a> TilePipeline<'a> {
         let pixels = self.compose(&tile, &region, scratch);
         times.lap(Phase::Filter, &mut clock);
         let stats = LuminanceStats::of_pixels(&pixels);
-        // Encoded here, while the tile is in cache, for either format.
-        let mut srgb8 = vec![0u8; 3 * pixels.len()];
-        self.tone_map.encode_pixels(&pixels, &mut srgb8);
-        let pixels = match self.pixels {
-            PixelFormat::Linear => Pixels::Linear { radiance: pixels, srgb8 },
-            PixelFormat::Srgb8 => Pixels::Srgb8(srgb8),
-        };
+        let pixels = Pixels::encode(pixels, self.pixels, &self.tone_map);
         times.lap(Phase::ToneMap, &mut clock);
         TileOutput { tile, pixels, stats, rays, times }
     }

@@ -1,5 +1,5 @@
-//! What pixels a frame carries: the [`PixelFormat`] a frame asks for, a tile's [`Pixels`] and a
-//! frame's [`FrameImage`].
+//! What pixels a frame carries: the [`PixelFormat`] a frame asks for, a tile's [`Pixels`] (and
+//! the [`TileOutput`] an estimator delivers for a tile) and a frame's [`FrameImage`].
 //!
 //! A display needs only tone-mapped 8-bit pixels, which is what render nodes send while the
 //! view moves (paper 3.4): a quarter of the bytes of linear radiance. Linear radiance is asked
@@ -8,8 +8,9 @@
 
 use crate::image::film::{Film, copy_tile};
 use crate::image::output::to_srgb8;
+use crate::image::stats::{PhaseTimes, RayCounts};
 use crate::image::tile::Tile;
-use crate::image::tonemap::ToneMapper;
+use crate::image::tonemap::{LuminanceStats, ToneMapper};
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
@@ -39,6 +40,18 @@ pub enum Pixels {
 }
 
 impl Pixels {
+    /// A tile's `radiance` in `format`: the display image tone-mapped with `tone_map` and
+    /// sRGB-encoded (while the tile is in cache, for either format), with the radiance itself
+    /// for a linear frame.
+    pub fn encode(radiance: Vec<Vec3>, format: PixelFormat, tone_map: &ToneMapper) -> Self {
+        let mut srgb8 = vec![0u8; 3 * radiance.len()];
+        tone_map.encode_pixels(&radiance, &mut srgb8);
+        match format {
+            PixelFormat::Linear => Self::Linear { radiance, srgb8 },
+            PixelFormat::Srgb8 => Self::Srgb8(srgb8),
+        }
+    }
+
     /// The format of these pixels.
     pub fn format(&self) -> PixelFormat {
         match self {
@@ -62,6 +75,23 @@ impl Pixels {
             Self::Srgb8(bytes) | Self::Linear { srgb8: bytes, .. } => bytes,
         }
     }
+}
+
+/// A finished tile: its pixels and what it cost.
+#[derive(Clone, Debug)]
+pub struct TileOutput {
+    /// The tile.
+    pub tile: Tile,
+    /// Its pixels in the frame's [`FrameState::pixels`](crate::FrameState::pixels) format: linear radiance, or tone-mapped
+    /// with the frame's [`FrameState::tone_map`](crate::FrameState::tone_map) and sRGB-encoded, what a display shows (and
+    /// what a render node sends while the view moves, paper 3.4).
+    pub pixels: Pixels,
+    /// Luminance statistics of the pixels (for the next frame's tone mapping, paper 3.4).
+    pub stats: LuminanceStats,
+    /// Rays traced.
+    pub rays: RayCounts,
+    /// Time per phase.
+    pub times: PhaseTimes,
 }
 
 /// A frame's image: the display image, and the linear radiance it was made from if the frame

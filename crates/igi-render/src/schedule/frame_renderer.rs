@@ -1,22 +1,20 @@
-//! [`FrameRenderer`]: a scene and a [`FrameState`] in, a frame out. It poses the scene as the
-//! frame says (the one place where a scene is posed for a frame), generates the frame's VPLs, hands the tiles on demand to its persistent worker threads ([`TileScheduler`]), each
-//! running the [`TilePipeline`], and combines the finished tiles and their luminance
-//! statistics in tile order (paper 3.4), so the result is the same at any thread count.
-//! [`FrameRenderer::render_cancellable`] stops between tiles when its [`CancelToken`] says so
-//! and then returns no image at all.
-//!
-//! [`FrameRenderer::render_accumulated`] averages frames with fresh VPL sets and sample
-//! patterns ([`Progressive`]): the progressive mode of a still scene, converging to the
-//! instant-radiosity solution (unclamped with `clamp` 0).
+//! [`FrameRenderer`]: a scene and a [`FrameState`] in, a frame out, on this machine's threads.
+//! It poses the scene as the frame says, prepares the frame's estimator ([`FramePlan`]: the
+//! VPLs of instant global illumination, or the path tracer), hands the tiles on demand to its
+//! persistent worker threads ([`TileScheduler`]) and combines the finished tiles and their
+//! luminance statistics in tile order (paper 3.4), so the result is the same at any thread
+//! count. [`FrameRenderer::render_cancellable`] stops between tiles when its [`CancelToken`]
+//! says so and then returns no image at all. A render node of a cluster plans a frame the same
+//! way and renders the tiles rank 0 hands it ([`FramePlan::tiles`]).
 
-use crate::frame::{FrameState, SettingsError};
+use crate::frame::{Estimator, FrameState, SettingsError};
 use crate::igi::tile_pipeline::{TilePipeline, TileScratch};
 use crate::igi::vpl::VplSets;
-use crate::image::frame_image::{FrameImage, PixelFormat};
-use crate::image::progressive::{Progressive, Shown};
+use crate::image::frame_image::{FrameImage, TileOutput};
 use crate::image::stats::{Phase, PhaseTimes, RayCounts};
-use crate::image::tile::TileGrid;
-use crate::image::tonemap::{LuminanceStats, ToneMap};
+use crate::image::tile::{Tile, TileGrid};
+use crate::image::tonemap::LuminanceStats;
+use crate::path_tracer::PathTracer;
 use crate::prepared::PreparedScene;
 use crate::schedule::cancel::{CancelToken, Cancelled};
 use crate::schedule::scheduler::TileScheduler;
@@ -40,7 +38,7 @@ pub struct FrameOutput {
     pub vpls: usize,
 }
 
-/// Why [`FrameRenderer::render_cancellable`] returned no frame.
+/// Why a frame source returned no frame.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum FrameError {
     /// A setting is out of range.
@@ -49,6 +47,9 @@ pub enum FrameError {
     /// The frame was cancelled between tiles.
     #[error(transparent)]
     Cancelled(#[from] Cancelled),
+    /// The source could not render it (a cluster lost its nodes); the message says why.
+    #[error("{0}")]
+    Failed(String),
 }
 
 /// Renders frames on a pool of persistent worker threads.
@@ -83,7 +84,9 @@ impl FrameRenderer {
     ) -> Result<FrameOutput, SettingsError> {
         self.render_cancellable(scene, frame, &CancelToken::new(), progress).map_err(|e| match e {
             FrameError::Settings(e) => e,
-            FrameError::Cancelled(_) => unreachable!("nobody else holds the token"),
+            FrameError::Cancelled(_) | FrameError::Failed(_) => {
+                unreachable!("nobody else holds the token, and this machine does not fail")
+            }
         })
     }
 
@@ -97,12 +100,12 @@ impl FrameRenderer {
     ) -> Result<FrameOutput, FrameError> {
         let start = Instant::now();
         let plan = self.plan(scene, frame)?;
-        let pipeline = plan.pipeline();
+        let tiles = plan.tiles();
         let tiles = self.scheduler.run(
             &plan.grid,
             cancel,
             TileScratch::default,
-            |scratch, tile| pipeline.render_tile(tile, scratch),
+            |scratch, tile| tiles.render(tile, scratch),
             progress,
         )?;
         let mut stats = LuminanceStats::default();
@@ -121,7 +124,8 @@ impl FrameRenderer {
     }
 
     /// Makes `frame` ready to render tile by tile: checks its settings, poses `scene` as the
-    /// frame says and generates the frame's VPLs on the render threads.
+    /// frame says and prepares its estimator (instant global illumination generates the
+    /// frame's VPLs on the render threads).
     pub fn plan<'a>(
         &self,
         scene: &'a mut PreparedScene,
@@ -131,68 +135,74 @@ impl FrameRenderer {
         let start = Instant::now();
         scene.pose(&frame.pose);
         let scene = &*scene;
-        let vpls = self.scheduler.install(|| VplSets::generate(scene, frame));
+        let estimator = match frame.estimator {
+            Estimator::Igi => {
+                PlannedEstimator::Igi(self.scheduler.install(|| VplSets::generate(scene, frame)))
+            }
+            Estimator::PathTracer { spp } => PlannedEstimator::PathTracer(PathTracer::new(scene, frame, spp)),
+        };
         let mut times = PhaseTimes::default();
         times.add(Phase::VplGeneration, start.elapsed());
         let s = &frame.settings;
-        Ok(FramePlan { scene, frame, vpls, grid: TileGrid::new(s.width, s.height, s.tile_size), times })
-    }
-
-    /// The average of `frames` frames from `frame` on (frame numbers `frame.frame`,
-    /// `frame.frame + 1`, …), each with fresh VPLs and sample patterns, in linear radiance.
-    /// `progress(done, total)` counts tiles over all frames. Rays, times and VPLs are the sums
-    /// over the frames.
-    pub fn render_accumulated(
-        &self,
-        scene: &mut PreparedScene,
-        frame: &FrameState,
-        frames: u32,
-        progress: &(dyn Fn(u32, u32) + Sync),
-    ) -> Result<FrameOutput, SettingsError> {
-        let frames = frames.max(1);
-        let mut f = frame.clone();
-        f.settings.reseed_per_frame |= frames > 1;
-        f.pixels = PixelFormat::Linear;
-        let per_frame = TileGrid::new(f.settings.width, f.settings.height, f.settings.tile_size).len();
-        let total = per_frame.saturating_mul(frames);
-        let start = Instant::now();
-        let mut mean = Progressive::new(ToneMap::default());
-        let (mut rays, mut times, mut vpls) = (RayCounts::default(), PhaseTimes::default(), 0);
-        for i in 0..frames {
-            f.frame = frame.frame.wrapping_add(i);
-            let done_before = per_frame.saturating_mul(i);
-            let one = self.render(scene, &f, &|done, _| progress(done_before.saturating_add(done), total))?;
-            rays += one.rays;
-            times += one.times;
-            vpls += one.vpls;
-            mean.add(one.image, one.stats);
-        }
-        let Shown { image, stats } = mean.show();
-        Ok(FrameOutput { image, stats, rays, times, elapsed: start.elapsed(), vpls })
+        Ok(FramePlan { scene, frame, estimator, grid: TileGrid::new(s.width, s.height, s.tile_size), times })
     }
 }
 
 /// A frame ready to render tile by tile ([`FrameRenderer::plan`]): the posed scene, the
-/// frame's VPLs and its tile grid.
+/// frame's estimator and its tile grid.
 #[derive(Debug)]
 pub struct FramePlan<'a> {
     scene: &'a PreparedScene,
     frame: &'a FrameState,
-    vpls: VplSets,
+    estimator: PlannedEstimator<'a>,
     /// The frame's tiles.
     pub grid: TileGrid,
-    /// Time spent so far (the VPL generation).
+    /// Time spent so far (preparing the estimator: the VPL generation).
     pub times: PhaseTimes,
 }
 
+/// A frame's estimator, ready for its tiles.
+#[derive(Debug)]
+enum PlannedEstimator<'a> {
+    /// Instant global illumination with the frame's VPL sets.
+    Igi(VplSets),
+    /// The reference path tracer.
+    PathTracer(PathTracer<'a>),
+}
+
 impl FramePlan<'_> {
-    /// The pipeline that renders the frame's tiles.
-    pub fn pipeline(&self) -> TilePipeline<'_> {
-        TilePipeline::new(self.scene, self.frame, &self.vpls)
+    /// What renders the frame's tiles.
+    pub fn tiles(&self) -> FrameTiles<'_> {
+        match &self.estimator {
+            PlannedEstimator::Igi(vpls) => FrameTiles::Igi(TilePipeline::new(self.scene, self.frame, vpls)),
+            PlannedEstimator::PathTracer(tracer) => FrameTiles::PathTracer(tracer),
+        }
     }
 
-    /// VPLs (surface and sky) over all sets.
+    /// VPLs (surface and sky) over all sets (none for the path tracer).
     pub fn vpl_count(&self) -> usize {
-        self.vpls.total_vpls()
+        match &self.estimator {
+            PlannedEstimator::Igi(vpls) => vpls.total_vpls(),
+            PlannedEstimator::PathTracer(_) => 0,
+        }
+    }
+}
+
+/// The tile renderer of a planned frame ([`FramePlan::tiles`]), shared by the render threads.
+#[derive(Debug)]
+pub enum FrameTiles<'a> {
+    /// Instant global illumination's streaming tile pipeline.
+    Igi(TilePipeline<'a>),
+    /// The path tracer.
+    PathTracer(&'a PathTracer<'a>),
+}
+
+impl FrameTiles<'_> {
+    /// Renders `tile`; `scratch` is the render thread's reusable memory.
+    pub fn render(&self, tile: Tile, scratch: &mut TileScratch) -> TileOutput {
+        match self {
+            Self::Igi(pipeline) => pipeline.render_tile(tile, scratch),
+            Self::PathTracer(tracer) => tracer.render_tile(tile),
+        }
     }
 }

@@ -4,8 +4,7 @@
 #![allow(dead_code)]
 
 use glam::{Affine3A, Vec2, Vec3};
-use igi_render::path_tracer::render_path_traced;
-use igi_render::{Film, FrameRenderer, FrameState, PreparedScene};
+use igi_render::{Estimator, Film, FrameRenderer, FrameSource, FrameState, PixelFormat, PreparedScene};
 use igi_scene::{Camera, Instance, Light, Material, Mesh, Scene};
 
 /// A quad `p0 p1 p2 p3` (two triangles 0-1-2, 0-2-3) with winding normal
@@ -92,9 +91,9 @@ pub fn converged_means(
     frames: u32,
     spp: u32,
 ) -> (Vec3, Vec3) {
-    let renderer = FrameRenderer::new(2);
+    let mut renderer = FrameRenderer::new(2);
     let frame = igi_frame(camera, size, size);
-    let (pt, _) = render_path_traced(scene, &frame, spp, renderer.scheduler(), &|_, _| {});
+    let (pt, _) = path_traced(scene, &frame, spp, 2);
     let igi = renderer
         .render_accumulated(scene, &frame, frames, &|_, _| {})
         .expect("valid settings")
@@ -328,4 +327,13 @@ pub fn every_path_room() -> igi_render::PreparedScene {
     ];
     let lights = vec![Light::Point { position: Vec3::new(-1.0, 1.5, 1.0), intensity: Vec3::splat(0.5) }];
     igi_render::PreparedScene::new(scene(meshes, materials, lights))
+}
+
+/// The path tracer's image of `frame` with `spp` paths per pixel on `threads` threads, and
+/// the rays it traced: a frame of [`Estimator::PathTracer`] rendered as every frame is.
+pub fn path_traced(scene: &mut PreparedScene, frame: &FrameState, spp: u32, threads: usize) -> (Film, u64) {
+    let traced =
+        FrameState { estimator: Estimator::PathTracer { spp }, pixels: PixelFormat::Linear, ..frame.clone() };
+    let out = FrameRenderer::new(threads).render(scene, &traced, &|_, _| {}).expect("valid settings");
+    (out.image.into_film().expect("linear radiance"), out.rays.total())
 }

@@ -27,9 +27,8 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use igi_render::image::output::{to_srgb8, write_exr};
 use igi_render::image::tonemap::luminance;
-use igi_render::path_tracer::render_path_traced;
 use igi_render::schedule::frame_renderer::FrameRenderer;
-use igi_render::{Film, FrameState, PreparedScene, ScenePose, ToneMap, ToneMapper};
+use igi_render::{Estimator, Film, FrameSource, FrameState, PreparedScene, ScenePose, ToneMap, ToneMapper};
 use serde::Serialize;
 use std::hash::{Hash, Hasher};
 use std::path::{Path, PathBuf};
@@ -130,24 +129,25 @@ pub fn run(args: &QualityBenchArgs) -> Result<()> {
     let digest = scene.digest();
     let mut prepared = args.frame.prepare(scene);
     let frame = args.frame.frame_state(&prepared)?;
-    let renderer = FrameRenderer::new(args.frame.threads);
+    let mut renderer = FrameRenderer::new(args.frame.threads);
 
     let reference_path =
         args.reference.clone().unwrap_or_else(|| default_reference_path(args, digest, &frame, method));
     let (reference, reference_seconds) =
-        reference(args, &mut prepared, &frame, method, &reference_path, &renderer)?;
+        reference(args, &mut prepared, &frame, method, &reference_path, &mut renderer)?;
     let reference_display = display(&reference);
 
     let mut still = frame.clone();
     args.frame.still_image(&mut still, &prepared);
-    let one_frame = figures(&reference_display, &renderer, &mut prepared, &still, 1)?;
-    let moving_frame = figures(&reference_display, &renderer, &mut prepared, &frame, 1)?;
+    let one_frame = figures(&reference_display, &mut renderer, &mut prepared, &still, 1)?;
+    let moving_frame = figures(&reference_display, &mut renderer, &mut prepared, &frame, 1)?;
     let mut accumulating = frame.clone();
     args.frame.still_image(&mut accumulating, &prepared);
-    let accumulated = figures(&reference_display, &renderer, &mut prepared, &accumulating, args.accumulate)?;
+    let accumulated =
+        figures(&reference_display, &mut renderer, &mut prepared, &accumulating, args.accumulate)?;
     let flicker = if args.flicker > 1 {
         Some(flicker(
-            &renderer,
+            &mut renderer,
             &mut prepared,
             &frame,
             &accumulating,
@@ -248,7 +248,7 @@ fn reference(
     frame: &FrameState,
     method: Method,
     path: &Path,
-    renderer: &FrameRenderer,
+    renderer: &mut FrameRenderer,
 ) -> Result<(Film, f64)> {
     let (width, height) = (frame.settings.width, frame.settings.height);
     if path.exists() {
@@ -271,7 +271,9 @@ fn reference(
     let progress = |done, total| bar.tile_done(done, total);
     let film = match method {
         Method::PathTracer { spp } => {
-            render_path_traced(scene, frame, spp, renderer.scheduler(), &progress).0
+            let traced = FrameState { estimator: Estimator::PathTracer { spp }, ..frame.clone() };
+            let out = renderer.render_accumulated(scene, &traced, 1, &progress)?;
+            out.image.into_film().context("a path-traced frame without its film")?
         }
         Method::Accumulated { frames } => {
             let mut mean = frame.clone();
@@ -299,7 +301,7 @@ fn display(film: &Film) -> Vec<u8> {
 /// Renders the mean of `frames` frames of `frame` and measures it against `reference`.
 fn figures(
     reference: &[u8],
-    renderer: &FrameRenderer,
+    renderer: &mut FrameRenderer,
     scene: &mut PreparedScene,
     frame: &FrameState,
     frames: u32,
@@ -345,7 +347,7 @@ fn rmse(reference: &[u8], test: &[u8]) -> f64 {
 /// `start` s: one frame each with `frame`'s settings, against `accumulate` frames each with
 /// `accumulating`'s.
 fn flicker(
-    renderer: &FrameRenderer,
+    renderer: &mut FrameRenderer,
     scene: &mut PreparedScene,
     frame: &FrameState,
     accumulating: &FrameState,
