@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
 /// The version of this protocol; a node of another build refuses to take part.
-pub const PROTOCOL_VERSION: u32 = 3;
+pub const PROTOCOL_VERSION: u32 = 4;
 
 /// What rank 0 tells a node before the first frame: which scene to load.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -146,12 +146,12 @@ impl Message {
 mod tests {
     use super::*;
     use glam::{Affine3A, Vec3};
-    use igi_render::{IgiSettings, LightEdit, LightId, PixelFormat, ScenePose};
+    use igi_render::{FrameSettings, LightEdit, LightId, PixelFormat, ScenePose};
 
     #[test]
     fn messages_round_trip() {
         let camera = igi_scene::builtin("cornell-box").and_then(|s| s.camera).unwrap();
-        let mut frame = FrameState::new(camera, IgiSettings::default());
+        let mut frame = FrameState::new(camera, FrameSettings::default());
         frame.pose = ScenePose {
             time: 1.5,
             moved: vec![(2, Affine3A::from_translation(Vec3::X))],
@@ -162,7 +162,7 @@ mod tests {
                 transform: Affine3A::from_rotation_y(0.5),
             }],
         };
-        (frame.pixels, frame.frame, frame.seed) = (PixelFormat::Srgb8, 3, 9);
+        (frame.pixels, frame.frame, frame.settings.seed) = (PixelFormat::Srgb8, 3, 9);
         let job = FrameJob { id: 7, frame };
         for m in [
             Message::Frame(Box::new(job)),

@@ -4,14 +4,14 @@
 
 use igi_cluster::protocol::{Message, PROTOCOL_VERSION, Ready};
 use igi_cluster::{FrameJob, InProcess, Setup, Transport};
-use igi_render::{FrameState, IgiSettings, PixelFormat, PreparedScene, TileGrid};
+use igi_render::{FrameSettings, FrameState, PixelFormat, PreparedScene, TileGrid};
 use std::time::{Duration, Instant};
 
 const SCENE: &str = "cornell-box";
 const THREADS: usize = 2;
 
-fn frame(scene: &PreparedScene, settings: IgiSettings) -> FrameState {
-    let settings = IgiSettings { clamp: IgiSettings::clamp_for(scene.bounds().diagonal()), ..settings };
+fn frame(scene: &PreparedScene, settings: FrameSettings) -> FrameState {
+    let settings = FrameSettings { clamp: FrameSettings::clamp_for(scene.bounds().diagonal()), ..settings };
     FrameState { pixels: PixelFormat::Srgb8, ..FrameState::new(*scene.camera().unwrap(), settings) }
 }
 
@@ -45,9 +45,10 @@ fn a_node_abandons_a_frame_when_a_newer_job_or_a_shutdown_comes() {
     // a fraction of a second per tile.
     let slow = frame(
         &scene,
-        IgiSettings { width: 3840, height: 2160, vpls_per_pixel: 4096, aa: 1, ..IgiSettings::default() },
+        FrameSettings { width: 3840, height: 2160, vpls_per_pixel: 4096, aa: 1, ..FrameSettings::default() },
     );
-    let quick = frame(&scene, IgiSettings { width: 64, height: 48, tile_size: 16, ..IgiSettings::default() });
+    let quick =
+        frame(&scene, FrameSettings { width: 64, height: 48, tile_size: 16, ..FrameSettings::default() });
 
     let mut ranks = igi_cluster::in_process(2).into_iter();
     let mut root = ranks.next().unwrap();

@@ -8,7 +8,7 @@ use igi_cluster::protocol::{Message, Ready};
 use igi_cluster::transport::TransportError;
 use igi_cluster::{ClusterError, FrameJob, InProcess, Master, MasterConfig, Setup, Transport, WorkerSummary};
 use igi_render::{
-    Estimator, FrameRenderer, FrameState, IgiSettings, PixelFormat, PreparedScene, ScenePose, ToneMap,
+    Estimator, FrameRenderer, FrameSettings, FrameState, PixelFormat, PreparedScene, ScenePose, ToneMap,
     ToneMapper, start_camera,
 };
 use std::sync::{Arc, Condvar, Mutex};
@@ -49,18 +49,17 @@ fn start(nodes: usize) -> (InProcess, Vec<Node>) {
 }
 
 fn first_frame(scene: &PreparedScene) -> FrameState {
-    let settings = IgiSettings {
+    let settings = FrameSettings {
         width: 96,
         height: 72,
         tile_size: 16,
         aa: 1,
-        clamp: IgiSettings::clamp_for(scene.bounds().diagonal()),
-        ..IgiSettings::default()
+        seed: 3,
+        ..FrameSettings::for_scene(scene.bounds().diagonal())
     };
     let camera = start_camera(scene);
     FrameState {
         tone_map: ToneMapper::new(ToneMap::default(), &Default::default()),
-        seed: 3,
         ..FrameState::new(camera, settings)
     }
 }

@@ -12,8 +12,11 @@ fn session(source: Option<Box<dyn igi_render::FrameSource>>) -> Session {
     let scene = PreparedScene::new(igi_scene::builtin("cornell-box").unwrap());
     let camera = *scene.camera().unwrap();
     let settings = ViewSettings {
-        width: 48,
-        height: 40,
+        frame: igi_render::FrameSettings {
+            width: 48,
+            height: 40,
+            ..ViewSettings::for_scene(scene.bounds().diagonal()).frame
+        },
         playing: false,
         ..ViewSettings::for_scene(scene.bounds().diagonal())
     };
@@ -85,7 +88,16 @@ fn a_cluster_viewer_gives_up_a_long_frame_for_new_input() {
     let (source, nodes) = cluster(1);
     let session = session(Some(Box::new(source)));
     let fast = ViewSettings { accumulate: false, ..session.settings().clone() };
-    let slow = ViewSettings { width: 3840, height: 2160, vpls_per_pixel: 4096, aa: 64, ..fast.clone() };
+    let slow = ViewSettings {
+        frame: igi_render::FrameSettings {
+            width: 3840,
+            height: 2160,
+            vpls_per_pixel: 4096,
+            aa: 64,
+            ..fast.clone().frame
+        },
+        ..fast.clone()
+    };
     let render_loop = RenderLoop::spawn(session);
     render_loop.send(Input::Settings { settings: fast.clone() });
     render_loop.latest().wait_newer(0, Duration::from_secs(30)).expect("a first frame");

@@ -11,9 +11,11 @@ use crate::sampling::hash_combine;
 use igi_scene::Camera;
 use serde::{Deserialize, Serialize};
 
-/// Render settings of the instant-global-illumination pipeline.
+/// The settings of a frame: every option a user sets, the one record the command line parses
+/// its flags into, a viewer shows and edits (its JSON, flat), and a cluster sends with each
+/// frame (ARCHITECTURE.md, "One record of a frame's settings").
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct IgiSettings {
+pub struct FrameSettings {
     /// Image width in pixels.
     pub width: u32,
     /// Image height in pixels.
@@ -32,14 +34,23 @@ pub struct IgiSettings {
     /// Primary rays per pixel; each is lit by its own 1/N of the pixel's VPL set (interleaved
     /// super-sampling, paper 3.3).
     pub aa: u32,
-    /// The discontinuity filter (paper 2.1), `None` to show the raw interleaved image.
-    pub filter: Option<FilterSettings>,
+    /// The discontinuity filter (paper 2.1) on; off shows the raw interleaved image. Its
+    /// thresholds ([`FrameSettings::discontinuity_filter`]) are kept while it is off, so a
+    /// viewer that turns it on again has them back.
+    pub filter: bool,
+    /// Discontinuity filter: smallest cosine between the normals of pixels averaged together
+    /// ([`FilterSettings::min_normal_cos`]).
+    pub filter_normal: f32,
+    /// Discontinuity filter: largest relative depth difference of pixels averaged together
+    /// ([`FilterSettings::max_depth_ratio`]).
+    pub filter_depth: f32,
     /// d_min of the VPL contribution `… / max(d², d_min²)` (ARCHITECTURE.md, "Default clamp"); 0 turns
     /// clamping off (unbiased, noisier).
     pub clamp: f32,
     /// Recover the light the clamp removes with short path-traced rays (bias compensation,
     /// Kollig & Keller 2004; see `TilePipeline`): unbiased up to second-order terms, with the
     /// low variance of the clamped estimate, for about one more ray per shading point.
+    /// [`FrameSettings::still_image`] turns it on for still images.
     pub compensate_clamp: bool,
     /// Largest number of specular bounces (mirror and glass) followed from the camera.
     pub specular_bounces: u32,
@@ -49,9 +60,8 @@ pub struct IgiSettings {
     pub bounces: u32,
     /// Edge length of the square tiles; the image does not depend on it.
     pub tile_size: u32,
-    /// Draw fresh VPLs and sample patterns every frame (for progressive accumulation); off,
-    /// a still scene keeps the same VPLs and does not flicker.
-    pub reseed_per_frame: bool,
+    /// Base seed of every random decision (same seed, same image).
+    pub seed: u32,
 }
 
 /// Thresholds of the discontinuity buffer: a neighbour's irradiance is averaged in only if its
@@ -71,7 +81,7 @@ impl Default for FilterSettings {
 }
 
 /// The scale of the default VPL clamp: d_min is this fraction of the scene's bounding-box
-/// diagonal (see [`IgiSettings::clamp_for`]).
+/// diagonal (see [`FrameSettings::clamp_for`]).
 pub const DEFAULT_CLAMP_FRACTION: f32 = 0.02;
 
 /// The scale of the default clamp of progressive rendering, where the bias compensation
@@ -79,8 +89,9 @@ pub const DEFAULT_CLAMP_FRACTION: f32 = 0.02;
 /// high-variance VPL term to the compensation rays.
 pub const COMPENSATED_CLAMP_FRACTION: f32 = 0.05;
 
-impl Default for IgiSettings {
+impl Default for FrameSettings {
     fn default() -> Self {
+        let filter = FilterSettings::default();
         Self {
             width: 640,
             height: 480,
@@ -88,13 +99,15 @@ impl Default for IgiSettings {
             interleave: [3, 3],
             coarse_interleave: 3,
             aa: 4,
-            filter: Some(FilterSettings::default()),
+            filter: true,
+            filter_normal: filter.min_normal_cos,
+            filter_depth: filter.max_depth_ratio,
             clamp: 0.0,
             compensate_clamp: false,
             specular_bounces: 5,
             bounces: limits::MAX_BOUNCES,
             tile_size: 64,
-            reseed_per_frame: false,
+            seed: 0,
         }
     }
 }
@@ -134,7 +147,7 @@ pub mod limits {
     pub const MAX_TILES: u64 = 1 << 20;
 }
 
-impl IgiSettings {
+impl FrameSettings {
     /// Number of VPL sets, n·m·K².
     pub fn set_count(&self) -> u32 {
         self.interleave[0] * self.interleave[1] * self.coarse_interleave * self.coarse_interleave
@@ -203,7 +216,7 @@ impl IgiSettings {
                 ),
             );
         }
-        if let Some(f) = self.filter {
+        if let Some(f) = self.discontinuity_filter() {
             if !(-1.0..=1.0).contains(&f.min_normal_cos) {
                 return err("filter-normal", format!("{} is not a cosine in [-1, 1]", f.min_normal_cos));
             }
@@ -212,6 +225,44 @@ impl IgiSettings {
             }
         }
         Ok(())
+    }
+
+    /// The thresholds of the discontinuity filter, `None` with the filter off.
+    pub fn discontinuity_filter(&self) -> Option<FilterSettings> {
+        self.filter.then_some(FilterSettings {
+            min_normal_cos: self.filter_normal,
+            max_depth_ratio: self.filter_depth,
+        })
+    }
+
+    /// Turns the discontinuity filter on with `filter`'s thresholds, or off with `None` (its
+    /// thresholds then stay as they were).
+    pub fn set_discontinuity_filter(&mut self, filter: Option<FilterSettings>) {
+        self.filter = filter.is_some();
+        if let Some(f) = filter {
+            (self.filter_normal, self.filter_depth) = (f.min_normal_cos, f.max_depth_ratio);
+        }
+    }
+
+    /// The defaults for a scene whose bounding box has diagonal `diagonal`: the default
+    /// clamp ([`FrameSettings::clamp_for`]) scales with the scene.
+    pub fn for_scene(diagonal: f32) -> Self {
+        Self { clamp: Self::clamp_for(diagonal), ..Self::default() }
+    }
+
+    /// These settings for a still image or a frame of a mean of several (the rule of
+    /// ARCHITECTURE.md, "Still images are bias-compensated"): with a clamp, its bias is
+    /// compensated, so accumulation converges to the unclamped solution and even one frame
+    /// shows the light of creases, contacts and thin slats that the clamp removes. A scene
+    /// diagonal given in `default_clamp_of` (the clamp was not the user's choice) replaces the
+    /// clamp by the larger default of compensation, which keeps the VPLs' near-field noise
+    /// low ([`FrameSettings::compensated_clamp_for`]).
+    pub fn still_image(self, default_clamp_of: Option<f32>) -> Self {
+        if self.clamp <= 0.0 {
+            return self;
+        }
+        let clamp = default_clamp_of.map_or(self.clamp, Self::compensated_clamp_for);
+        Self { compensate_clamp: true, clamp, ..self }
     }
 
     /// The default d_min for a scene whose bounding box has diagonal `diagonal`:
@@ -242,14 +293,14 @@ pub enum Estimator {
 }
 
 /// One frame, completely: camera, settings, estimator, scene pose, tone map, pixel format,
-/// frame index and seed. The same value describes a frame to the local renderer and, as a cluster job, to
-/// every render node.
+/// frame index and whether it reseeds. The same value describes a frame to the local
+/// renderer and, as a cluster job, to every render node.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FrameState {
     /// The camera.
     pub camera: Camera,
     /// Render settings.
-    pub settings: IgiSettings,
+    pub settings: FrameSettings,
     /// How the radiance is estimated.
     pub estimator: Estimator,
     /// Where the scene stands: clock and moved instances.
@@ -261,8 +312,9 @@ pub struct FrameState {
     pub pixels: PixelFormat,
     /// Frame number (0 for the first frame).
     pub frame: u32,
-    /// Base seed of every random decision.
-    pub seed: u32,
+    /// Draw fresh VPLs and sample patterns every frame (for progressive accumulation); off,
+    /// a still scene keeps the same VPLs and does not flicker.
+    pub reseed_per_frame: bool,
 }
 
 /// Where a frame's samples lie in an Owen-scrambled Sobol sequence: the scramble seed and the
@@ -277,8 +329,9 @@ pub struct SequenceSpan {
 
 impl FrameState {
     /// Frame 0 of `camera` with `settings`, estimated by instant global illumination: the
-    /// scene at time 0 as loaded, the linear tone map, linear radiance delivered, seed 0.
-    pub fn new(camera: Camera, settings: IgiSettings) -> Self {
+    /// scene at time 0 as loaded, the linear tone map, linear radiance delivered, the same
+    /// samples every frame.
+    pub fn new(camera: Camera, settings: FrameSettings) -> Self {
         Self {
             camera,
             settings,
@@ -287,14 +340,14 @@ impl FrameState {
             tone_map: ToneMapper::LINEAR,
             pixels: PixelFormat::Linear,
             frame: 0,
-            seed: 0,
+            reseed_per_frame: false,
         }
     }
 
     /// The seed this frame's samples derive from: the base seed, mixed with the frame number if
     /// `reseed_per_frame` is set.
     pub fn sample_seed(&self) -> u32 {
-        if self.settings.reseed_per_frame { hash_combine(self.seed, self.frame) } else { self.seed }
+        if self.reseed_per_frame { hash_combine(self.settings.seed, self.frame) } else { self.settings.seed }
     }
 
     /// The part of a sample sequence this frame uses when each frame takes `per_frame`
@@ -304,14 +357,14 @@ impl FrameState {
     /// instead of averaging independent sets; the scramble changes only when a sequence of
     /// [`MAX_SAMPLES`](crate::sampling::MAX_SAMPLES) points is used up.
     pub fn sequence(&self, per_frame: u32) -> SequenceSpan {
-        if !self.settings.reseed_per_frame {
-            return SequenceSpan { seed: self.seed, first: 0 };
+        if !self.reseed_per_frame {
+            return SequenceSpan { seed: self.settings.seed, first: 0 };
         }
         let per_frame = per_frame.clamp(1, crate::sampling::MAX_SAMPLES);
         let frames_per_sequence = crate::sampling::MAX_SAMPLES / per_frame;
         let epoch = self.frame / frames_per_sequence;
         SequenceSpan {
-            seed: hash_combine(self.seed, epoch),
+            seed: hash_combine(self.settings.seed, epoch),
             first: (self.frame % frames_per_sequence) * per_frame,
         }
     }

@@ -3,7 +3,7 @@
 //!
 //! The rooms, each a module with one file per concept:
 //! - [`frame`]: [`FrameState`], the small serialisable description of a whole frame (camera,
-//!   settings ([`IgiSettings`]), scene pose ([`ScenePose`]), tone map, pixel format, seeds).
+//!   settings ([`FrameSettings`]), scene pose ([`ScenePose`]), tone map, pixel format, seeds).
 //! - [`prepared`]: [`PreparedScene`], the scene plus its acceleration structure and shading
 //!   tables, its light sources as the renderers sample them, the environment (sky) light,
 //!   alpha cut-outs and a viewer's light edits ([`LightEdit`]). How surfaces scatter light
@@ -25,11 +25,11 @@
 //!
 //! ```no_run
 //! # fn demo(scene: igi_scene::Scene) -> Result<(), Box<dyn std::error::Error>> {
-//! use igi_render::{FrameRenderer, FrameState, IgiSettings, PreparedScene, ToneMap, ToneMapper};
+//! use igi_render::{FrameRenderer, FrameState, FrameSettings, PreparedScene, ToneMap, ToneMapper};
 //! use igi_render::{start_camera, write_image};
 //! let mut prepared = PreparedScene::new(scene);
 //! let camera = start_camera(&prepared);
-//! let settings = IgiSettings { clamp: IgiSettings::clamp_for(prepared.bounds().diagonal()), ..IgiSettings::default() };
+//! let settings = FrameSettings::for_scene(prepared.bounds().diagonal());
 //! let out = FrameRenderer::new(0).render(&mut prepared, &FrameState::new(camera, settings), &|_, _| {})?;
 //! let mapper = ToneMapper::new(ToneMap::default(), &out.stats);
 //! write_image(out.image.film().expect("a linear frame"), "out.png".as_ref(), &mapper)?;
@@ -49,7 +49,7 @@ pub mod schedule;
 pub use camera::PinholeCamera;
 pub use first_sight::default_light::{DefaultLight, add_default_light};
 pub use first_sight::viewpoint::{default_camera, start_camera};
-pub use frame::{Estimator, FrameState, IgiSettings};
+pub use frame::{Estimator, FrameSettings, FrameState};
 pub use image::film::Film;
 pub use image::frame_image::{FrameImage, PixelFormat, Pixels};
 pub use image::output::{OutputError, write_exr, write_image, write_png};

@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 use igi_bvh::Ray;
-use igi_render::{FrameRenderer, FrameState, IgiSettings, PreparedScene, ScenePose};
+use igi_render::{FrameRenderer, FrameSettings, FrameState, PreparedScene, ScenePose};
 use igi_scene::{Scene, builtin};
 
 /// The animated room with its instances and lights moved to time `t` by hand.
@@ -61,9 +61,10 @@ fn moving_instances_equals_a_fresh_build_of_the_moved_scene() {
 fn a_moved_frame_is_the_frame_of_the_fresh_build() {
     let mut moved = PreparedScene::new(builtin("animated-room").unwrap());
     let mut fresh = PreparedScene::new(posed_copy(1.7));
-    let settings = IgiSettings { width: 64, height: 48, aa: 1, clamp: 0.1, ..IgiSettings::default() };
+    let settings =
+        FrameSettings { width: 64, height: 48, aa: 1, clamp: 0.1, seed: 3, ..FrameSettings::default() };
     let camera = *fresh.camera().unwrap();
-    let frame = FrameState { seed: 3, pose: ScenePose::at(1.7), ..FrameState::new(camera, settings) };
+    let frame = FrameState { pose: ScenePose::at(1.7), ..FrameState::new(camera, settings) };
     let renderer = FrameRenderer::new(2);
     let a = renderer.render(&mut moved, &frame, &|_, _| {}).unwrap();
     let b = renderer.render(&mut fresh, &frame, &|_, _| {}).unwrap();

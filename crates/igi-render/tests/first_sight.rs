@@ -9,7 +9,7 @@ mod common;
 use common::{box_faces, diffuse, emitter, horizontal_square, scene};
 use glam::{Vec2, Vec3};
 use igi_render::{
-    DefaultLight, FrameRenderer, FrameState, IgiSettings, PinholeCamera, PreparedScene, add_default_light,
+    DefaultLight, FrameRenderer, FrameSettings, FrameState, PinholeCamera, PreparedScene, add_default_light,
     default_camera,
 };
 use igi_scene::{Camera, Mesh, Scene};
@@ -83,7 +83,7 @@ fn an_open_box_is_seen_through_its_open_side() {
 /// Mean radiance of a small default frame of `prepared` from the camera it starts with.
 fn mean_radiance(prepared: &mut PreparedScene) -> f32 {
     let camera = igi_render::start_camera(prepared);
-    let settings = IgiSettings { width: 64, height: 48, aa: 1, ..IgiSettings::default() };
+    let settings = FrameSettings { width: 64, height: 48, aa: 1, ..FrameSettings::default() };
     let out = FrameRenderer::new(2).render(prepared, &FrameState::new(camera, settings), &|_, _| {}).unwrap();
     let film = out.image.film().unwrap();
     film.pixels().iter().map(|p| p.element_sum() / 3.0).sum::<f32>() / film.pixels().len() as f32

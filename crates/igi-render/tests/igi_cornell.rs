@@ -18,7 +18,7 @@ use common::*;
 use glam::Vec3;
 use igi_render::FrameSource;
 use igi_render::image::tonemap::luminance;
-use igi_render::{Film, FrameRenderer, FrameState, IgiSettings, PinholeCamera, PreparedScene};
+use igi_render::{Film, FrameRenderer, FrameSettings, FrameState, PinholeCamera, PreparedScene};
 
 const SIZE: u32 = 48;
 /// IGI frames accumulated for the converged image.
@@ -113,7 +113,7 @@ fn accumulate(
     seed: u32,
     frames: u32,
 ) -> Film {
-    let frame = FrameState { seed, ..frame.clone() };
+    let frame = FrameState { settings: FrameSettings { seed, ..frame.settings }, ..frame.clone() };
     renderer
         .render_accumulated(scene, &frame, frames, &|_, _| {})
         .expect("valid settings")
@@ -152,7 +152,7 @@ fn converged_igi_matches_the_path_tracer_and_the_default_clamp_loses_little() {
         median / mp
     );
     assert!(rel_err(median, mp) < 0.02, "IGI median of means {median}, path-traced mean {mp}");
-    let igi = accumulate(&mut renderer, &mut scene, &frame, frame.seed, FRAMES);
+    let igi = accumulate(&mut renderer, &mut scene, &frame, frame.settings.seed, FRAMES);
     let mi = masked_mean(&igi, &skip);
 
     // The default clamp d_min = 2 % of the scene diagonal (7 cm here) bounds the 1/d² spikes.
@@ -161,7 +161,7 @@ fn converged_igi_matches_the_path_tracer_and_the_default_clamp_loses_little() {
     // loses is the light of VPLs closer than d_min: 0.19-0.53 % over seeds 5-7 and 1.8 % for
     // seed 0, whose unclamped mean carries the spike named above; bound 2 %.
     let mut clamped = frame;
-    clamped.settings.clamp = IgiSettings::clamp_for(scene.bounds().diagonal());
+    clamped.settings.clamp = FrameSettings::clamp_for(scene.bounds().diagonal());
     assert!(clamped.settings.clamp > 0.05 && clamped.settings.clamp < 0.1, "{}", clamped.settings.clamp);
     let igi_clamped = renderer
         .render_accumulated(&mut scene, &clamped, FRAMES, &|_, _| {})
@@ -252,20 +252,19 @@ fn bias_compensation_leaves_no_single_bright_pixels() {
     // with a clamp of 5 % of the diagonal): here at the statue's foot and the room's corners.
     let mut scene = PreparedScene::new(igi_scene::builtin("animated-room").unwrap());
     let camera = scene.views()[0].camera;
-    let settings = IgiSettings {
+    let settings = FrameSettings {
         width: 320,
         height: 240,
         aa: 1,
-        clamp: IgiSettings::compensated_clamp_for(scene.bounds().diagonal()),
-        reseed_per_frame: true,
-        ..IgiSettings::default()
+        clamp: FrameSettings::compensated_clamp_for(scene.bounds().diagonal()),
+        ..FrameSettings::default()
     };
-    let frame = FrameState::new(camera, settings);
+    let frame = FrameState { reseed_per_frame: true, ..FrameState::new(camera, settings) };
     let mut renderer = FrameRenderer::new(2);
     let skip = light_pixels(&scene, &PinholeCamera::new(&camera, 320, 240));
     let mut count = |compensate_clamp: bool| {
         let frame =
-            FrameState { settings: IgiSettings { compensate_clamp, ..frame.settings }, ..frame.clone() };
+            FrameState { settings: FrameSettings { compensate_clamp, ..frame.settings }, ..frame.clone() };
         let out = renderer.render_accumulated(&mut scene, &frame, 8, &|_, _| {}).expect("valid settings");
         speckles(&out.image.into_film().unwrap(), &skip)
     };

@@ -16,7 +16,7 @@ use igi_render::{Film, FrameOutput, FrameRenderer, PixelFormat};
 /// interleave nor the 4 × 2 packets.
 fn frame(seed: u32) -> FrameState {
     let mut f = igi_frame(camera(Vec3::new(0.0, 1.0, 3.0), Vec3::new(0.0, 0.5, 0.0), 50.0), 47, 37);
-    f.seed = seed;
+    f.settings.seed = seed;
     f
 }
 
@@ -43,7 +43,7 @@ fn same_image_at_any_thread_count_and_tile_size() {
     for (filter, coarse_interleave) in cases {
         for aa in [1, 4] {
             let mut f = frame(7);
-            f.settings.filter = filter;
+            f.settings.set_discontinuity_filter(filter);
             f.settings.coarse_interleave = coarse_interleave;
             f.settings.aa = aa;
             f.settings.tile_size = 16;
@@ -113,8 +113,8 @@ fn the_seed_and_the_reseeded_frame_number_are_the_only_randomness() {
     assert!(film_bits(&a) == film_bits(&render(&later)), "frame 3 differs from frame 0 without reseeding");
     // With reseeding every frame draws fresh VPLs and sample patterns.
     let (mut r0, mut r3) = (base.clone(), later.clone());
-    r0.settings.reseed_per_frame = true;
-    r3.settings.reseed_per_frame = true;
+    r0.reseed_per_frame = true;
+    r3.reseed_per_frame = true;
     assert!(film_bits(&render(&r0)) != film_bits(&render(&r3)), "reseeded frames 0 and 3 are identical");
 
     // The noise changes, the light does not: image means of two seeds agree within 5 % (one
@@ -136,7 +136,7 @@ fn accumulation_is_the_mean_of_the_reseeded_frames() {
     let mut sum: Vec<Vec3> = vec![Vec3::ZERO; accumulated.image.film().unwrap().pixels().len()];
     let mut rays = igi_render::RayCounts::default();
     let mut g = f.clone();
-    g.settings.reseed_per_frame = true;
+    g.reseed_per_frame = true;
     for i in 0..3 {
         g.frame = f.frame + i;
         let one = r.render(&mut scene, &g, &|_, _| {}).expect("valid settings");

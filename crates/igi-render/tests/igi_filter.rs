@@ -11,7 +11,7 @@ mod common;
 use common::*;
 use glam::{Vec2, Vec3};
 use igi_render::frame::FilterSettings;
-use igi_render::{Film, FrameRenderer, IgiSettings, PinholeCamera, PreparedScene};
+use igi_render::{Film, FrameRenderer, FrameSettings, PinholeCamera, PreparedScene};
 use igi_scene::{Light, Material};
 use igi_shade::{BrdfParams8, ShadingHit8, SurfaceShader};
 use igi_simd::{F32x8, Vec3x8};
@@ -263,9 +263,9 @@ fn filter_never_averages_across_a_depth_normal_or_material_edge() {
 
     let mut frame = igi_frame(cam, w, h);
     frame.settings.aa = 1;
-    frame.settings.filter = None;
+    frame.settings.filter = false;
     let raw = render_igi(&mut prepared, &frame);
-    frame.settings.filter = Some(FilterSettings::default());
+    frame.settings.set_discontinuity_filter(Some(FilterSettings::default()));
     let filtered = render_igi(&mut prepared, &frame);
 
     // The first level: the mean of the unfiltered pixels of the 3 × 3 window on the pixel's own
@@ -366,7 +366,7 @@ fn cornell_box_frame(size: u32) -> (PreparedScene, igi_render::FrameState) {
     let cam = scene.camera.expect("camera");
     let prepared = PreparedScene::new(scene);
     let mut frame = igi_frame(cam, size, size);
-    frame.settings.clamp = IgiSettings::clamp_for(prepared.bounds().diagonal());
+    frame.settings.clamp = FrameSettings::clamp_for(prepared.bounds().diagonal());
     frame.settings.aa = 1;
     frame.settings.coarse_interleave = 1;
     (prepared, frame)
@@ -384,7 +384,7 @@ fn mean_of_256_frames(
     let (w, h) = (frame.settings.width, frame.settings.height);
     let mut sum = vec![glam::Vec3::ZERO; (w * h) as usize];
     for seed in 1000..1256 {
-        frame.seed = seed;
+        frame.settings.seed = seed;
         let one = renderer.render(prepared, &frame, &|_, _| {}).expect("valid").image.into_film().unwrap();
         sum.iter_mut().zip(one.pixels()).for_each(|(a, b)| *a += *b);
     }
@@ -400,15 +400,15 @@ fn one_filtered_frame_is_closer_to_the_converged_image_than_one_unfiltered_frame
     // pixels at edges keep fewer neighbours.
     let (mut prepared, mut frame) = cornell_box_frame(48);
     let renderer = FrameRenderer::new(2);
-    frame.settings.filter = None;
+    frame.settings.filter = false;
     let reference = mean_of_256_frames(&renderer, &mut prepared, &frame);
     let mut ratios = Vec::new();
     for seed in 0..4 {
-        frame.seed = seed;
-        frame.settings.filter = None;
+        frame.settings.seed = seed;
+        frame.settings.filter = false;
         let raw =
             renderer.render(&mut prepared, &frame, &|_, _| {}).expect("valid").image.into_film().unwrap();
-        frame.settings.filter = Some(FilterSettings::default());
+        frame.settings.set_discontinuity_filter(Some(FilterSettings::default()));
         let filtered =
             renderer.render(&mut prepared, &frame, &|_, _| {}).expect("valid").image.into_film().unwrap();
         let (e_raw, e_filtered) = (rmse(&raw, &reference), rmse(&filtered, &reference));
@@ -438,7 +438,7 @@ fn the_coarse_level_brings_one_frame_closer_to_the_converged_image() {
     let reference = mean_of_256_frames(&renderer, &mut prepared, &frame);
     let mut ratios = Vec::new();
     for seed in 0..4 {
-        frame.seed = seed;
+        frame.settings.seed = seed;
         let mut error = |coarse_interleave| {
             frame.settings.coarse_interleave = coarse_interleave;
             let film =

@@ -52,7 +52,7 @@ fn point_light_highlight_on_a_glossy_plane_matches_the_closed_form() {
     let (w, h) = (48, 36);
     let mut frame = igi_frame(cam, w, h);
     frame.settings.aa = 1;
-    frame.settings.filter = None;
+    frame.settings.filter = false;
     let film = render_igi(&mut prepared, &frame);
     let pin = PinholeCamera::new(&cam, w, h);
     let (mut checked, mut highlight) = (0, 0);
@@ -165,7 +165,7 @@ fn point_light_highlight_on_a_ggx_plane_matches_the_appendix_b_brdf() {
     let (w, h) = (48, 36);
     let mut frame = igi_frame(cam, w, h);
     frame.settings.aa = 1;
-    frame.settings.filter = None;
+    frame.settings.filter = false;
     let film = render_igi(&mut prepared, &frame);
     let pin = PinholeCamera::new(&cam, w, h);
     let a2 = roughness.powi(4);

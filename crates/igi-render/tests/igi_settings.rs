@@ -1,4 +1,4 @@
-//! Bad input never panics: [`IgiSettings::validate`] rejects every out-of-range setting and
+//! Bad input never panics: [`FrameSettings::validate`] rejects every out-of-range setting and
 //! names its command-line flag, [`FrameRenderer`] returns that error instead of rendering, and
 //! odd but valid scenes and cameras (no lights, no geometry, the camera inside a closed box,
 //! degenerate or non-finite cameras) give finite images.
@@ -9,22 +9,22 @@ use common::*;
 use glam::{Vec2, Vec3};
 use igi_render::frame::{FilterSettings, FrameState, SettingsError, limits};
 use igi_render::{FrameError, FrameSource};
-use igi_render::{FrameRenderer, IgiSettings, PreparedScene};
+use igi_render::{FrameRenderer, FrameSettings, PreparedScene};
 use igi_scene::{Camera, Light, Scene};
 
 /// Applies `change` to valid settings and returns the validation error.
-fn rejected(change: impl Fn(&mut IgiSettings)) -> SettingsError {
-    let mut s = IgiSettings { width: 64, height: 48, ..IgiSettings::default() };
+fn rejected(change: impl Fn(&mut FrameSettings)) -> SettingsError {
+    let mut s = FrameSettings { width: 64, height: 48, ..FrameSettings::default() };
     change(&mut s);
     s.validate().expect_err(&format!("{s:?} should be rejected"))
 }
 
 /// A flag and a change of the settings that makes that flag invalid.
-type BadCase = (&'static str, Box<dyn Fn(&mut IgiSettings)>);
+type BadCase = (&'static str, Box<dyn Fn(&mut FrameSettings)>);
 
 #[test]
 fn validate_rejects_each_bad_setting_and_names_its_flag() {
-    assert_eq!(IgiSettings::default().validate(), Ok(()));
+    assert_eq!(FrameSettings::default().validate(), Ok(()));
     let nan = f32::NAN;
     let cases: Vec<BadCase> = vec![
         ("width", Box::new(|s| s.width = 0)),
@@ -48,19 +48,33 @@ fn validate_rejects_each_bad_setting_and_names_its_flag() {
         ("tile-size", Box::new(|s| s.tile_size = limits::MAX_TILE + 1)),
         (
             "filter-normal",
-            Box::new(|s| s.filter = Some(FilterSettings { min_normal_cos: 1.5, ..Default::default() })),
+            Box::new(|s| {
+                s.set_discontinuity_filter(Some(FilterSettings { min_normal_cos: 1.5, ..Default::default() }))
+            }),
         ),
         (
             "filter-normal",
-            Box::new(move |s| s.filter = Some(FilterSettings { min_normal_cos: nan, ..Default::default() })),
+            Box::new(move |s| {
+                s.set_discontinuity_filter(Some(FilterSettings { min_normal_cos: nan, ..Default::default() }))
+            }),
         ),
         (
             "filter-depth",
-            Box::new(|s| s.filter = Some(FilterSettings { max_depth_ratio: -1.0, ..Default::default() })),
+            Box::new(|s| {
+                s.set_discontinuity_filter(Some(FilterSettings {
+                    max_depth_ratio: -1.0,
+                    ..Default::default()
+                }))
+            }),
         ),
         (
             "filter-depth",
-            Box::new(move |s| s.filter = Some(FilterSettings { max_depth_ratio: nan, ..Default::default() })),
+            Box::new(move |s| {
+                s.set_discontinuity_filter(Some(FilterSettings {
+                    max_depth_ratio: nan,
+                    ..Default::default()
+                }))
+            }),
         ),
     ];
     for (field, change) in &cases {
@@ -69,20 +83,22 @@ fn validate_rejects_each_bad_setting_and_names_its_flag() {
         assert!(e.to_string().starts_with(&format!("--{field}: ")), "message should lead with the flag: {e}");
     }
     // The edges of every range are valid.
-    let edges = IgiSettings {
+    let edges = FrameSettings {
         width: limits::MAX_SIDE,
         height: 1,
         vpls_per_pixel: limits::MAX_VPLS_PER_PIXEL,
         interleave: [1, limits::MAX_INTERLEAVE],
         coarse_interleave: limits::MAX_COARSE_INTERLEAVE,
         aa: limits::MAX_AA,
-        filter: Some(FilterSettings { min_normal_cos: -1.0, max_depth_ratio: 0.0 }),
+        filter: true,
+        filter_normal: -1.0,
+        filter_depth: 0.0,
         clamp: 0.0,
         compensate_clamp: true,
         specular_bounces: limits::MAX_SPECULAR_BOUNCES,
         bounces: igi_render::frame::limits::MAX_BOUNCES,
         tile_size: limits::MAX_TILE,
-        reseed_per_frame: true,
+        seed: u32::MAX,
     };
     assert_eq!(edges.validate(), Ok(()));
 }
@@ -105,7 +121,7 @@ fn renderer_returns_the_settings_error_instead_of_rendering() {
     let mut scene = lit_floor();
     let mut r = FrameRenderer::new(2);
     for (field, change) in [
-        ("vpls", (|s: &mut IgiSettings| s.vpls_per_pixel = 0) as fn(&mut IgiSettings)),
+        ("vpls", (|s: &mut FrameSettings| s.vpls_per_pixel = 0) as fn(&mut FrameSettings)),
         ("interleave", |s| s.interleave = [0, 3]),
         ("aa", |s| s.aa = 0),
         ("clamp", |s| s.clamp = f32::NAN),
@@ -187,7 +203,7 @@ fn camera_inside_a_closed_box_sees_black_or_its_headlight() {
 #[test]
 fn odd_but_valid_settings_render() {
     let mut scene = lit_floor();
-    let f = |change: fn(&mut IgiSettings)| {
+    let f = |change: fn(&mut FrameSettings)| {
         let mut f = igi_frame(view(), 13, 9);
         change(&mut f.settings);
         f
@@ -199,11 +215,18 @@ fn odd_but_valid_settings_render() {
         ("specular bounces 0", f(|s| s.specular_bounces = 0)),
         (
             "filter accepting everything",
-            f(|s| s.filter = Some(FilterSettings { min_normal_cos: -1.0, max_depth_ratio: 1e30 })),
+            f(|s| {
+                s.set_discontinuity_filter(Some(FilterSettings {
+                    min_normal_cos: -1.0,
+                    max_depth_ratio: 1e30,
+                }))
+            }),
         ),
         (
             "filter accepting nothing",
-            f(|s| s.filter = Some(FilterSettings { min_normal_cos: 1.0, max_depth_ratio: 0.0 })),
+            f(|s| {
+                s.set_discontinuity_filter(Some(FilterSettings { min_normal_cos: 1.0, max_depth_ratio: 0.0 }))
+            }),
         ),
         ("large clamp", f(|s| s.clamp = 1e30)),
     ] {
@@ -241,16 +264,16 @@ fn strictest_filter_keeps_each_pixel_its_own_value() {
         vec![Light::Point { position: 2.0 * n, intensity: Vec3::splat(3.0) }],
     ));
     let mut f = igi_frame(camera(3.0 * n + Vec3::new(0.5, 0.2, 0.1), Vec3::ZERO, 45.0), 32, 32);
-    f.settings.filter = Some(FilterSettings { min_normal_cos: 1.0, max_depth_ratio: 0.0 });
+    f.settings.set_discontinuity_filter(Some(FilterSettings { min_normal_cos: 1.0, max_depth_ratio: 0.0 }));
     let strict = render_finite(&mut tilted, &f, "strictest filter");
-    f.settings.filter = None;
+    f.settings.filter = false;
     let raw = render_finite(&mut tilted, &f, "no filter");
     assert!(film_bits(&strict) == film_bits(&raw), "the strictest filter must change nothing");
 }
 
 #[test]
 fn degenerate_cameras_give_finite_images() {
-    // The camera is not part of IgiSettings::validate; whatever it is, rendering must not
+    // The camera is not part of FrameSettings::validate; whatever it is, rendering must not
     // panic, and a camera without a view direction or with non-finite numbers should give a
     // finite (black) image rather than NaN pixels.
     let mut scene = lit_floor();

@@ -4,7 +4,7 @@
 //! gives the unedited frame back.
 
 use glam::{Affine3A, Vec3};
-use igi_render::{FrameRenderer, FrameState, IgiSettings, LightEdit, LightId, PreparedScene, ScenePose};
+use igi_render::{FrameRenderer, FrameSettings, FrameState, LightEdit, LightId, PreparedScene, ScenePose};
 use igi_scene::{Light, Scene, builtin};
 
 /// The still animated room (its animation dropped, so a fresh build stands the same).
@@ -13,9 +13,10 @@ fn room() -> Scene {
 }
 
 fn frame(scene: &mut PreparedScene, pose: ScenePose) -> Vec<Vec3> {
-    let settings = IgiSettings { width: 64, height: 48, aa: 1, clamp: 0.1, ..IgiSettings::default() };
+    let settings =
+        FrameSettings { width: 64, height: 48, aa: 1, clamp: 0.1, seed: 5, ..FrameSettings::default() };
     let camera = *scene.camera().unwrap();
-    let frame = FrameState { seed: 5, pose, ..FrameState::new(camera, settings) };
+    let frame = FrameState { pose, ..FrameState::new(camera, settings) };
     let out = FrameRenderer::new(2).render(scene, &frame, &|_, _| {}).unwrap();
     out.image.film().unwrap().pixels().to_vec()
 }

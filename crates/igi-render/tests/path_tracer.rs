@@ -7,17 +7,14 @@ mod common;
 
 use common::*;
 use glam::{Vec2, Vec3};
-use igi_render::frame::{FrameState, IgiSettings};
+use igi_render::frame::{FrameSettings, FrameState};
 use igi_render::path_tracer::{MAX_VERTICES, PathTracer};
 use igi_render::sampling::MAX_SAMPLES;
 use igi_render::{Film, PinholeCamera, PreparedScene, prepared::lights::eye_light};
 use igi_scene::{Camera, Light, Material, MaterialKind};
 
 fn frame(camera: Camera, width: u32, height: u32, seed: u32, tile_size: u32) -> FrameState {
-    FrameState {
-        seed,
-        ..FrameState::new(camera, IgiSettings { width, height, tile_size, ..IgiSettings::default() })
-    }
+    FrameState::new(camera, FrameSettings { width, height, tile_size, seed, ..FrameSettings::default() })
 }
 
 /// The whole image on two threads.

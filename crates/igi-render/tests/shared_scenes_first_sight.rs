@@ -8,7 +8,7 @@
 use glam::Vec3;
 use igi_bvh::Ray;
 use igi_render::{
-    FrameRenderer, FrameState, IgiSettings, PinholeCamera, PreparedScene, ToneMap, ToneMapper,
+    FrameRenderer, FrameSettings, FrameState, PinholeCamera, PreparedScene, ToneMap, ToneMapper,
     add_default_light, start_camera, write_png,
 };
 use std::path::{Path, PathBuf};
@@ -66,11 +66,11 @@ fn first_sight(path: &Path, interior: bool, out: &Path) -> Sight {
         }
     }
     let (width, height) = (160, 120);
-    let settings = IgiSettings {
+    let settings = FrameSettings {
         width,
         height,
-        clamp: IgiSettings::clamp_for(bounds.diagonal()),
-        ..IgiSettings::default()
+        clamp: FrameSettings::clamp_for(bounds.diagonal()),
+        ..FrameSettings::default()
     };
     let frame = FrameState::new(camera, settings);
     let output = FrameRenderer::new(2).render(&mut prepared, &frame, &|_, _| {}).unwrap();

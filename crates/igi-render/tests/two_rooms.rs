@@ -20,7 +20,7 @@ fn the_camera_sees_only_indirect_light_and_all_of_it_is_lit() {
     let direct_only = frame(&scene, 0);
     let direct = render_igi(&mut scene, &direct_only);
     assert!(direct.pixels().iter().all(|&p| p == glam::Vec3::ZERO), "a directly lit surface is in view");
-    let bounced = frame(&scene, igi_render::IgiSettings::default().bounces);
+    let bounced = frame(&scene, igi_render::FrameSettings::default().bounces);
     let lit = render_igi(&mut scene, &bounced);
     let lit_pixels = lit.pixels().iter().filter(|&&p| luminance(p) > 0.0).count();
     assert!(

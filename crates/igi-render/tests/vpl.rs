@@ -8,7 +8,7 @@ use common::*;
 use glam::{Vec2, Vec3};
 use igi_render::PreparedScene;
 use igi_render::frame::limits::MAX_BOUNCES;
-use igi_render::frame::{FrameState, IgiSettings};
+use igi_render::frame::{FrameSettings, FrameState};
 use igi_render::igi::view_importance::{UNSEEN_ACCEPTANCE, ViewImportance};
 use igi_render::igi::vpl::{Vpl, VplSets};
 use igi_render::prepared::lights::eye_light;
@@ -18,16 +18,14 @@ use std::f64::consts::PI;
 /// The frame of `seed` with `vpls` VPLs per set and 4 × 4 sets (one level: the coarse level
 /// only multiplies the sets, and 16 times the paths of 144 sets would not fit one sequence).
 fn frame(seed: u32, vpls: u32) -> FrameState {
-    let settings = IgiSettings {
+    let settings = FrameSettings {
         vpls_per_pixel: vpls,
         interleave: [4, 4],
         coarse_interleave: 1,
-        ..IgiSettings::default()
-    };
-    FrameState {
         seed,
-        ..FrameState::new(camera(Vec3::new(0.0, 1.0, 3.5), Vec3::new(0.0, 1.0, 0.0), 39.3), settings)
-    }
+        ..FrameSettings::default()
+    };
+    FrameState::new(camera(Vec3::new(0.0, 1.0, 3.5), Vec3::new(0.0, 1.0, 0.0), 39.3), settings)
 }
 
 /// `f` of every set of the frames with seeds `0..seeds`.
@@ -191,11 +189,11 @@ fn same_frame_gives_the_same_vpls_at_any_thread_count() {
     let (paths, base) = vpls(&f);
     assert_eq!(vpls(&FrameState { frame: 5, ..f.clone() }).1, base);
     let mut reseeded = f.clone();
-    reseeded.settings.reseed_per_frame = true;
+    reseeded.reseed_per_frame = true;
     let (paths0, frame0) = vpls(&reseeded);
     let (paths1, frame1) = vpls(&FrameState { frame: 1, ..reseeded.clone() });
     assert_ne!(frame0, frame1);
-    assert_ne!(vpls(&FrameState { seed: 8, ..f.clone() }).1, base);
+    assert_ne!(vpls(&FrameState { settings: FrameSettings { seed: 8, ..f.settings }, ..f.clone() }).1, base);
     // The number of paths comes from a fixed-seed pilot: it stays put.
     assert_eq!((paths0, paths1), (paths, paths));
     // The sets of one frame are independent estimates, not copies.

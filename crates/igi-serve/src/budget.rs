@@ -45,8 +45,8 @@ impl Default for FrameBudget {
 
 /// The rays of one frame: pixels × (AA samples + VPLs per pixel).
 pub fn rays_per_frame(settings: &ViewSettings) -> u64 {
-    let pixels = u64::from(settings.width) * u64::from(settings.height);
-    pixels.saturating_mul(u64::from(settings.aa) + u64::from(settings.vpls_per_pixel))
+    let pixels = u64::from(settings.frame.width) * u64::from(settings.frame.height);
+    pixels.saturating_mul(u64::from(settings.frame.aa) + u64::from(settings.frame.vpls_per_pixel))
 }
 
 /// Settings over the budget, and by how much.
@@ -54,10 +54,10 @@ pub fn rays_per_frame(settings: &ViewSettings) -> u64 {
 #[error(
     "{}x{} pixels × ({} AA samples + {} VPLs per pixel) is {mrays} million rays per frame, more than \
      this server's {} million (igi serve --max-frame-mrays)",
-    settings.width,
-    settings.height,
-    settings.aa,
-    settings.vpls_per_pixel,
+    settings.frame.width,
+    settings.frame.height,
+    settings.frame.aa,
+    settings.frame.vpls_per_pixel,
     budget.max_mrays
 )]
 pub struct OverBudget {
@@ -78,11 +78,26 @@ mod tests {
         let defaults = ViewSettings::for_scene(1.0);
         let budget = FrameBudget::DEFAULT;
         assert!(budget.check(&defaults).is_ok());
-        let panel_max = ViewSettings { vpls_per_pixel: 4096, aa: 64, ..defaults.clone() };
+        let panel_max = ViewSettings {
+            frame: igi_render::FrameSettings { vpls_per_pixel: 4096, aa: 64, ..defaults.clone().frame },
+            ..defaults.clone()
+        };
         assert!(budget.check(&panel_max).is_ok());
-        let uhd = ViewSettings { width: 3840, height: 2160, ..defaults.clone() };
+        let uhd = ViewSettings {
+            frame: igi_render::FrameSettings { width: 3840, height: 2160, ..defaults.clone().frame },
+            ..defaults.clone()
+        };
         assert!(budget.check(&uhd).is_ok());
-        let hostile = ViewSettings { width: 3840, height: 2160, aa: 64, vpls_per_pixel: 4096, ..defaults };
+        let hostile = ViewSettings {
+            frame: igi_render::FrameSettings {
+                width: 3840,
+                height: 2160,
+                aa: 64,
+                vpls_per_pixel: 4096,
+                ..defaults.frame
+            },
+            ..defaults
+        };
         let refused = budget.check(&hostile).unwrap_err();
         assert_eq!(refused.mrays, 34_505);
         assert!(refused.to_string().contains("--max-frame-mrays"), "{refused}");

@@ -14,7 +14,7 @@ use crate::light_control::{LightControl, LightKind};
 use crate::selection::Selection;
 use crate::settings::{MAX_ACCUMULATION, ViewSettings};
 use glam::{Affine3A, Vec3};
-use igi_render::frame::SettingsError;
+use igi_render::frame::{FrameSettings, SettingsError};
 use igi_render::{
     CancelToken, Estimator, FrameError, FrameImage, FrameRenderer, FrameSource, FrameState, Phase,
     PinholeCamera, PixelFormat, PreparedScene, Progressive, ScenePose, Shown, start_camera,
@@ -138,7 +138,6 @@ pub struct Session {
     frames: u64,
     last_frame_end: Option<Instant>,
     fps: f64,
-    seed: u32,
     /// The scenes the session may open, if any, and the name of the one shown.
     catalog: Option<(SceneCatalog, String)>,
 }
@@ -182,7 +181,6 @@ impl Session {
             frames: 0,
             last_frame_end: None,
             fps: 0.0,
-            seed: 0,
             catalog: None,
             scene,
         })
@@ -207,7 +205,7 @@ impl Session {
         self.fly_speed = fly_speed_for(&scene);
         self.look_from(&camera, self.fly_speed);
         self.home = camera;
-        self.settings.clamp = igi_render::IgiSettings::clamp_for(scene.bounds().diagonal());
+        self.settings.frame.clamp = FrameSettings::clamp_for(scene.bounds().diagonal());
         self.lights = LightControl::of(&scene);
         self.scene = scene;
         self.moved.clear();
@@ -220,7 +218,7 @@ impl Session {
     fn look_from(&mut self, camera: &Camera, speed: f32) {
         let mode = self.controller.mode();
         self.controller = CameraController::new(camera, speed);
-        self.controller.handle(&Input::Mode { mode }, self.settings.height);
+        self.controller.handle(&Input::Mode { mode }, self.settings.frame.height);
     }
 
     /// The current settings.
@@ -286,7 +284,7 @@ impl Session {
     /// nothing.
     pub fn handle(&mut self, input: &Input) -> Result<(), SettingsError> {
         self.inputs += 1;
-        if self.controller.handle(input, self.settings.height) {
+        if self.controller.handle(input, self.settings.frame.height) {
             self.changed = true;
         }
         match input {
@@ -354,13 +352,13 @@ impl Session {
             && y.is_finite()
             && x >= 0.0
             && y >= 0.0
-            && x < s.width as f32
-            && y < s.height as f32)
+            && x < s.frame.width as f32
+            && y < s.frame.height as f32)
         {
             self.select(None);
             return;
         }
-        let camera = PinholeCamera::new(&self.controller.camera(), s.width, s.height);
+        let camera = PinholeCamera::new(&self.controller.camera(), s.frame.width, s.frame.height);
         let ray = camera.ray_at(x as u32, y as u32, x.fract(), y.fract());
         let hit = self.scene.accel().intersect(&ray);
         self.select(
@@ -394,10 +392,10 @@ impl Session {
             return;
         }
         let s = &self.settings;
-        let camera = PinholeCamera::new(&self.controller.camera(), s.width, s.height);
+        let camera = PinholeCamera::new(&self.controller.camera(), s.frame.width, s.frame.height);
         let in_view_plane = |distance: f32| {
             // One pixel spans 2·tan(fov/2)·distance / height at that distance.
-            let per_pixel = 2.0 * camera.tan_half * distance / s.height as f32;
+            let per_pixel = 2.0 * camera.tan_half * distance / s.frame.height as f32;
             Some((camera.right * dx - camera.up * dy) * per_pixel)
                 .filter(|o| o.is_finite() && *o != Vec3::ZERO)
         };
@@ -413,7 +411,7 @@ impl Session {
                 let step = match light.kind {
                     LightKind::Point => in_view_plane(distance).map(Affine3A::from_translation),
                     LightKind::Sun => {
-                        let turn = std::f32::consts::TAU / s.height as f32;
+                        let turn = std::f32::consts::TAU / s.frame.height as f32;
                         let about_up = glam::Quat::from_rotation_y(dx * turn);
                         let about_right = glam::Quat::from_axis_angle(camera.right, dy * turn);
                         Some(Affine3A::from_quat(about_up * about_right))
@@ -454,18 +452,19 @@ impl Session {
             self.accumulated_seconds = 0.0;
         }
 
-        let mut settings = self.settings.igi();
-        settings.reseed_per_frame = self.settings.accumulate;
         // Linear radiance where it is averaged: a cluster sends 8-bit pixels otherwise.
         let averaged = self.settings.accumulate && !changed;
-        // A still view's frames after the first of its mean are still images: the clamp's bias
-        // is compensated, so the mean converges to the unclamped solution as `igi render
-        // --frames N` does. The first frame of a mean is the moving frame shown at once after a
-        // change, which keeps the speed (ARCHITECTURE.md, "Still images are bias-compensated");
-        // on a cluster, whose moving frames come as 8-bit pixels outside the mean, the mean's
-        // first frame is thereby the same as a local session's.
-        settings.compensate_clamp =
-            self.settings.accumulate && self.progressive.frames() > 0 && settings.clamp > 0.0;
+        // A still view's frames after the first of its mean are still images, with the
+        // viewer's clamp: the clamp's bias is compensated, so the mean converges to the
+        // unclamped solution as `igi render --frames N` does. The first frame of a mean is the
+        // moving frame shown at once after a change, which keeps the speed (ARCHITECTURE.md,
+        // "Still images are bias-compensated"); on a cluster, whose moving frames come as 8-bit
+        // pixels outside the mean, the mean's first frame is thereby the same as a local
+        // session's.
+        let settings = match self.settings.accumulate && self.progressive.frames() > 0 {
+            true => self.settings.frame.still_image(None),
+            false => self.settings.frame,
+        };
         let frame = FrameState {
             camera: self.controller.camera(),
             settings,
@@ -487,7 +486,7 @@ impl Session {
                 PixelFormat::Linear
             },
             frame: self.progressive.frames(),
-            seed: self.seed,
+            reseed_per_frame: self.settings.accumulate,
         };
         let out = match self.renderer.render_frame(&mut self.scene, &frame, cancel, &|_, _| {}) {
             Ok(out) => out,

@@ -1,9 +1,9 @@
 //! [`ViewSettings`]: what a viewer lets the user change, in one serialisable struct (the
-//! browser receives and sends it as JSON): the IGI settings of a frame, the tone map and the
-//! animation clock.
+//! browser receives and sends it as JSON): the frame's settings ([`FrameSettings`], the record
+//! `igi render` uses too), the tone map, the convergence target and the animation clock.
 
 use igi_render::ToneMap;
-use igi_render::frame::{FilterSettings, IgiSettings, SettingsError};
+use igi_render::frame::{FrameSettings, SettingsError};
 use serde::{Deserialize, Serialize};
 
 /// Largest animation speed factor.
@@ -20,35 +20,14 @@ pub const MAX_CONVERGE_SECONDS: f32 = 86_400.0;
 /// Largest image of a viewer (a 4K UHD frame): a viewer keeps a few images of this size.
 pub const MAX_PIXELS: u64 = 3840 * 2160;
 
-/// Render, display and animation settings of a viewer.
+/// Render, display and animation settings of a viewer: the frame's settings, the record
+/// `igi render` uses too, and beside them what only a viewer has. The browser receives and
+/// sends it as one flat JSON object.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub struct ViewSettings {
-    /// Image width in pixels.
-    pub width: u32,
-    /// Image height in pixels.
-    pub height: u32,
-    /// VPLs per pixel (the size of one interleaved set).
-    pub vpls_per_pixel: u32,
-    /// Interleave pattern n × m.
-    pub interleave: [u32; 2],
-    /// The wide filter's strength: the coarse interleave K (1: off; see
-    /// [`IgiSettings::coarse_interleave`]).
-    pub coarse_interleave: u32,
-    /// Primary rays per pixel.
-    pub aa: u32,
-    /// The discontinuity filter on or off.
-    pub filter: bool,
-    /// Filter: smallest cosine between the normals of pixels averaged together.
-    pub filter_normal: f32,
-    /// Filter: largest relative depth difference of pixels averaged together.
-    pub filter_depth: f32,
-    /// d_min of the VPL clamp, in scene units (0: off).
-    pub clamp: f32,
-    /// Largest number of mirror and glass bounces from the camera.
-    pub specular_bounces: u32,
-    /// Largest number of bounces of a light path (0: direct light only).
-    pub bounces: u32,
+    /// The settings of the frames (image size, VPLs, interleaving, filter, clamp, seed, …).
+    #[serde(flatten)]
+    pub frame: FrameSettings,
     /// Fixed exposure in stops, or `None` for Reinhard's operator from the previous frame's
     /// statistics with [`ViewSettings::key`].
     pub exposure: Option<f32>,
@@ -73,23 +52,10 @@ pub struct ViewSettings {
 }
 
 impl ViewSettings {
-    /// The defaults of `igi render` for a scene whose bounding box has diagonal `diagonal`.
-    pub fn for_scene(diagonal: f32) -> Self {
-        let igi = IgiSettings::default();
-        let filter = FilterSettings::default();
+    /// A viewer's defaults with the frame settings `frame`.
+    pub fn new(frame: FrameSettings) -> Self {
         Self {
-            width: igi.width,
-            height: igi.height,
-            vpls_per_pixel: igi.vpls_per_pixel,
-            interleave: igi.interleave,
-            coarse_interleave: igi.coarse_interleave,
-            aa: 1,
-            filter: true,
-            filter_normal: filter.min_normal_cos,
-            filter_depth: filter.max_depth_ratio,
-            clamp: IgiSettings::clamp_for(diagonal),
-            specular_bounces: igi.specular_bounces,
-            bounces: igi.bounces,
+            frame,
             exposure: None,
             key: igi_render::image::tonemap::DEFAULT_KEY,
             path_tracer: false,
@@ -102,24 +68,10 @@ impl ViewSettings {
         }
     }
 
-    /// The frame settings (without `reseed_per_frame`, which the session sets).
-    pub fn igi(&self) -> IgiSettings {
-        IgiSettings {
-            width: self.width,
-            height: self.height,
-            vpls_per_pixel: self.vpls_per_pixel,
-            interleave: self.interleave,
-            coarse_interleave: self.coarse_interleave,
-            aa: self.aa,
-            filter: self.filter.then_some(FilterSettings {
-                min_normal_cos: self.filter_normal,
-                max_depth_ratio: self.filter_depth,
-            }),
-            clamp: self.clamp,
-            specular_bounces: self.specular_bounces,
-            bounces: self.bounces,
-            ..IgiSettings::default()
-        }
+    /// The defaults of a viewer for a scene whose bounding box has diagonal `diagonal`: those
+    /// of `igi render`, with one primary ray per pixel (an interactive frame first).
+    pub fn for_scene(diagonal: f32) -> Self {
+        Self::new(FrameSettings { aa: 1, ..FrameSettings::for_scene(diagonal) })
     }
 
     /// The tone-map operator.
@@ -132,10 +84,11 @@ impl ViewSettings {
 
     /// Checks every field; the error names it.
     pub fn validate(&self) -> Result<(), SettingsError> {
-        self.igi().validate()?;
+        self.frame.validate()?;
         let err = |field, message: String| Err(SettingsError { field, message });
-        if u64::from(self.width) * u64::from(self.height) > MAX_PIXELS {
-            return err("width", format!("{}x{} is more than {MAX_PIXELS} pixels", self.width, self.height));
+        let (width, height) = (self.frame.width, self.frame.height);
+        if u64::from(width) * u64::from(height) > MAX_PIXELS {
+            return err("width", format!("{width}x{height} is more than {MAX_PIXELS} pixels"));
         }
         if let Some(stops) = self.exposure {
             if !(stops.is_finite() && stops.abs() <= 64.0) {
@@ -180,6 +133,7 @@ impl ViewSettings {
             "clamp" => "clamp d_min",
             "specular-bounces" => "specular bounces",
             "bounces" => "light bounces",
+            "tile-size" => "tile size",
             "filter-normal" => "normal cosine",
             "filter-depth" => "depth ratio",
             "exposure" => "exposure (stops)",

@@ -38,8 +38,11 @@ fn after_moves(scene: igi_scene::Scene, name: &str) -> Vec<(f64, f64)> {
     let scene = PreparedScene::new(scene);
     let camera = *scene.camera().expect("the scene has a camera");
     let settings = ViewSettings {
-        width: 160,
-        height: 120,
+        frame: igi_render::FrameSettings {
+            width: 160,
+            height: 120,
+            ..ViewSettings::for_scene(scene.bounds().diagonal()).frame
+        },
         playing: false,
         ..ViewSettings::for_scene(scene.bounds().diagonal())
     };

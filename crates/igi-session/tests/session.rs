@@ -16,8 +16,11 @@ const SIZE: u32 = 40;
 
 fn settings(scene: &PreparedScene) -> ViewSettings {
     ViewSettings {
-        width: SIZE,
-        height: SIZE,
+        frame: igi_render::FrameSettings {
+            width: SIZE,
+            height: SIZE,
+            ..ViewSettings::for_scene(scene.bounds().diagonal()).frame
+        },
         playing: false,
         ..ViewSettings::for_scene(scene.bounds().diagonal())
     }
@@ -47,11 +50,11 @@ fn rmse(a: &Film, b: &Film) -> f64 {
 #[test]
 fn a_still_view_converges_towards_the_path_tracer_and_a_change_resets_it() {
     // Unclamped IGI is unbiased, so its mean converges to the path tracer's image.
-    let mut session = session("cornell-box", |s| s.clamp = 0.0);
+    let mut session = session("cornell-box", |s| s.frame.clamp = 0.0);
     let reference = {
         let mut scene = PreparedScene::new(igi_scene::builtin("cornell-box").unwrap());
-        let frame =
-            FrameState { seed: 7, ..FrameState::new(session.camera().camera(), session.settings().igi()) };
+        let settings = igi_render::FrameSettings { seed: 7, ..session.settings().frame };
+        let frame = FrameState::new(session.camera().camera(), settings);
         path_traced(&mut scene, &frame, 2048)
     };
     let mut errors = Vec::new();
@@ -151,9 +154,15 @@ fn invalid_settings_are_refused_and_change_nothing() {
     let mut session = session("cornell-box", |_| {});
     let good = session.settings().clone();
     for bad in [
-        ViewSettings { aa: 0, ..good.clone() },
-        ViewSettings { width: 100_000, ..good.clone() },
-        ViewSettings { width: 8000, height: 8000, ..good.clone() },
+        ViewSettings { frame: igi_render::FrameSettings { aa: 0, ..good.clone().frame }, ..good.clone() },
+        ViewSettings {
+            frame: igi_render::FrameSettings { width: 100_000, ..good.clone().frame },
+            ..good.clone()
+        },
+        ViewSettings {
+            frame: igi_render::FrameSettings { width: 8000, height: 8000, ..good.clone().frame },
+            ..good.clone()
+        },
         ViewSettings { speed: f32::NAN, ..good.clone() },
         ViewSettings { exposure: Some(f32::INFINITY), ..good.clone() },
     ] {
@@ -188,7 +197,7 @@ fn the_render_loop_delivers_newest_frames_with_their_inputs() {
     assert!(render_loop.latest().wait_newer(idle.stats.id, Duration::from_millis(300)).is_none());
     // Bad settings are reported, not applied.
     let mut bad = ViewSettings::for_scene(1.0);
-    bad.aa = 0;
+    bad.frame.aa = 0;
     render_loop.send(Input::Settings { settings: bad });
     let deadline = std::time::Instant::now() + Duration::from_secs(10);
     let mut errors = Vec::new();
@@ -246,7 +255,7 @@ fn the_path_tracer_switch_renders_the_reference_and_converges_towards_it() {
     assert_eq!((last.stats.vpls, last.stats.accumulated), (0, 48), "path-traced frames, accumulated");
     let scene = PreparedScene::new(igi_scene::builtin("cornell-box").unwrap());
     let mut reference_scene = scene;
-    let frame = FrameState::new(*reference_scene.camera().unwrap(), session.settings().igi());
+    let frame = FrameState::new(*reference_scene.camera().unwrap(), session.settings().frame);
     let reference = path_traced(&mut reference_scene, &frame, 64);
     let mean = last.image.film().expect("linear radiance");
     // Per pixel both are noisy; over the image, their brightness agrees.
@@ -306,7 +315,7 @@ fn a_still_view_stops_at_its_convergence_target() {
     assert!(last.accumulated < MAX_ACCUMULATION);
     // Refused settings are named as the panels name them.
     let mut bad = session.settings().clone();
-    bad.vpls_per_pixel = 0;
+    bad.frame.vpls_per_pixel = 0;
     let error = session.handle(&Input::Settings { settings: bad }).unwrap_err();
     let message = ViewSettings::panel_message(&error);
     assert!(message.starts_with("VPLs per pixel: "), "{message}");
@@ -317,7 +326,16 @@ fn a_still_view_stops_at_its_convergence_target() {
 /// 64 primary rays and 4096 VPLs (about 2 · 10¹⁰ rays on the Cornell box, 57 Mrays/s per idle
 /// core; one 64-pixel tile is 1/2040 of it).
 fn slow(settings: &ViewSettings) -> ViewSettings {
-    ViewSettings { width: 3840, height: 2160, vpls_per_pixel: 4096, aa: 64, ..settings.clone() }
+    ViewSettings {
+        frame: igi_render::FrameSettings {
+            width: 3840,
+            height: 2160,
+            vpls_per_pixel: 4096,
+            aa: 64,
+            ..settings.clone().frame
+        },
+        ..settings.clone()
+    }
 }
 
 #[test]

@@ -92,18 +92,15 @@ impl ViewerApp {
     fn follow_area(&mut self, ctx: &egui::Context, area: egui::Vec2) {
         let Some(frame) = &self.shown else { return };
         let wanted = self.panel.resolution.render_size([area.x, area.y]);
-        let current = [frame.stats.settings.width, frame.stats.settings.height];
+        let current = [frame.stats.settings.frame.width, frame.stats.settings.frame.height];
         if self.asked.unwrap_or(current) == wanted {
             self.settling = None;
             return;
         }
         match self.settling {
             Some((size, since)) if size == wanted && since.elapsed() >= RESIZE_SETTLE => {
-                let settings = igi_session::ViewSettings {
-                    width: wanted[0],
-                    height: wanted[1],
-                    ..frame.stats.settings.clone()
-                };
+                let mut settings = frame.stats.settings.clone();
+                [settings.frame.width, settings.frame.height] = wanted;
                 self.render_loop.send(Input::Settings { settings });
                 self.asked = Some(wanted);
                 self.settling = None;

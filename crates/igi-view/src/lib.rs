@@ -58,8 +58,8 @@ pub fn run(session: Session, options: ViewOptions) -> Result<()> {
     }
     let settings = session.settings();
     let size = options.window_size.unwrap_or([
-        (settings.width + panel::WIDTH as u32).max(DEFAULT_WINDOW[0]),
-        settings.height.max(DEFAULT_WINDOW[1]),
+        (settings.frame.width + panel::WIDTH as u32).max(DEFAULT_WINDOW[0]),
+        settings.frame.height.max(DEFAULT_WINDOW[1]),
     ]);
     let size = size.map(|s| s as f32);
     let scenes = session.scene_names().to_vec();

@@ -142,17 +142,17 @@ impl Panel {
                 });
             };
             section("Lighting", true).show(ui, |ui| {
-            row(ui, "VPLs per pixel", DragValue::new(&mut s.vpls_per_pixel).range(1..=4096));
+            row(ui, "VPLs per pixel", DragValue::new(&mut s.frame.vpls_per_pixel).range(1..=4096));
             ui.horizontal(|ui| {
                 ui.label("interleave");
-                ui.add(DragValue::new(&mut s.interleave[0]).range(1..=16));
+                ui.add(DragValue::new(&mut s.frame.interleave[0]).range(1..=16));
                 ui.label("×");
-                ui.add(DragValue::new(&mut s.interleave[1]).range(1..=16));
+                ui.add(DragValue::new(&mut s.frame.interleave[1]).range(1..=16));
             });
-            row(ui, "light bounces", DragValue::new(&mut s.bounces).range(0..=MAX_BOUNCES));
-            row(ui, "clamp d_min", DragValue::new(&mut s.clamp).range(0.0..=f32::MAX).speed(0.01));
-            row(ui, "AA samples", DragValue::new(&mut s.aa).range(1..=64));
-            row(ui, "specular bounces", DragValue::new(&mut s.specular_bounces).range(0..=16));
+            row(ui, "light bounces", DragValue::new(&mut s.frame.bounces).range(0..=MAX_BOUNCES));
+            row(ui, "clamp d_min", DragValue::new(&mut s.frame.clamp).range(0.0..=f32::MAX).speed(0.01));
+            row(ui, "AA samples", DragValue::new(&mut s.frame.aa).range(1..=64));
+            row(ui, "specular bounces", DragValue::new(&mut s.frame.specular_bounces).range(0..=16));
             row(
                 ui,
                 "sky strength (0: off)",
@@ -165,10 +165,10 @@ impl Panel {
                 }
             });
             section("Filter", false).show(ui, |ui| {
-            ui.checkbox(&mut s.filter, "discontinuity filter");
-            row(ui, "wide filter K (1: off)", DragValue::new(&mut s.coarse_interleave).range(1..=4));
-            row(ui, "normal cosine ≥", DragValue::new(&mut s.filter_normal).range(-1.0..=1.0).speed(0.01));
-            row(ui, "depth ratio ≤", DragValue::new(&mut s.filter_depth).range(0.0..=10.0).speed(0.01));
+            ui.checkbox(&mut s.frame.filter, "discontinuity filter");
+            row(ui, "wide filter K (1: off)", DragValue::new(&mut s.frame.coarse_interleave).range(1..=4));
+            row(ui, "normal cosine ≥", DragValue::new(&mut s.frame.filter_normal).range(-1.0..=1.0).speed(0.01));
+            row(ui, "depth ratio ≤", DragValue::new(&mut s.frame.filter_depth).range(0.0..=10.0).speed(0.01));
             });
             section("Display", true).show(ui, |ui| {
             let mut fixed = s.exposure.is_some();

@@ -268,7 +268,7 @@ fn sequence_path(output: &Path, k: u32, frames: u32) -> std::path::PathBuf {
 }
 
 /// The summary of an IGI render of `frames` frames in `seconds`: VPLs, rays.
-fn igi_summary(totals: &Totals, frames: u32, s: &igi_render::frame::IgiSettings, seconds: f64) -> String {
+fn igi_summary(totals: &Totals, frames: u32, s: &igi_render::frame::FrameSettings, seconds: f64) -> String {
     let pixels = f64::from(s.width) * f64::from(s.height) * f64::from(frames);
     format!(
         "igi, {} frame(s), {} VPLs/frame in {}, aa {}, filter {}, clamp {:.3}: {:.2} M rays ({:.1} per pixel), {:.1} Mrays/s",
@@ -276,7 +276,7 @@ fn igi_summary(totals: &Totals, frames: u32, s: &igi_render::frame::IgiSettings,
         totals.vpls / frames.max(1) as usize,
         crate::frame_args::sets_label(s.interleave, s.coarse_interleave),
         s.aa,
-        if s.filter.is_some() { "on" } else { "off" },
+        if s.filter { "on" } else { "off" },
         s.clamp,
         totals.rays as f64 * 1e-6,
         totals.rays as f64 / pixels.max(1.0),

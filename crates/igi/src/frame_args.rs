@@ -5,7 +5,7 @@
 use anyhow::Result;
 use clap::Args;
 use igi_render::ScenePose;
-use igi_render::frame::{FilterSettings, FrameState, IgiSettings};
+use igi_render::frame::{FilterSettings, FrameSettings, FrameState};
 use igi_render::{PreparedScene, add_default_light};
 use igi_scene::Scene;
 
@@ -35,7 +35,7 @@ pub struct FrameArgs {
     /// level over K×K blocks of NxM pixels, so each pixel's light is averaged from N·M·K² VPL
     /// sets instead of N·M at the same VPLs per pixel (less of the blotchy low-frequency noise
     /// of one frame, ARCHITECTURE.md "Two levels of interleaving"). 1 turns it off.
-    #[arg(long, default_value_t = IgiSettings::default().coarse_interleave, help_heading = "Filter")]
+    #[arg(long, default_value_t = FrameSettings::default().coarse_interleave, help_heading = "Filter")]
     pub coarse_interleave: u32,
     /// Primary rays per pixel (interleaved super-sampling: a pixel whose rays all see one
     /// surface is shaded once, with all its VPLs; across an edge each ray is lit by its share
@@ -139,43 +139,34 @@ impl FrameArgs {
             anyhow::bail!("--time: {} is not a finite number of seconds ≥ 0", self.time);
         }
         let camera = self.camera.resolve(scene)?;
-        let diagonal = scene.bounds().diagonal();
-        let settings = IgiSettings {
+        let defaults = FrameSettings::for_scene(scene.bounds().diagonal());
+        let settings = FrameSettings {
             width: self.width,
             height: self.height,
             vpls_per_pixel: self.vpls,
             interleave: self.interleave,
             coarse_interleave: self.coarse_interleave,
             aa: self.aa.unwrap_or(DEFAULT_AA),
-            filter: (!self.no_filter).then_some(FilterSettings {
-                min_normal_cos: self.filter_normal,
-                max_depth_ratio: self.filter_depth,
-            }),
-            clamp: self.clamp.unwrap_or_else(|| IgiSettings::clamp_for(diagonal)),
+            filter: !self.no_filter,
+            filter_normal: self.filter_normal,
+            filter_depth: self.filter_depth,
+            clamp: self.clamp.unwrap_or(defaults.clamp),
             compensate_clamp: self.compensate,
             specular_bounces: self.specular_bounces,
             bounces: self.bounces,
             tile_size: self.tile_size,
-            reseed_per_frame: false,
+            seed: self.seed,
         };
         settings.validate()?;
-        let mut frame = FrameState::new(camera, settings);
-        (frame.pose, frame.seed) = (ScenePose::at(self.time), self.seed);
-        Ok(frame)
+        Ok(FrameState { pose: ScenePose::at(self.time), ..FrameState::new(camera, settings) })
     }
 
-    /// `frame` set up to be a still image or a frame of one (a mean of several): the clamp's
-    /// bias is compensated and, unless `--clamp` was given, the larger clamp of
-    /// compensation keeps the VPLs' near-field noise low, so accumulation converges to the
-    /// unclamped solution and even one frame shows the light of creases, contacts and thin
-    /// slats that the clamp removes (ARCHITECTURE.md, "Still images are bias-compensated").
+    /// `frame` set up to be a still image or a frame of one (a mean of several), by the rule of
+    /// [`FrameSettings::still_image`]: the clamp's bias compensated and, unless `--clamp`
+    /// was given, the larger clamp of compensation.
     pub fn still_image(&self, frame: &mut FrameState, scene: &PreparedScene) {
-        if frame.settings.clamp > 0.0 {
-            frame.settings.compensate_clamp = true;
-            if self.clamp.is_none() {
-                frame.settings.clamp = IgiSettings::compensated_clamp_for(scene.bounds().diagonal());
-            }
-        }
+        let default_clamp_of = self.clamp.is_none().then(|| scene.bounds().diagonal());
+        frame.settings = frame.settings.still_image(default_clamp_of);
     }
 }
 

@@ -6,7 +6,6 @@ use crate::frame_args::{FrameArgs, prepare_scene};
 use crate::progress::StageSpinner;
 use anyhow::{Context, Result};
 use clap::Args;
-use igi_render::image::tonemap::DEFAULT_KEY;
 use igi_session::settings::DEFAULT_CONVERGE_FRAMES;
 use igi_session::{SceneCatalog, Session, ViewSettings};
 
@@ -93,30 +92,14 @@ impl ViewerArgs {
         drop(spinner);
         let mut frame = self.frame.frame_state(&prepared)?;
         frame.settings.aa = self.frame.aa.unwrap_or(VIEWER_AA);
-        let s = &frame.settings;
-        let filter = s.filter.unwrap_or_default();
         let settings = ViewSettings {
-            width: s.width,
-            height: s.height,
-            vpls_per_pixel: s.vpls_per_pixel,
-            interleave: s.interleave,
-            coarse_interleave: s.coarse_interleave,
-            aa: s.aa,
-            filter: s.filter.is_some(),
-            filter_normal: filter.min_normal_cos,
-            filter_depth: filter.max_depth_ratio,
-            clamp: s.clamp,
-            specular_bounces: s.specular_bounces,
-            bounces: s.bounces,
             exposure: self.exposure,
-            key: DEFAULT_KEY,
-            path_tracer: false,
             accumulate: !self.no_accumulate,
             converge_frames: self.converge_frames,
             converge_seconds: self.converge_seconds,
             playing: !self.paused,
             speed: self.speed,
-            sky: 1.0,
+            ..ViewSettings::new(frame.settings)
         };
         let mut session = match source {
             Some(source) => Session::with_source(prepared, frame.camera, settings, source)?,
@@ -127,7 +110,7 @@ impl ViewerArgs {
                 session
             }
         };
-        session.set_clock(self.frame.time);
+        session.set_clock(frame.pose.time);
         Ok(Some(session))
     }
 }
@@ -148,7 +131,120 @@ fn catalog_name(folder: &std::path::Path, scene: &str) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::catalog_name;
+    use super::{ViewerArgs, catalog_name};
+    use crate::cmd_render::RenderArgs;
+    use clap::Parser;
+
+    /// `igi view`'s arguments alone.
+    #[derive(Debug, Parser)]
+    struct ViewerLine {
+        #[command(flatten)]
+        args: ViewerArgs,
+    }
+
+    /// `igi render`'s arguments alone.
+    #[derive(Debug, Parser)]
+    struct RenderLine {
+        #[command(flatten)]
+        args: RenderArgs,
+    }
+
+    /// The bits of an image's linear radiance.
+    type Bits = Vec<[u32; 3]>;
+
+    /// The first frame a viewer started with `options` shows (not accumulating, the clock
+    /// paused: the moving frame), and the EXR `igi render --moving-frame` writes with the same
+    /// options from the viewer's camera, as bits. (A viewer's camera controller keeps a view
+    /// as position, angles and distance, so its camera can differ from the one it started
+    /// with in the last bits; the settings are what is compared here.)
+    fn viewer_and_render(scene: &str, options: &[&str], folder: &std::path::Path) -> (Bits, Bits) {
+        let bits = |pixels: &mut dyn Iterator<Item = [f32; 3]>| -> Bits {
+            pixels.map(|p| p.map(f32::to_bits)).collect()
+        };
+        let line = ["igi", scene, "--no-accumulate", "--paused"].into_iter().chain(options.iter().copied());
+        let viewer = ViewerLine::try_parse_from(line).expect("a viewer's command line").args;
+        let mut session = viewer.session().expect("the session starts").expect("not a cluster node");
+        let frame = session.render(0.0).expect("the first frame");
+        let film = frame.image.film().expect("a local frame carries its radiance");
+        let shown = bits(&mut film.pixels().iter().map(|p| p.to_array()));
+
+        let camera = frame.stats.camera;
+        let vector = |flag: &str, v: glam::Vec3| format!("--camera-{flag}={},{},{}", v.x, v.y, v.z);
+        let seen_from = [
+            vector("position", camera.position),
+            vector("target", camera.target),
+            vector("up", camera.up),
+            format!("--fov={}", camera.fov_y_deg),
+        ];
+        let options =
+            options.iter().copied().filter(|o| !o.starts_with("--camera-") && !o.starts_with("--fov"));
+        let output = folder.join("render.exr");
+        let output = output.to_str().unwrap();
+        let line = ["igi", scene, "-o", output, "--moving-frame"]
+            .into_iter()
+            .chain(options)
+            .chain(seen_from.iter().map(String::as_str));
+        let render = RenderLine::try_parse_from(line).expect("a render command line").args;
+        crate::cmd_render::run(&render).expect("igi render");
+        let written = image::open(output).expect("the EXR igi render wrote").to_rgb32f();
+        let written = bits(&mut written.pixels().map(|p| p.0));
+        (shown, written)
+    }
+
+    /// Every frame option the viewers share with `igi render` changes the viewer's frame as it
+    /// changes `igi render`'s: the first frame of a viewer started with an option is, bit for
+    /// bit, what `igi render --moving-frame` writes with it (issue 31: the viewers once dropped
+    /// `--seed` and `--tile-size` on the way to their settings), and the options that should
+    /// change the image do.
+    #[test]
+    fn every_frame_option_changes_the_viewer_as_it_changes_igi_render() {
+        let folder = tempfile::tempdir().unwrap();
+        // A scene without light sources, for the default light.
+        let unlit = folder.path().join("unlit.obj");
+        std::fs::write(&unlit, "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nv 0 1 0\nf 1 2 3 4\nf 1 2 5\n")
+            .unwrap();
+        let unlit = unlit.to_str().unwrap();
+        // (scene, options, whether the image must differ from the scene's with no option;
+        // `None` where it may or may not).
+        let cases: &[(&str, &[&str], Option<bool>)] = &[
+            ("cornell-box", &[], Some(false)),
+            ("cornell-box", &["--seed", "3"], Some(true)),
+            ("cornell-box", &["--tile-size", "16"], Some(false)),
+            ("cornell-box", &["--threads", "1"], Some(false)),
+            ("cornell-box", &["--vpls", "5"], Some(true)),
+            ("cornell-box", &["--interleave", "2x2"], Some(true)),
+            ("cornell-box", &["--coarse-interleave", "1"], Some(true)),
+            ("cornell-box", &["--aa", "2"], Some(true)),
+            ("cornell-box", &["--no-filter"], Some(true)),
+            ("cornell-box", &["--filter-normal", "0.999", "--filter-depth", "0.001"], Some(true)),
+            ("cornell-box", &["--clamp", "0.5"], Some(true)),
+            ("cornell-box", &["--compensate"], Some(true)),
+            ("cornell-box", &["--bounces", "0"], Some(true)),
+            ("cornell-box", &["--specular-bounces", "0"], None),
+            ("cornell-box", &["--width", "32", "--height", "24"], Some(true)),
+            ("cornell-box", &["--camera-position=0.2,1,3.5", "--fov=30"], Some(true)),
+            ("animated-room", &[], Some(false)),
+            ("animated-room", &["--time", "1.5"], Some(true)),
+            (unlit, &["--no-default-light"], Some(true)),
+        ];
+        // Small frames of one primary ray per pixel (the viewers' default is not `igi
+        // render`'s) unless a case sets them.
+        let common = [["--width", "40"], ["--height", "30"], ["--aa", "1"], ["--threads", "2"]];
+        let mut unchanged = std::collections::HashMap::new();
+        for &(scene, options, changes) in cases {
+            let mut line: Vec<&str> =
+                common.iter().filter(|[flag, _]| !options.contains(flag)).flatten().copied().collect();
+            line.extend_from_slice(options);
+            let (viewer, render) = viewer_and_render(scene, &line, folder.path());
+            assert!(viewer == render, "{scene} {options:?}: the viewer's frame differs from igi render's");
+            let unchanged = unchanged
+                .entry(scene)
+                .or_insert_with(|| viewer_and_render(scene, common.as_flattened(), folder.path()).0);
+            if let Some(changes) = changes {
+                assert_eq!(viewer != *unchanged, changes, "{scene} {options:?}: does the image change?");
+            }
+        }
+    }
 
     /// The scene a viewer starts with is named as the catalog names it, so that the list of
     /// scenes shows it selected: relative to the folder, absolute outside it, built-in by name.

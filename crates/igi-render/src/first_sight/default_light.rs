@@ -18,7 +18,7 @@
 
 use crate::camera::PinholeCamera;
 use crate::first_sight::viewpoint::start_camera;
-use crate::frame::{FrameState, IgiSettings};
+use crate::frame::{FrameSettings, FrameState};
 use crate::image::tonemap::luminance;
 use crate::image::tonemap::{ToneMap, ToneMapper};
 use crate::prepared::PreparedScene;
@@ -169,13 +169,8 @@ fn is_open(scene: &PreparedScene, eye: Vec3) -> bool {
 /// emissive texture glows all over, DamagedHelmet, is a dim blob without other light).
 fn readable_share(scene: &mut PreparedScene, camera: &Camera) -> f32 {
     let (width, height) = (PILOT_WIDTH, PILOT_WIDTH * 3 / 4);
-    let settings = IgiSettings {
-        width,
-        height,
-        aa: 1,
-        clamp: IgiSettings::clamp_for(scene.bounds().diagonal()),
-        ..IgiSettings::default()
-    };
+    let settings =
+        FrameSettings { width, height, aa: 1, ..FrameSettings::for_scene(scene.bounds().diagonal()) };
     let Ok(out) = FrameRenderer::new(0).render(scene, &FrameState::new(*camera, settings), &|_, _| {}) else {
         return 1.0;
     };

@@ -16,7 +16,7 @@
 //! the pixel's set, weighted by N. Either way each pixel uses each VPL of its set once, so
 //! anti-aliasing costs extra primary rays only ([`crate::igi::tile_pipeline`]).
 
-use crate::frame::IgiSettings;
+use crate::frame::FrameSettings;
 use crate::image::pixel_rect::PixelRect;
 use crate::image::tile::Tile;
 use crate::sampling::sobol4;
@@ -40,7 +40,7 @@ pub type Window = ([u32; 2], [u32; 2]);
 
 impl Interleave {
     /// The pattern of `settings`.
-    pub fn of(settings: &IgiSettings) -> Self {
+    pub fn of(settings: &FrameSettings) -> Self {
         Self {
             n: settings.interleave[0],
             m: settings.interleave[1],

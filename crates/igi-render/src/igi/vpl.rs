@@ -95,7 +95,7 @@
 //!
 //! # Paths per set
 //!
-//! [`IgiSettings::vpls_per_pixel`](crate::frame::IgiSettings::vpls_per_pixel) asks for V
+//! [`FrameSettings::vpls_per_pixel`](crate::frame::FrameSettings::vpls_per_pixel) asks for V
 //! VPLs per set, the lights of [`VplSets::lights`] included, so the target of surface VPLs is
 //! T = max(1, V − lights): a set keeps at least one path even when the punctual lights alone
 //! exhaust V, or it would hold no indirect light. The frame starts round(S·T / e) paths, at
@@ -271,8 +271,7 @@ impl VplSets {
             max_paths
         };
 
-        let sharing =
-            if frame.settings.reseed_per_frame { Sharing::Contiguous } else { Sharing::FixedBlocks };
+        let sharing = if frame.reseed_per_frame { Sharing::Contiguous } else { Sharing::FixedBlocks };
         let span = frame.sequence(sharing.span(paths, set_count));
         let seed = hash_combine(span.seed, VPL_STREAM);
         let capacity = (paths as f32 / set_count as f32 * expected_vpls_per_path * 1.25) as usize + 8;
@@ -403,7 +402,7 @@ struct Emitters<'a> {
     choice: Cdf,
     /// Centre and radius of the scene's bounding sphere (directional lights).
     sphere: (Vec3, f32),
-    /// Surface interactions a walk follows ([`IgiSettings::bounces`](crate::IgiSettings::bounces)).
+    /// Surface interactions a walk follows ([`FrameSettings::bounces`](crate::FrameSettings::bounces)).
     bounces: u32,
     /// Which VPLs the view needs.
     view: ViewImportance,

@@ -57,7 +57,7 @@ pub trait FrameSource: Send + std::fmt::Debug {
     ) -> Result<FrameOutput, FrameError> {
         let frames = frames.max(1);
         let mut f = frame.clone();
-        f.settings.reseed_per_frame |= frames > 1;
+        f.reseed_per_frame |= frames > 1;
         let per_frame = TileGrid::new(f.settings.width, f.settings.height, f.settings.tile_size).len();
         let total = per_frame.saturating_mul(frames);
         let start = Instant::now();

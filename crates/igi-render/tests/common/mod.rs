@@ -63,7 +63,7 @@ pub fn rel_err(got: Vec3, want: Vec3) -> f32 {
 /// seed 0.
 pub fn igi_frame(camera: Camera, width: u32, height: u32) -> igi_render::FrameState {
     let settings =
-        igi_render::IgiSettings { width, height, clamp: 0.0, ..igi_render::IgiSettings::default() };
+        igi_render::FrameSettings { width, height, clamp: 0.0, ..igi_render::FrameSettings::default() };
     igi_render::FrameState::new(camera, settings)
 }
 
@@ -77,7 +77,7 @@ pub fn render_igi(scene: &mut PreparedScene, frame: &FrameState) -> Film {
 pub fn exact_frame(camera: Camera, width: u32, height: u32) -> FrameState {
     let mut f = igi_frame(camera, width, height);
     f.settings.aa = 1;
-    f.settings.filter = None;
+    f.settings.filter = false;
     f
 }
 

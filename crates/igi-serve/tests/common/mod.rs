@@ -37,8 +37,11 @@ pub fn start_with(width: u32, height: u32, limits: igi_serve::Limits) -> TestSer
     let scene = PreparedScene::new(igi_scene::builtin("animated-room").unwrap());
     let camera = *scene.camera().unwrap();
     let settings = ViewSettings {
-        width,
-        height,
+        frame: igi_render::FrameSettings {
+            width,
+            height,
+            ..ViewSettings::for_scene(scene.bounds().diagonal()).frame
+        },
         playing: false,
         accumulate: false,
         ..ViewSettings::for_scene(scene.bounds().diagonal())

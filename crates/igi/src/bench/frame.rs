@@ -91,7 +91,7 @@ pub fn run(args: &FrameBenchArgs) -> Result<()> {
     let scene = igi_scene::load_named(&args.scene).context("cannot load scene")?;
     let mut prepared = args.frame.prepare(scene);
     let mut frame = args.frame.frame_state(&prepared)?;
-    frame.settings.reseed_per_frame = args.reseed;
+    frame.reseed_per_frame = args.reseed;
     let renderer = FrameRenderer::new(args.frame.threads);
     let threads = renderer.threads();
 
@@ -158,7 +158,7 @@ pub fn run(args: &FrameBenchArgs) -> Result<()> {
         interleave: s.interleave,
         coarse_interleave: s.coarse_interleave,
         aa: s.aa,
-        filter: s.filter.is_some(),
+        filter: s.filter,
         clamp: s.clamp,
         frames: args.frames,
         animate: args.animate,

@@ -168,7 +168,7 @@ pub fn run(args: &QualityBenchArgs) -> Result<()> {
         vpls_per_pixel: s.vpls_per_pixel,
         interleave: s.interleave,
         coarse_interleave: s.coarse_interleave,
-        filter: s.filter.is_some(),
+        filter: s.filter,
         reference: reference_path,
         // A file named with --reference may have been made any way; the default file's name
         // records its method.
@@ -225,7 +225,7 @@ fn default_reference_path(
     format!("{digest} {:?} {:?} {method:?} {}", frame.camera, frame.pose, args.frame.no_default_light)
         .hash(&mut h);
     if let Method::Accumulated { .. } = method {
-        format!("{:?} {}", frame.settings, frame.seed).hash(&mut h);
+        format!("{:?}", frame.settings).hash(&mut h);
     }
     let tag = match method {
         Method::PathTracer { spp } => format!("{spp}spp"),
