@@ -9,20 +9,15 @@ use igi_bvh::{
     intersect_triangle, offset_ray_origin,
 };
 use igi_simd::M32x8;
+use rand_core::{RngCore, SeedableRng};
+use rand_xoshiro::SplitMix64;
 use std::sync::Arc;
 
 /// Small deterministic generator (SplitMix64) so failures reproduce.
-struct Rng(u64);
+struct Rng(SplitMix64);
 impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
     fn f(&mut self) -> f32 {
-        (self.next() >> 40) as f32 / (1u64 << 24) as f32
+        (self.0.next_u64() >> 40) as f32 / (1u64 << 24) as f32
     }
     fn range(&mut self, lo: f32, hi: f32) -> f32 {
         lo + (hi - lo) * self.f()
@@ -85,7 +80,7 @@ fn random_ray(rng: &mut Rng, mesh: &TriangleMesh) -> Ray {
     let target = if rng.f() < 0.5 {
         rng.v(-10.0, 10.0)
     } else {
-        let [a, b, c] = mesh.triangle((rng.next() % mesh.indices.len() as u64) as u32);
+        let [a, b, c] = mesh.triangle((rng.0.next_u64() % mesh.indices.len() as u64) as u32);
         (a + b + c) / 3.0
     };
     let mut r = Ray::new(origin, target - origin);
@@ -97,7 +92,7 @@ fn random_ray(rng: &mut Rng, mesh: &TriangleMesh) -> Ray {
 
 #[test]
 fn closest_and_any_hit_equal_brute_force() {
-    let mut rng = Rng(1);
+    let mut rng = Rng(SplitMix64::seed_from_u64(1));
     for (n, size) in [(1, 3.0), (7, 2.0), (300, 1.5), (3000, 0.8)] {
         let (accel, mesh) = single(soup(&mut rng, n, size));
         let mut hits = 0;
@@ -166,11 +161,12 @@ fn packet_rays(rng: &mut Rng, mesh: &TriangleMesh, round: u32) -> [Ray; 8] {
 
 #[test]
 fn packets_equal_single_rays_lane_by_lane() {
-    let mut rng = Rng(2);
+    let mut rng = Rng(SplitMix64::seed_from_u64(2));
     let (accel, mesh) = single(soup(&mut rng, 2000, 1.0));
     for round in 0..1500 {
         let rays = packet_rays(&mut rng, &mesh, round);
-        let active = M32x8::from_bitmask(if round % 5 == 0 { (rng.next() & 0xff) as u32 } else { 0xff });
+        let active =
+            M32x8::from_bitmask(if round % 5 == 0 { (rng.0.next_u64() & 0xff) as u32 } else { 0xff });
         check_packet(&accel, &rays, active);
     }
 }
@@ -187,7 +183,7 @@ impl HitFilter for CutEvenTriangles {
 
 #[test]
 fn cut_out_hits_are_no_hits_and_packets_equal_single_rays_through_them() {
-    let mut rng = Rng(5);
+    let mut rng = Rng(SplitMix64::seed_from_u64(5));
     let (mut accel, mesh) = single(soup(&mut rng, 2000, 1.0));
     let flags: Vec<bool> = (0..mesh.indices.len()).map(|p| p.is_multiple_of(2)).collect();
     accel.set_cutouts(&[flags], Arc::new(CutEvenTriangles));
@@ -203,7 +199,8 @@ fn cut_out_hits_are_no_hits_and_packets_equal_single_rays_through_them() {
     assert!(hits > 500 && passed > 100, "{hits} hits, {passed} rays passed a cut");
     for round in 0..1500 {
         let rays = packet_rays(&mut rng, &mesh, round);
-        let active = M32x8::from_bitmask(if round % 5 == 0 { (rng.next() & 0xff) as u32 } else { 0xff });
+        let active =
+            M32x8::from_bitmask(if round % 5 == 0 { (rng.0.next_u64() & 0xff) as u32 } else { 0xff });
         check_packet(&accel, &rays, active);
     }
 }
@@ -212,7 +209,7 @@ fn cut_out_hits_are_no_hits_and_packets_equal_single_rays_through_them() {
 /// same triangles transformed into world space ("baked") are hit.
 #[test]
 fn instanced_hits_equal_baked_geometry() {
-    let mut rng = Rng(3);
+    let mut rng = Rng(SplitMix64::seed_from_u64(3));
     let mesh = soup(&mut rng, 400, 1.0);
     let transforms = [
         Affine3A::IDENTITY,
@@ -243,8 +240,8 @@ fn instanced_hits_equal_baked_geometry() {
     let mut checked = 0;
     for _ in 0..3000 {
         // Aim at a triangle centroid so the ray is far from edges in both versions.
-        let inst = (rng.next() % 3) as usize;
-        let prim = (rng.next() % stored.indices.len() as u64) as u32;
+        let inst = (rng.0.next_u64() % 3) as usize;
+        let prim = (rng.0.next_u64() % stored.indices.len() as u64) as u32;
         let [a, b, c] = stored.triangle(prim);
         let target = transforms[inst].transform_point3((a + b + c) / 3.0);
         let origin = target + rng.dir() * rng.range(3.0, 40.0);
@@ -313,7 +310,7 @@ fn no_ray_leaks_through_shared_edges() {
         }
     }
     let (accel, _) = single(m);
-    let mut rng = Rng(4);
+    let mut rng = Rng(SplitMix64::seed_from_u64(4));
     let mut rays = Vec::new();
     for &p in &targets {
         rays.push(Ray::new(centre + 0.01 * rng.v(-1.0, 1.0), p - centre));
@@ -335,7 +332,7 @@ fn no_ray_leaks_through_shared_edges() {
 /// Secondary rays leaving a convex surface from offset origins never hit the surface they left.
 #[test]
 fn offset_origins_avoid_self_intersection() {
-    let mut rng = Rng(5);
+    let mut rng = Rng(SplitMix64::seed_from_u64(5));
     for scale in [1e-2f32, 1.0, 1e3] {
         let mut m = soup(&mut rng, 0, 1.0);
         // A large, tilted quad far from the origin stresses the ulp-scaled offset.
@@ -368,7 +365,7 @@ fn offset_origins_avoid_self_intersection() {
 /// cut-outs, partly active packets, and caches holding a triangle from another light.
 #[test]
 fn the_shadow_cache_changes_no_answer() {
-    let mut rng = Rng(13);
+    let mut rng = Rng(SplitMix64::seed_from_u64(13));
     let mesh = soup(&mut rng, 1500, 1.5);
     let instances = [
         (0, Affine3A::IDENTITY),
@@ -402,7 +399,8 @@ fn the_shadow_cache_changes_no_answer() {
                 let o = centre + rng.v(-4.0, 4.0);
                 Ray { origin: o, dir: target - o, tnear: 1e-4, tfar: 1.0 - 1e-4 }
             });
-            let bits = if rng.next().is_multiple_of(4) { (rng.next() & 0xff) as u32 } else { 0xff };
+            let bits =
+                if rng.0.next_u64().is_multiple_of(4) { (rng.0.next_u64() & 0xff) as u32 } else { 0xff };
             let (p, a) = (packet_of(&rays), M32x8::from_bitmask(bits));
             let want = accel.occluded8(&p, a);
             assert_eq!(accel.occluded8_cached(&p, a, &mut cache).bitmask(), want.bitmask(), "light {light}");
@@ -417,7 +415,7 @@ fn the_shadow_cache_changes_no_answer() {
 /// placed vertex inside, and tighter than the placed box of the whole mesh's box.
 #[test]
 fn instance_bounds_hold_every_placed_vertex_and_hug_a_turned_mesh() {
-    let mut rng = Rng(11);
+    let mut rng = Rng(SplitMix64::seed_from_u64(11));
     // A ring of small triangles round the y axis, turned 45° about it: its extent stays a
     // 20 x 20 square while the placed box of its local box grows to 28 x 28.
     let mut mesh = soup(&mut rng, 2000, 0.05);

@@ -26,21 +26,19 @@ use glam::{DVec3, Vec2, Vec3};
 use igi_shade::brdf::dielectric::{Interface, fresnel_dielectric, reflect, refract};
 use igi_shade::brdf::{Bsdf, BsdfSample, Lobe};
 use igi_shade::{BrdfParams, GlossyModel};
+use rand_core::{RngCore, SeedableRng};
+use rand_xoshiro::SplitMix64;
 use std::f64::consts::PI;
 
 // ---------------------------------------------------------------------------------------------
 // Helpers: random numbers, directions, quadrature, references.
 
-/// SplitMix64: a tiny deterministic generator.
-struct Rng(u64);
+/// A deterministic generator (SplitMix64) so failures reproduce.
+struct Rng(SplitMix64);
 
 impl Rng {
     fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        self.0.next_u64()
     }
 
     /// Uniform in [0, 1).
@@ -318,7 +316,7 @@ fn rounding_allowance(exponent: f64, cos_alpha: f64) -> f64 {
 
 #[test]
 fn reciprocity_of_diffuse_plus_glossy_at_exponents_1_to_1000_with_bent_normals() {
-    let mut rng = Rng(0x5EED_0001);
+    let mut rng = Rng(SplitMix64::seed_from_u64(0x5EED_0001));
     let mut worst = [0.0f64; 4];
     for (k, exponent) in [1.0f32, 10.0, 100.0, 1000.0].into_iter().enumerate() {
         let e = f64::from(exponent);
@@ -366,7 +364,7 @@ fn reciprocity_of_diffuse_plus_glossy_at_exponents_1_to_1000_with_bent_normals()
 
 #[test]
 fn f_is_lambert_plus_the_normalised_modified_phong_lobe() {
-    let mut rng = Rng(0x5EED_0002);
+    let mut rng = Rng(SplitMix64::seed_from_u64(0x5EED_0002));
     for exponent in [0.0f32, 1.0, 7.5, 100.0, 1000.0] {
         let e = f64::from(exponent);
         for shading in bent_normals() {
@@ -535,7 +533,7 @@ fn chi_square(
         c * n_phi + p
     };
     let mut observed = vec![0.0f64; none + 1];
-    let mut rng = Rng(seed);
+    let mut rng = Rng(SplitMix64::seed_from_u64(seed));
     for _ in 0..samples {
         let u_lobe = rng.uniform_f32();
         let u = Vec2::new(rng.uniform_f32(), rng.uniform_f32());
@@ -715,7 +713,7 @@ fn pdf_integrates_to_the_probability_of_a_non_delta_lobe() {
 
 #[test]
 fn sample_weight_is_f_cos_over_pdf_and_delta_weights_are_reflectance_over_probability() {
-    let mut rng = Rng(0x5EED_0004);
+    let mut rng = Rng(SplitMix64::seed_from_u64(0x5EED_0004));
     let mut seen = [0usize; 5];
     for _ in 0..400 {
         let shading = tilted(DVec3::Z, rng.sphere(), rng.range(0.0, 1.2));
@@ -845,7 +843,7 @@ fn fresnel_at_normal_incidence_brewster_and_beyond_the_critical_angle() {
 
 #[test]
 fn refract_obeys_snell_and_is_reversible() {
-    let mut rng = Rng(0x5EED_0005);
+    let mut rng = Rng(SplitMix64::seed_from_u64(0x5EED_0005));
     let (mut refracted, mut reflected) = (0, 0);
     for _ in 0..20_000 {
         let n = rng.sphere();
@@ -1019,7 +1017,7 @@ fn conserving_clamps_to_finite_lobes_summing_to_at_most_one() {
         1.0,
         1.5,
     ];
-    let mut rng = Rng(0x5EED_0006);
+    let mut rng = Rng(SplitMix64::seed_from_u64(0x5EED_0006));
     let pick = |rng: &mut Rng| {
         if rng.uniform() < 0.5 {
             specials[(rng.next_u64() % specials.len() as u64) as usize]
@@ -1193,7 +1191,7 @@ const ROUGHNESSES: [f32; 6] = [0.05, 0.1, 0.25, 0.5, 0.75, 1.0];
 
 #[test]
 fn ggx_f_is_the_gltf_appendix_b_brdf() {
-    let mut rng = Rng(0x6778);
+    let mut rng = Rng(SplitMix64::seed_from_u64(0x6778));
     for k in 0..4000 {
         let n = if k % 2 == 0 { DVec3::Z } else { rng.sphere() };
         let (v, l) = (rng.hemisphere(n), rng.hemisphere(n));
@@ -1212,7 +1210,7 @@ fn ggx_f_is_the_gltf_appendix_b_brdf() {
 
 #[test]
 fn ggx_reciprocity_with_bent_normals() {
-    let mut rng = Rng(0x7265);
+    let mut rng = Rng(SplitMix64::seed_from_u64(0x7265));
     for n in bent_normals() {
         for roughness in ROUGHNESSES {
             let params = gltf_surface(rng.rgb(0.0, 1.0), rng.uniform() as f32, roughness, f32v(n));
@@ -1315,7 +1313,7 @@ fn ggx_sample_weight_is_f_cos_over_pdf() {
     let z = Vec3::Z;
     let bsdf = Bsdf::new(gltf_surface(Vec3::new(0.9, 0.6, 0.3), 0.4, 0.35, z), z);
     let wo = f32v(tilted(DVec3::Z, DVec3::Y, 50f64.to_radians()));
-    let mut rng = Rng(0x5713);
+    let mut rng = Rng(SplitMix64::seed_from_u64(0x5713));
     let mut seen = [0usize; 2];
     for _ in 0..20_000 {
         let Some(s) = bsdf.sample(wo, rng.uniform_f32(), Vec2::new(rng.uniform_f32(), rng.uniform_f32()))
@@ -1333,7 +1331,7 @@ fn ggx_sample_weight_is_f_cos_over_pdf() {
 fn ggx_terms_of_eight_lanes_equal_the_scalar_ones_bit_for_bit() {
     use igi_shade::brdf::ggx::ggx_terms;
     use igi_simd::F32x8;
-    let mut rng = Rng(0x8888);
+    let mut rng = Rng(SplitMix64::seed_from_u64(0x8888));
     for _ in 0..2000 {
         /// α, n, ω_o and ω_i of one lane.
         type Lane = (f32, [f32; 3], [f32; 3], [f32; 3]);

@@ -2,6 +2,8 @@
 //! positions and faces only) for the shared test scenes, and seeded random triangles.
 //! Shared by `tests/build.rs`, `benches/build.rs` and `examples/build_report.rs` via `#[path]`.
 
+use rand_core::{RngCore, SeedableRng};
+use rand_xoshiro::SplitMix64;
 use std::path::PathBuf;
 
 use glam::Vec3;
@@ -72,21 +74,17 @@ pub fn triangle_bounds(triangles: &[Triangle]) -> Vec<Aabb> {
 }
 
 /// A small seeded generator (SplitMix64), enough for test data.
-pub struct Rng(u64);
+pub struct Rng(SplitMix64);
 
 impl Rng {
     /// A generator from a seed.
     pub fn new(seed: u64) -> Self {
-        Self(seed)
+        Self(SplitMix64::seed_from_u64(seed))
     }
 
     /// A uniform `u64`.
     pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
+        self.0.next_u64()
     }
 
     /// A uniform float in [0, 1).

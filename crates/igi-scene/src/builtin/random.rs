@@ -1,23 +1,23 @@
-//! The deterministic random numbers the generated scenes lay themselves out with: SplitMix64
-//! (Steele, Lea & Flood, "Fast splittable pseudorandom number generators", OOPSLA 2014), so
-//! that a generated scene is the same on every machine, node and run.
+//! The deterministic random numbers the generated scenes lay themselves out with: a SplitMix64
+//! stream (Steele, Lea & Flood, "Fast splittable pseudorandom number generators", OOPSLA
+//! 2014; `rand_xoshiro`'s) and the distributions the layouts draw from it, so that a generated
+//! scene is the same on every machine, node and run.
+
+use rand_core::{RngCore, SeedableRng};
+use rand_xoshiro::SplitMix64;
 
 /// A SplitMix64 stream.
-pub(super) struct Random(u64);
+pub(super) struct Random(SplitMix64);
 
 impl Random {
     /// The stream of `seed`.
     pub fn new(seed: u64) -> Self {
-        Self(seed)
+        Self(SplitMix64::seed_from_u64(seed))
     }
 
     /// The next 64 random bits.
     pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
+        self.0.next_u64()
     }
 
     /// A uniform number in [0, 1).

@@ -6,6 +6,8 @@
 use anyhow::{Context, Result, bail};
 use glam::Vec3;
 use igi_bvh::{Accel, Ray};
+use rand_core::{RngCore, SeedableRng};
+use rand_xoshiro::SplitMix64;
 use std::path::Path;
 
 /// A virtual point light as embree-bench writes it: position, normal ((0,0,0) for an omni
@@ -21,25 +23,17 @@ pub struct BenchVpl {
 }
 
 /// SplitMix64 (Steele et al. 2014), embree-bench's generator, so seeds mean the same.
-pub struct SplitMix64(u64);
+pub struct Random(SplitMix64);
 
-impl SplitMix64 {
+impl Random {
     /// A generator with the given seed.
     pub fn new(seed: u64) -> Self {
-        Self(seed)
-    }
-
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        Self(SplitMix64::seed_from_u64(seed))
     }
 
     /// Uniform in [0, 1).
     pub fn uniform(&mut self) -> f32 {
-        (self.next_u64() >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
+        (self.0.next_u64() >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
     }
 }
 
@@ -82,7 +76,7 @@ pub fn random_walk_vpls(
 ) -> Result<Vec<BenchVpl>> {
     const CONT_PROB: f32 = 0.5;
     let want = sets * k;
-    let mut rng = SplitMix64::new(seed);
+    let mut rng = Random::new(seed);
     let (cdf, total) = match &source {
         WalkSource::Emitters(tris) => {
             let mut acc = 0.0f64;
