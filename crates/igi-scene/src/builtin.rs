@@ -7,6 +7,7 @@
 
 mod animated_room;
 mod cornell_box;
+mod daylight;
 mod displaced_sphere;
 mod maple_tree;
 mod power_plant;

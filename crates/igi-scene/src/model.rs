@@ -268,6 +268,12 @@ pub struct CameraDefect {
 }
 
 impl Camera {
+    /// A camera at `position` looking at `target`, +Y up, with a vertical field of view of
+    /// `fov_y_deg` degrees.
+    pub fn looking_at(position: Vec3, target: Vec3, fov_y_deg: f32) -> Self {
+        Self { position, target, up: Vec3::Y, fov_y_deg }
+    }
+
     /// The camera as a scene file's `[camera]` table (lines ending in `\n`), to paste into a
     /// scene file: what `igi info` prints and the viewers' "save view" gives.
     pub fn scene_file_snippet(&self) -> String {
@@ -358,6 +364,14 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// A scene of `meshes`, each placed once where it was modelled, with `materials`, seen from
+    /// `camera`; lights, sky, views and animation are the caller's to add.
+    pub fn placed_once(meshes: Vec<Mesh>, materials: Vec<Material>, camera: Camera) -> Self {
+        let instances =
+            (0..meshes.len() as u32).map(|mesh| Instance { mesh, transform: Affine3A::IDENTITY }).collect();
+        Self { meshes, instances, materials, camera: Some(camera), ..Self::default() }
+    }
+
     /// Bytes the texels of all textures occupy, each decoded image once (the views of one image
     /// in two colour spaces share its texels); mipmaps add about a third.
     pub fn texel_bytes(&self) -> u64 {

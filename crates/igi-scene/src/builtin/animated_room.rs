@@ -156,41 +156,26 @@ pub(super) fn scene() -> Scene {
             Instance { mesh: i, transform }
         })
         .collect();
+    let camera = Camera::looking_at(Vec3::new(0.0, 1.5, HALF - 0.2), Vec3::new(0.2, 1.1, -1.0), 60.0);
     Scene {
-        meshes,
         instances,
-        materials: materials(),
-        textures: Vec::new(),
         lights: vec![orbit],
-        environment: None,
-        camera: Some(Camera {
-            position: Vec3::new(0.0, 1.5, HALF - 0.2),
-            target: Vec3::new(0.2, 1.1, -1.0),
-            up: Vec3::Y,
-            fov_y_deg: 60.0,
-        }),
         views: vec![
             View {
                 name: "statue".into(),
-                camera: Camera {
-                    position: Vec3::new(1.4, 1.6, 1.6),
-                    target: Vec3::new(0.0, 1.0, 0.0),
-                    up: Vec3::Y,
-                    fov_y_deg: 50.0,
-                },
+                camera: Camera::looking_at(Vec3::new(1.4, 1.6, 1.6), Vec3::new(0.0, 1.0, 0.0), 50.0),
             },
             View {
                 name: "high corner".into(),
-                camera: Camera {
-                    position: Vec3::new(-HALF + 0.2, HEIGHT - 0.2, HALF - 0.2),
-                    target: Vec3::new(0.5, 0.6, -0.5),
-                    up: Vec3::Y,
-                    fov_y_deg: 70.0,
-                },
+                camera: Camera::looking_at(
+                    Vec3::new(-HALF + 0.2, HEIGHT - 0.2, HALF - 0.2),
+                    Vec3::new(0.5, 0.6, -0.5),
+                    70.0,
+                ),
             },
         ],
-        front: None,
         animation,
+        ..Scene::placed_once(meshes, materials(), camera)
     }
 }
 

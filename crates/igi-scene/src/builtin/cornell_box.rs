@@ -76,12 +76,11 @@ fn materials() -> Vec<Material> {
 /// lens on 25 mm film, a vertical field of view of 2·atan(12.5 / 35) = 39.3077°.
 pub(super) fn scene() -> Scene {
     let parts = QUADS.iter().map(|&(material, corners)| quad_corners(corners, material)).collect();
-    let camera = Camera {
-        position: Vec3::new(0.0, 1.0, 3.5),
-        target: Vec3::new(0.0, 1.0, 0.0),
-        up: Vec3::Y,
-        fov_y_deg: 2.0 * (12.5f32 / 35.0).atan().to_degrees(),
-    };
+    let camera = Camera::looking_at(
+        Vec3::new(0.0, 1.0, 3.5),
+        Vec3::new(0.0, 1.0, 0.0),
+        2.0 * (12.5f32 / 35.0).atan().to_degrees(),
+    );
     assemble("cornell-box", parts, materials(), camera)
 }
 

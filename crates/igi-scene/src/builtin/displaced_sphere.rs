@@ -3,12 +3,11 @@
 //! for. Its outline and its shading hardly change with the tessellation, so a view of it costs
 //! what the ray tracer pays for the triangle count and nothing else.
 
-use glam::{Affine3A, Vec3};
+use glam::Vec3;
 
 use super::shapes::{self, quad};
-use crate::animation::Animation;
 use crate::light::Light;
-use crate::model::{Camera, Instance, Material, Scene};
+use crate::model::{Camera, Material, Scene};
 use crate::validate::{MeshBuilder, Part};
 
 /// Triangles of the sphere unless asked otherwise.
@@ -47,22 +46,12 @@ pub(super) fn scene(triangles: usize) -> Scene {
     let mut floor = MeshBuilder::new("floor");
     floor.add(quad(Vec3::NEG_Y * 1.1, Vec3::Z * 3.0, Vec3::X * 3.0, FLOOR)).expect("a finite quad");
     let diffuse = Material::diffuse;
+    let meshes = vec![sphere_mesh.finish().mesh, floor.finish().mesh];
+    let materials = vec![diffuse("sphere", Vec3::new(0.7, 0.55, 0.4)), diffuse("floor", Vec3::splat(0.6))];
+    let camera = Camera::looking_at(Vec3::new(0.0, 0.3, 3.4), Vec3::new(0.0, -0.05, 0.0), 45.0);
     Scene {
-        meshes: vec![sphere_mesh.finish().mesh, floor.finish().mesh],
-        instances: [0, 1].map(|mesh| Instance { mesh, transform: Affine3A::IDENTITY }).to_vec(),
-        materials: vec![diffuse("sphere", Vec3::new(0.7, 0.55, 0.4)), diffuse("floor", Vec3::splat(0.6))],
-        textures: Vec::new(),
         lights: vec![Light::Point { position: Vec3::new(1.5, 2.5, 2.0), intensity: Vec3::splat(8.0) }],
-        environment: None,
-        camera: Some(Camera {
-            position: Vec3::new(0.0, 0.3, 3.4),
-            target: Vec3::new(0.0, -0.05, 0.0),
-            up: Vec3::Y,
-            fov_y_deg: 45.0,
-        }),
-        views: Vec::new(),
-        front: None,
-        animation: Animation::default(),
+        ..Scene::placed_once(meshes, materials, camera)
     }
 }
 

@@ -5,16 +5,14 @@
 //! triangle count asked for leaves room for. It stands on a meadow under a low sun from the
 //! side and a blue sky, so its shadow lies across the ground in front of the camera.
 
+use super::daylight::outdoors;
 use std::f32::consts::TAU;
 
-use glam::{Affine3A, Vec3};
+use glam::Vec3;
 
 use super::random::Random;
 use super::shapes::{quad, tube};
-use crate::animation::Animation;
-use crate::environment::Environment;
-use crate::light::Light;
-use crate::model::{Camera, Instance, Material, Scene};
+use crate::model::{Camera, Material, Scene};
 use crate::validate::{MeshBuilder, Part};
 
 /// Triangles of the tree unless asked otherwise: the paper's model has 1.5 million.
@@ -196,29 +194,12 @@ pub(super) fn scene(triangles: usize) -> Scene {
     }
     let mut meadow = MeshBuilder::new("meadow");
     meadow.add(quad(Vec3::ZERO, Vec3::Z * 60.0, Vec3::X * 60.0, GRASS)).expect("a finite quad");
-    Scene {
-        meshes: vec![builder.finish().mesh, meadow.finish().mesh],
-        instances: vec![
-            Instance { mesh: 0, transform: Affine3A::IDENTITY },
-            Instance { mesh: 1, transform: Affine3A::IDENTITY },
-        ],
-        materials: materials(),
-        textures: Vec::new(),
-        lights: vec![Light::Directional {
-            direction: Vec3::new(-0.75, -0.5, 0.35).normalize(),
-            irradiance: Vec3::new(7.0, 6.6, 6.0),
-        }],
-        environment: Some(Environment::Constant { radiance: Vec3::new(0.3, 0.42, 0.7) }),
-        camera: Some(Camera {
-            position: Vec3::new(5.0, 2.2, 17.0),
-            target: Vec3::new(-2.5, 4.2, 0.0),
-            up: Vec3::Y,
-            fov_y_deg: 55.0,
-        }),
-        views: Vec::new(),
-        front: None,
-        animation: Animation::default(),
-    }
+    let tree = Scene::placed_once(
+        vec![builder.finish().mesh, meadow.finish().mesh],
+        materials(),
+        Camera::looking_at(Vec3::new(5.0, 2.2, 17.0), Vec3::new(-2.5, 4.2, 0.0), 55.0),
+    );
+    outdoors(tree, Vec3::new(-0.75, -0.5, 0.35))
 }
 
 #[cfg(test)]

@@ -11,14 +11,12 @@
 //! sets how finely the round shapes are tessellated (the pipes' and tanks' segments, the
 //! elbows' and domes' rings), found by bisection on one detail factor.
 
+use super::daylight::outdoors;
 use glam::{Affine3A, Quat, Vec2, Vec3};
 use rayon::prelude::*;
 
 use super::random::Random;
 use super::shapes::{annulus, dome, lathe, parallelepiped, quad, torus_arc, tube};
-use crate::animation::Animation;
-use crate::environment::Environment;
-use crate::light::Light;
 use crate::model::{Camera, Instance, Material, Scene};
 use crate::validate::{MeshBuilder, Part};
 
@@ -530,26 +528,10 @@ pub(super) fn scene(triangles: usize) -> Scene {
         })
         .collect();
     instances.push(Instance { mesh: 1, transform: Affine3A::IDENTITY });
-    Scene {
-        meshes: vec![plant, ground.finish().mesh],
-        instances,
-        materials: materials(),
-        textures: Vec::new(),
-        lights: vec![Light::Directional {
-            direction: Vec3::new(0.5, -0.6, 0.62).normalize(),
-            irradiance: Vec3::new(7.0, 6.6, 6.0),
-        }],
-        environment: Some(Environment::Constant { radiance: Vec3::new(0.3, 0.42, 0.7) }),
-        camera: Some(Camera {
-            position: Vec3::new(-175.0, 48.0, 160.0),
-            target: Vec3::new(-20.0, 8.0, 10.0),
-            up: Vec3::Y,
-            fov_y_deg: 50.0,
-        }),
-        views: Vec::new(),
-        front: None,
-        animation: Animation::default(),
-    }
+    let camera = Camera::looking_at(Vec3::new(-175.0, 48.0, 160.0), Vec3::new(-20.0, 8.0, 10.0), 50.0);
+    let plants =
+        Scene { instances, ..Scene::placed_once(vec![plant, ground.finish().mesh], materials(), camera) };
+    outdoors(plants, Vec3::new(0.5, -0.6, 0.62))
 }
 
 #[cfg(test)]

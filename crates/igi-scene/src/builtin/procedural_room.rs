@@ -152,12 +152,7 @@ fn room(name: &str, materials: Vec<Material>) -> Scene {
     let radius = 0.3;
     parts.push(sphere(table + Vec3::new(0.2, top_height + radius, 0.0), radius, 24, 14, TURBULENCE));
     parts.extend(cuboid(Vec3::new(-1.55, 0.0, -1.35), Vec3::splat(0.7), 25.0, false, CHECKER));
-    let camera = Camera {
-        position: Vec3::new(0.3, 1.6, HALF - 0.25),
-        target: Vec3::new(-0.2, 0.8, -1.0),
-        up: Vec3::Y,
-        fov_y_deg: 60.0,
-    };
+    let camera = Camera::looking_at(Vec3::new(0.3, 1.6, HALF - 0.25), Vec3::new(-0.2, 0.8, -1.0), 60.0);
     let mut scene = assemble(name, parts, materials, camera);
     scene.lights.push(Light::Point {
         position: Vec3::new(HALF - 0.6, 2.2, HALF - 0.8),

@@ -3,10 +3,9 @@
 
 use std::f32::consts::{FRAC_PI_2, PI, TAU};
 
-use glam::{Affine3A, Quat, Vec3};
+use glam::{Quat, Vec3};
 
-use crate::animation::Animation;
-use crate::model::{Camera, Instance, Material, Scene};
+use crate::model::{Camera, Material, Scene};
 use crate::validate::{MeshBuilder, Part};
 
 /// A planar quad from its four corners, split along the 0–2 diagonal like an OBJ quad.
@@ -272,18 +271,7 @@ pub(super) fn assemble(name: &str, parts: Vec<Part>, materials: Vec<Material>, c
     for part in parts {
         builder.add(part).expect("built-in geometry is finite and indexed in range");
     }
-    Scene {
-        meshes: vec![builder.finish().mesh],
-        instances: vec![Instance { mesh: 0, transform: Affine3A::IDENTITY }],
-        materials,
-        textures: Vec::new(),
-        lights: Vec::new(),
-        environment: None,
-        camera: Some(camera),
-        views: Vec::new(),
-        front: None,
-        animation: Animation::default(),
-    }
+    Scene::placed_once(vec![builder.finish().mesh], materials, camera)
 }
 
 #[cfg(test)]

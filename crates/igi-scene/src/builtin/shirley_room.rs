@@ -61,12 +61,7 @@ pub(super) fn scene() -> Scene {
     }
     let radius = 0.3;
     parts.push(sphere(table + Vec3::Y * (top_height + radius), radius, 24, 14, GLOSSY));
-    let camera = Camera {
-        position: Vec3::new(0.0, 1.6, room.z / 2.0 - 0.2),
-        target: Vec3::new(0.0, 0.9, 0.0),
-        up: Vec3::Y,
-        fov_y_deg: 60.0,
-    };
+    let camera = Camera::looking_at(Vec3::new(0.0, 1.6, room.z / 2.0 - 0.2), Vec3::new(0.0, 0.9, 0.0), 60.0);
     assemble("shirley-room", parts, materials(), camera)
 }
 

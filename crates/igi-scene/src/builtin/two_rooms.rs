@@ -75,12 +75,7 @@ pub(super) fn scene() -> Scene {
     parts.push(quad(Vec3::new(-3.0, HEIGHT - 0.05, -1.2), Vec3::X * 0.3, Vec3::Z * 0.3, LIGHT));
     parts.extend(cuboid(Vec3::new(-2.0, 0.0, 0.6), Vec3::new(0.8, 0.8, 0.8), 20.0, false, WHITE));
     parts.extend(cuboid(Vec3::new(2.4, 0.0, -1.0), Vec3::new(0.6, 1.3, 0.6), -25.0, false, WHITE));
-    let camera = Camera {
-        position: Vec3::new(3.6, 1.6, 1.7),
-        target: Vec3::new(0.8, 0.9, -2.0),
-        up: Vec3::Y,
-        fov_y_deg: 60.0,
-    };
+    let camera = Camera::looking_at(Vec3::new(3.6, 1.6, 1.7), Vec3::new(0.8, 0.9, -2.0), 60.0);
     assemble("two-rooms", parts, materials(), camera)
 }
 
