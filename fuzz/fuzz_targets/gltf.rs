@@ -3,11 +3,11 @@
 //! tracks it read are sampled too.
 #![no_main]
 
-use igi_scene::{LoadReport, gltf_loader};
+use igi_scene::{LoadReport, MeshFormat};
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    match gltf_loader::parse(data, "fuzz.gltf", None, &mut LoadReport::default()) {
+    match igi_scene::parse_mesh(MeshFormat::Gltf, data, "fuzz.gltf", None, &mut LoadReport::default()) {
         Ok(scene) => {
             if let Err(error) = scene.animation.validate(scene.instances.len(), scene.lights.len()) {
                 panic!("{error}");

@@ -20,9 +20,12 @@ pub(crate) enum Format {
 
 /// The formats of mesh files.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum MeshFormat {
+pub enum MeshFormat {
+    /// Wavefront OBJ text, with MTL material libraries.
     Obj,
+    /// A glTF 2.0 document (`.gltf`) or GLB container (`.glb`).
     Gltf,
+    /// Stanford PLY, ASCII or binary.
     Ply,
 }
 
@@ -54,10 +57,37 @@ pub(crate) fn load_model_file(
         return Err(SceneError::UnknownFormat { file: path.to_path_buf() });
     };
     let bytes = resources::read(path, report)?;
-    let base_dir = resources::base_dir(path);
+    parse_mesh_file(format, &bytes, path, Some(&resources::base_dir(path)), textures, report)
+}
+
+/// Parses a mesh file held in memory; `name` is used in messages. The files it refers to
+/// (material libraries, external buffers, textures) are looked up in `base_dir`; with `None`
+/// nothing is read from disk: OBJ materials fall back to defaults, and a glTF file has only
+/// its embedded data.
+pub fn parse_mesh(
+    format: MeshFormat,
+    bytes: &[u8],
+    name: &str,
+    base_dir: Option<&Path>,
+    report: &mut LoadReport,
+) -> Result<Scene, SceneError> {
+    TextureSet::default()
+        .owning(|textures| parse_mesh_file(format, bytes, Path::new(name), base_dir, textures, report))
+}
+
+/// Parses the mesh file `file` of `format` from its `bytes`, whose textures go into
+/// `textures` (the scene's).
+fn parse_mesh_file(
+    format: MeshFormat,
+    bytes: &[u8],
+    file: &Path,
+    base_dir: Option<&Path>,
+    textures: &mut TextureSet,
+    report: &mut LoadReport,
+) -> Result<Scene, SceneError> {
     match format {
-        MeshFormat::Obj => obj::parse_file(&bytes, path, Some(&base_dir), textures, report),
-        MeshFormat::Gltf => gltf_loader::parse_file(&bytes, path, Some(&base_dir), textures, report),
-        MeshFormat::Ply => ply::parse_file(&bytes, path, report),
+        MeshFormat::Obj => obj::parse(bytes, file, base_dir, textures, report),
+        MeshFormat::Gltf => gltf_loader::parse(bytes, file, base_dir, textures, report),
+        MeshFormat::Ply => ply::parse(bytes, file, report),
     }
 }

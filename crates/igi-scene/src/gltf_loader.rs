@@ -76,21 +76,11 @@ mod materials;
 mod meshes;
 mod nodes;
 
-/// Parses a glTF document or GLB container held in memory; `name` is used in messages.
-/// External buffers and images are looked up in `base_dir`; with `None` only embedded data
-/// (GLB chunks, `data:` URIs) is available and an external buffer is an error.
-pub fn parse(
-    bytes: &[u8],
-    name: &str,
-    base_dir: Option<&Path>,
-    report: &mut LoadReport,
-) -> Result<Scene, SceneError> {
-    TextureSet::default().owning(|textures| parse_file(bytes, Path::new(name), base_dir, textures, report))
-}
-
 /// Parses the glTF document or GLB container of `file`, whose external buffers and images
-/// are looked up in `base_dir` and whose textures go into `textures` (the scene's).
-pub(crate) fn parse_file(
+/// are looked up in `base_dir` (with `None` only embedded data, GLB chunks and `data:` URIs,
+/// is available and an external buffer is an error) and whose textures go into `textures`
+/// (the scene's).
+pub(crate) fn parse(
     bytes: &[u8],
     file: &Path,
     base_dir: Option<&Path>,

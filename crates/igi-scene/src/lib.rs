@@ -5,13 +5,13 @@
 //!   punctual [`Light`]s, an optional [`Environment`] (sky) and an optional [`Camera`]. Area
 //!   lights are triangles with an emissive material.
 //! - Loading: [`load`] picks the format from the file extension: Wavefront OBJ/MTL
-//!   ([`obj`], [`mtl`]), glTF 2.0 ([`gltf_loader`]), Stanford PLY ([`ply`]) and igi's own TOML
+//!   (`obj`, [`mtl`]), glTF 2.0 (`gltf_loader`), Stanford PLY (`ply`) and igi's own TOML
 //!   scene files ([`scene_file`]) that place such files and add lights and a camera.
 //!   [`load_with_report`] also returns the [`LoadReport`] (dropped triangles, warnings);
 //!   [`load_named`] accepts a built-in scene name ([`builtin_names`]) as well as a path;
 //!   [`scene_files_under`] lists the scene files of a folder (the viewers' "open scene").
-//! - Every format module also parses from memory (`parse`), which is what the fuzz targets and
-//!   property tests drive.
+//! - Every format also parses from memory ([`parse_mesh`] for the mesh files, [`mtl::parse`],
+//!   [`scene_file::parse`]), which is what the fuzz targets and property tests drive.
 //!
 //! What every loader guarantees, whatever the input: no panic; no allocation sized by a count
 //! the file cannot back with bytes; an error ([`SceneError`]) that names the file and, where
@@ -29,12 +29,12 @@ mod digest;
 mod environment;
 mod error;
 mod format;
-pub mod gltf_loader;
+mod gltf_loader;
 mod light;
 mod model;
 pub mod mtl;
-pub mod obj;
-pub mod ply;
+mod obj;
+mod ply;
 mod report;
 mod resources;
 pub mod scene_file;
@@ -52,6 +52,7 @@ pub use catalog::{MAX_CATALOG_FILES, name_under, scene_files_under};
 pub use environment::Environment;
 pub use error::{Location, SceneError};
 use format::{Format, format_of};
+pub use format::{MeshFormat, parse_mesh};
 pub use light::Light;
 pub use model::CameraDefect;
 pub use model::{

@@ -42,20 +42,10 @@ use crate::validate::{MeshBuilder, Part};
 /// Name of the single `mtllib` statement `prepare` writes; its loader ignores the name.
 const HOISTED_LIBRARY: &str = "materials";
 
-/// Parses OBJ text. `name` is used in messages. Material libraries and textures are looked up
-/// in `base_dir`; with `None` nothing is read from disk and materials fall back to defaults.
-pub fn parse(
-    bytes: &[u8],
-    name: &str,
-    base_dir: Option<&Path>,
-    report: &mut LoadReport,
-) -> Result<Scene, SceneError> {
-    TextureSet::default().owning(|textures| parse_file(bytes, Path::new(name), base_dir, textures, report))
-}
-
 /// Parses the OBJ text of `file`, whose material libraries and textures are looked up in
-/// `base_dir` and whose textures go into `textures` (the scene's).
-pub(crate) fn parse_file(
+/// `base_dir` (with `None` nothing is read from disk and materials fall back to defaults) and
+/// whose textures go into `textures` (the scene's).
+pub(crate) fn parse(
     bytes: &[u8],
     file: &Path,
     base_dir: Option<&Path>,
@@ -355,7 +345,8 @@ mod tests {
 
     fn parse_str(text: &str) -> Result<(Scene, LoadReport), SceneError> {
         let mut report = LoadReport::default();
-        parse(text.as_bytes(), "t.obj", None, &mut report).map(|s| (s, report))
+        crate::parse_mesh(crate::MeshFormat::Obj, text.as_bytes(), "t.obj", None, &mut report)
+            .map(|s| (s, report))
     }
 
     const QUAD: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";

@@ -32,13 +32,8 @@ use crate::validate::{MeshBuilder, Part};
 
 mod binary;
 
-/// Parses a PLY file held in memory; `name` is used in messages and as the mesh name.
-pub fn parse(bytes: &[u8], name: &str, report: &mut LoadReport) -> Result<Scene, SceneError> {
-    parse_file(bytes, Path::new(name), report)
-}
-
-/// Parses the PLY bytes of `file`.
-pub(crate) fn parse_file(bytes: &[u8], file: &Path, report: &mut LoadReport) -> Result<Scene, SceneError> {
+/// Parses the PLY bytes of `file` (its name is the mesh's).
+pub(crate) fn parse(bytes: &[u8], file: &Path, report: &mut LoadReport) -> Result<Scene, SceneError> {
     let mut reader = Reader::new(bytes);
     let header = Parser::<Skip>::new().read_header(&mut reader).map_err(|e| {
         SceneError::parse(file, e.line().map_or(Location::File, Location::Line), message_of(&e))
@@ -451,7 +446,7 @@ mod tests {
 
     fn parse_bytes(bytes: &[u8]) -> Result<(Scene, LoadReport), SceneError> {
         let mut report = LoadReport::default();
-        parse(bytes, "t.ply", &mut report).map(|s| (s, report))
+        crate::parse_mesh(crate::MeshFormat::Ply, bytes, "t.ply", None, &mut report).map(|s| (s, report))
     }
 
     const ASCII: &str = "ply\nformat ascii 1.0\ncomment c\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nproperty float u\nproperty float v\nelement face 2\nproperty uchar intensity\nproperty list uchar int vertex_indices\nend_header\n0 0 0 0 0\n1 0 0 1 0\n1 1 0 1 1\n0 1 0 0 1\n7 4 0 1 2 3\n7 2 0 1\n";

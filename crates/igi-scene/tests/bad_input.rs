@@ -6,21 +6,24 @@ mod common;
 use std::path::Path;
 
 use common::{glb, gltf_document};
-use igi_scene::{LoadReport, Scene, SceneError, gltf_loader, load, obj, ply, scene_file};
+use igi_scene::{LoadReport, Scene, SceneError, load, scene_file};
 
 fn obj(text: &str) -> Result<(Scene, LoadReport), SceneError> {
     let mut report = LoadReport::default();
-    obj::parse(text.as_bytes(), "bad.obj", None, &mut report).map(|s| (s, report))
+    igi_scene::parse_mesh(igi_scene::MeshFormat::Obj, text.as_bytes(), "bad.obj", None, &mut report)
+        .map(|s| (s, report))
 }
 
 fn ply(bytes: &[u8]) -> Result<(Scene, LoadReport), SceneError> {
     let mut report = LoadReport::default();
-    ply::parse(bytes, "bad.ply", &mut report).map(|s| (s, report))
+    igi_scene::parse_mesh(igi_scene::MeshFormat::Ply, bytes, "bad.ply", None, &mut report)
+        .map(|s| (s, report))
 }
 
 fn gltf(bytes: &[u8]) -> Result<(Scene, LoadReport), SceneError> {
     let mut report = LoadReport::default();
-    gltf_loader::parse(bytes, "bad.gltf", None, &mut report).map(|s| (s, report))
+    igi_scene::parse_mesh(igi_scene::MeshFormat::Gltf, bytes, "bad.gltf", None, &mut report)
+        .map(|s| (s, report))
 }
 
 fn toml(text: &str) -> Result<Scene, SceneError> {

@@ -9,7 +9,7 @@ use std::f32::consts::{FRAC_1_SQRT_2, FRAC_PI_2, FRAC_PI_4};
 
 use common::{Output, animated_gltf, scenes_dir};
 use glam::{Affine3A, Quat, Vec3, Vec4};
-use igi_scene::{Light, LoadReport, Scene, gltf_loader, load_with_report};
+use igi_scene::{Light, LoadReport, Scene, load_with_report};
 
 /// Loads `relative` (under `shared/scenes/gltf-samples`), or `None` if the scenes are absent.
 fn sample(test: &str, relative: &str) -> Option<(Scene, LoadReport)> {
@@ -20,7 +20,9 @@ fn sample(test: &str, relative: &str) -> Option<(Scene, LoadReport)> {
 /// Parses a hand-written document, which must load.
 fn parse(json: &str) -> (Scene, LoadReport) {
     let mut report = LoadReport::default();
-    let scene = gltf_loader::parse(json.as_bytes(), "anim.gltf", None, &mut report).unwrap();
+    let scene =
+        igi_scene::parse_mesh(igi_scene::MeshFormat::Gltf, json.as_bytes(), "anim.gltf", None, &mut report)
+            .unwrap();
     (scene, report)
 }
 

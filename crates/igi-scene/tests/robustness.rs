@@ -10,7 +10,7 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::OnceLock;
 
 use common::{gltf_document, scenes_dir};
-use igi_scene::{LoadReport, SceneError, gltf_loader, mtl, obj, ply, scene_file};
+use igi_scene::{LoadReport, SceneError, mtl, scene_file};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
 
@@ -21,12 +21,45 @@ type Parser<'a> = Box<dyn Fn() -> Result<(), SceneError> + 'a>;
 fn every_parser(bytes: &[u8]) -> Result<(), String> {
     let text = String::from_utf8_lossy(bytes);
     let parsers: [(&str, Parser); 5] = [
-        ("obj", Box::new(|| obj::parse(bytes, "p.obj", None, &mut LoadReport::default()).map(drop))),
+        (
+            "obj",
+            Box::new(|| {
+                igi_scene::parse_mesh(
+                    igi_scene::MeshFormat::Obj,
+                    bytes,
+                    "p.obj",
+                    None,
+                    &mut LoadReport::default(),
+                )
+                .map(drop)
+            }),
+        ),
         ("mtl", Box::new(|| mtl::parse(bytes, "p.mtl").map(drop))),
-        ("ply", Box::new(|| ply::parse(bytes, "p.ply", &mut LoadReport::default()).map(drop))),
+        (
+            "ply",
+            Box::new(|| {
+                igi_scene::parse_mesh(
+                    igi_scene::MeshFormat::Ply,
+                    bytes,
+                    "p.ply",
+                    None,
+                    &mut LoadReport::default(),
+                )
+                .map(drop)
+            }),
+        ),
         (
             "gltf",
-            Box::new(|| gltf_loader::parse(bytes, "p.gltf", None, &mut LoadReport::default()).map(drop)),
+            Box::new(|| {
+                igi_scene::parse_mesh(
+                    igi_scene::MeshFormat::Gltf,
+                    bytes,
+                    "p.gltf",
+                    None,
+                    &mut LoadReport::default(),
+                )
+                .map(drop)
+            }),
         ),
         ("toml", Box::new(|| scene_file::parse(&text, "p.toml", None, &mut LoadReport::default()).map(drop))),
     ];

@@ -371,8 +371,9 @@ fn gltf_textures_keep_their_sampler_wrap_modes_and_the_normal_map_its_scale() {
     );
     let json = format!("{}{extra}", json.trim_end().strip_suffix('}').expect("a JSON object"));
     let mut report = igi_scene::LoadReport::default();
-    let scene = igi_scene::gltf_loader::parse(json.as_bytes(), "wrap.gltf", None, &mut report)
-        .unwrap_or_else(|e| panic!("{e}"));
+    let scene =
+        igi_scene::parse_mesh(igi_scene::MeshFormat::Gltf, json.as_bytes(), "wrap.gltf", None, &mut report)
+            .unwrap_or_else(|e| panic!("{e}"));
     let m = &scene.materials[0];
     let base = &scene.textures[m.diffuse_texture.expect("base colour texture") as usize];
     assert_eq!(base.wrap, [igi_scene::Wrap::Clamp, igi_scene::Wrap::MirroredRepeat]);
