@@ -4,7 +4,8 @@
 //! One exchange per frame (paper sections 2.1 and 3.4): rank 0 sends every node the
 //! [`FrameJob`] (the whole [`FrameState`]), then tile numbers on demand; each node
 //! derives the frame's VPLs itself, renders, filters and tone-maps its tiles, and sends back
-//! [`TileResult`]s: 8-bit pixels and the tile's luminance statistics, from which rank 0 combines
+//! [`TileResult`]s: the tile's pixels in the frame's format (8-bit while the view moves, paper
+//! 3.4; linear radiance where rank 0 averages) and its luminance statistics, from which rank 0 combines
 //! the next frame's tone map in tile order.
 
 use igi_render::image::stats::{PhaseTimes, RayCounts};

@@ -303,7 +303,7 @@ pub struct FrameState {
     pub settings: FrameSettings,
     /// How the radiance is estimated.
     pub estimator: Estimator,
-    /// Where the scene stands: clock and moved instances.
+    /// Where the scene stands: clock, moved instances, sky strength and light edits.
     pub pose: ScenePose,
     /// Tone mapping for 8-bit output of this frame, fixed from the previous frame's tile
     /// statistics (paper 3.4) or from a fixed exposure.

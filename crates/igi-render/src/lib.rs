@@ -13,11 +13,13 @@
 //! - [`igi`]: the instant-global-illumination estimator: VPLs, view importance, interleaved
 //!   sampling, the streaming tile pipeline by stage, VPL lighting, the discontinuity filter.
 //! - [`path_tracer`]: the reference path tracer.
-//! - [`schedule`]: tiles, persistent worker threads taking them on demand, cancellation and
-//!   [`FrameRenderer`], which poses the scene, plans a frame ([`FramePlan`]) and puts it
-//!   together.
-//! - [`image`]: the framebuffer ([`Film`]), a frame's pixels ([`FrameImage`]), tone mapping,
-//!   the running mean of a still view ([`Progressive`]), costs, and EXR and PNG files.
+//! - [`schedule`]: persistent worker threads taking tiles on demand, cancellation,
+//!   [`FrameRenderer`], which poses the scene, plans a frame with its estimator
+//!   ([`FramePlan`]) and puts it together, and [`FrameSource`], the one interface every caller
+//!   renders frames through (this machine or a cluster; accumulation included).
+//! - [`image`]: pixel rectangles and tiles ([`Tile`]), the framebuffer ([`Film`]), a frame's
+//!   pixels ([`FrameImage`]), tone mapping, the running mean of a still view
+//!   ([`Progressive`]), costs, and EXR and PNG files.
 //! - [`camera`] and [`sampling`]: the pinhole camera ([`PinholeCamera`]), identical to the
 //!   Embree benchmark's, and deterministic sample sequences, shared by every room.
 //!

@@ -1,6 +1,7 @@
 //! `igi serve`: a browser viewer of an [`igi_session::Session`]. An axum server serves one
-//! page (embedded in the binary, no build step) and one WebSocket; the page draws the frames
-//! on a canvas and sends the user's input back. Nothing else is served.
+//! page (embedded in the binary, no build step), one WebSocket and the list of scenes it may
+//! open; the page draws the frames on a canvas and sends the user's input back. Nothing else
+//! is served.
 //!
 //! # Wire protocol (`GET /ws`)
 //!

@@ -1,4 +1,5 @@
-//! The HTTP side: `GET /` serves the page, `GET /ws` the stream; nothing else exists (404).
+//! The HTTP side: `GET /` serves the page, `GET /ws` the stream, `GET /scenes` the names of the
+//! scenes the viewer may open; nothing else exists (404).
 //! One render loop and one encoder serve every connection, so several browsers watch and
 //! steer the same session.
 //!

@@ -1,6 +1,7 @@
 //! `--cluster` and `igi worker`: the same binary on every MPI rank (paper section 4). Rank 0
-//! runs the command it was given (render, view, serve, bench cluster) with a
-//! [`igi_cluster::ClusterSource`] as its renderer; every other rank becomes a render node.
+//! runs the command it was given: render, view and serve with a [`igi_cluster::ClusterSource`]
+//! as their frame source, bench cluster with the [`igi_cluster::Master`] itself; every other
+//! rank becomes a render node.
 //! Without the `mpi` feature the flags exist and say how to get a build that has them.
 
 use crate::frame_args::FrameArgs;

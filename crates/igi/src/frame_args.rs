@@ -1,6 +1,7 @@
-//! The frame options shared by `igi render` and `igi bench frame`: image size, VPLs,
-//! interleaving, anti-aliasing, filter, clamp, seed, threads, the scene clock and the camera,
-//! turned into a [`FrameState`].
+//! The frame options shared by `igi render`, the viewers (`igi view`, `igi serve`) and the
+//! benchmarks (`igi bench frame`, `quality`, `cluster`): image size, VPLs, interleaving,
+//! anti-aliasing, filter, clamp, seed, threads, tile size, the scene clock and the camera,
+//! parsed once into a [`FrameState`] ([`FrameArgs::frame_state`]) that every consumer reads.
 
 use anyhow::Result;
 use clap::Args;

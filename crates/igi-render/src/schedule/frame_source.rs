@@ -1,5 +1,5 @@
-//! [`FrameSource`]: where frames are rendered, the one interface `igi render`, the benchmarks,
-//! the viewers and a cluster's rank 0 drive. On this machine it is a [`FrameRenderer`]'s
+//! [`FrameSource`]: where frames are rendered, the one interface `igi render`, `igi bench
+//! frame` and `igi bench quality`, the viewers and a cluster's rank 0 drive. On this machine it is a [`FrameRenderer`]'s
 //! threads; on a cluster (`igi-cluster`) it is rank 0 handing tiles to render nodes, which send
 //! back 8-bit pixels (paper section 3.4) unless the frame asks for linear radiance to
 //! accumulate. Which estimator computes the frame (instant global illumination or the path

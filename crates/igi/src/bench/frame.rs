@@ -8,6 +8,7 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use igi_render::image::tonemap::luminance;
 use igi_render::schedule::frame_renderer::FrameRenderer;
+use igi_render::{CancelToken, FrameSource};
 use igi_render::{FrameState, Phase, PreparedScene, Progressive, ToneMap};
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -92,10 +93,10 @@ pub fn run(args: &FrameBenchArgs) -> Result<()> {
     let mut prepared = args.frame.prepare(scene);
     let mut frame = args.frame.frame_state(&prepared)?;
     frame.reseed_per_frame = args.reseed;
-    let renderer = FrameRenderer::new(args.frame.threads);
+    let mut renderer = FrameRenderer::new(args.frame.threads);
     let threads = renderer.threads();
 
-    let loss = clamp_energy_loss(&renderer, &mut prepared, &frame)?;
+    let loss = clamp_energy_loss(&mut renderer, &mut prepared, &frame)?;
 
     // As a viewer in motion does: each frame is tone-mapped with the parameters from the
     // previous frame's statistics, and none is averaged.
@@ -112,7 +113,7 @@ pub fn run(args: &FrameBenchArgs) -> Result<()> {
         posing.set(posing.get() + posed);
         f.frame = index;
         f.tone_map = view.tone_mapper();
-        let mut out = renderer.render(&mut prepared, f, &|_, _| {})?;
+        let mut out = renderer.render_frame(&mut prepared, f, &CancelToken::new(), &|_, _| {})?;
         out.elapsed += posed;
         view.reset();
         view.add(out.image, out.stats);
@@ -184,12 +185,16 @@ pub fn run(args: &FrameBenchArgs) -> Result<()> {
 
 /// 1 − (luminance of frame 0) / (luminance of frame 0 without clamping): the same VPLs and
 /// rays, so the difference is exactly what the clamp removes.
-fn clamp_energy_loss(renderer: &FrameRenderer, scene: &mut PreparedScene, frame: &FrameState) -> Result<f64> {
+fn clamp_energy_loss(
+    renderer: &mut dyn FrameSource,
+    scene: &mut PreparedScene,
+    frame: &FrameState,
+) -> Result<f64> {
     if frame.settings.clamp == 0.0 {
         return Ok(0.0);
     }
     let mut total = |f: &FrameState| -> Result<f64> {
-        let out = renderer.render(scene, f, &|_, _| {})?;
+        let out = renderer.render_frame(scene, f, &CancelToken::new(), &|_, _| {})?;
         let film = out.image.film().context("a linear frame without its film")?;
         Ok(film.pixels().iter().map(|&p| f64::from(luminance(p))).sum())
     };
