@@ -8,7 +8,7 @@
 //! reorder its own per-triangle data (materials) to match.
 //!
 //! Alpha cut-outs ([`Accel::set_cutouts`]): triangles flagged as possibly cut hand their hits
-//! to a [`HitFilter`], and a hit it calls cut is no hit, so a closest-hit query goes on to
+//! to a [`CutoutTest`], and a hit it calls cut is no hit, so a closest-hit query goes on to
 //! what lies behind and an any-hit query passes. The flags are one bit per triangle, kept only
 //! for meshes that have a flagged triangle; every other mesh is walked by a kernel without the
 //! test (chosen once per instance visit), so opaque geometry pays nothing.
@@ -29,7 +29,7 @@ pub use shadow_cache::ShadowCache;
 
 /// Decides whether a hit on a triangle that may be cut out is really there (alpha cut-outs:
 /// glTF `alphaMode: MASK`, MTL `map_d`; the renderer reads the texels).
-pub trait HitFilter: Send + Sync + std::fmt::Debug {
+pub trait CutoutTest: Send + Sync + std::fmt::Debug {
     /// True if the surface is absent at barycentric weights (`u`, `v`) of the second and third
     /// corner of stored triangle `prim` of mesh `mesh`. Must be a function of its arguments
     /// alone: every query and every packet lane asks it the same question.
@@ -41,7 +41,7 @@ pub trait HitFilter: Send + Sync + std::fmt::Debug {
 struct Cutouts {
     /// Per mesh, one bit per stored triangle that may be cut; empty for a mesh with none.
     may_cut: Vec<Vec<u64>>,
-    filter: Arc<dyn HitFilter>,
+    test: Arc<dyn CutoutTest>,
 }
 
 /// Triangle geometry as the acceleration structure stores it.
@@ -172,9 +172,9 @@ impl Accel {
     }
 
     /// Subjects the triangles flagged in `may_cut` (per mesh, per stored triangle; a missing or
-    /// short list flags none) to `filter`: a hit it calls cut is no hit for any query. Meshes
+    /// short list flags none) to `test`: a hit it calls cut is no hit for any query. Meshes
     /// without a flagged triangle keep the walk without the test.
-    pub fn set_cutouts(&mut self, may_cut: &[Vec<bool>], filter: Arc<dyn HitFilter>) {
+    pub fn set_cutouts(&mut self, may_cut: &[Vec<bool>], test: Arc<dyn CutoutTest>) {
         let bits: Vec<Vec<u64>> = (0..self.meshes.len())
             .map(|mesh| {
                 let flags = may_cut.get(mesh).map_or(&[][..], Vec::as_slice);
@@ -188,7 +188,7 @@ impl Accel {
                 bits
             })
             .collect();
-        self.cutouts = bits.iter().any(|b| !b.is_empty()).then_some(Cutouts { may_cut: bits, filter });
+        self.cutouts = bits.iter().any(|b| !b.is_empty()).then_some(Cutouts { may_cut: bits, test });
     }
 
     /// Moves the instances (same count and meshes as at build time) and rebuilds the top level.
@@ -408,7 +408,7 @@ impl Accel {
     fn may_cut(&self, mesh: u32) -> Option<MayCut<'_>> {
         self.cutouts.as_ref().and_then(|c| {
             let bits = &c.may_cut[mesh as usize];
-            (!bits.is_empty()).then_some(MayCut { bits, filter: c.filter.as_ref(), mesh })
+            (!bits.is_empty()).then_some(MayCut { bits, test: c.test.as_ref(), mesh })
         })
     }
 
@@ -439,7 +439,7 @@ impl Accel {
 }
 
 /// What becomes of a triangle test's hits in a mesh's walk: kept as they are ([`Opaque`]), or
-/// filtered by the cut-outs ([`MayCut`]).
+/// tested against the cut-outs ([`MayCut`]).
 trait Cut<L: Lanes>: Copy {
     /// The hits of triangle `prim` that are there.
     fn keep(&self, prim: u32, h: TriangleHit<L>) -> TriangleHit<L>;
@@ -456,11 +456,11 @@ impl<L: Lanes> Cut<L> for Opaque {
     }
 }
 
-/// A mesh with cut-outs: the hits on a flagged triangle go through the filter.
+/// A mesh with cut-outs: the hits on a flagged triangle go through its test.
 #[derive(Clone, Copy)]
 struct MayCut<'a> {
     bits: &'a [u64],
-    filter: &'a dyn HitFilter,
+    test: &'a dyn CutoutTest,
     mesh: u32,
 }
 
@@ -474,7 +474,7 @@ impl MayCut<'_> {
 impl Cut<f32> for MayCut<'_> {
     #[inline(always)]
     fn keep(&self, prim: u32, mut h: TriangleHit<f32>) -> TriangleHit<f32> {
-        if h.mask && self.flagged(prim) && self.filter.is_cut(self.mesh, prim, h.u, h.v) {
+        if h.mask && self.flagged(prim) && self.test.is_cut(self.mesh, prim, h.u, h.v) {
             h.mask = false;
         }
         h
@@ -489,7 +489,7 @@ impl Cut<F32x8> for MayCut<'_> {
             // Lane by lane, the question a single ray asks: packets stay equal to single rays.
             let (u, v) = (h.u.to_array(), h.v.to_array());
             let cut = (0..8)
-                .filter(|&i| hits & (1 << i) != 0 && self.filter.is_cut(self.mesh, prim, u[i], v[i]))
+                .filter(|&i| hits & (1 << i) != 0 && self.test.is_cut(self.mesh, prim, u[i], v[i]))
                 .fold(0, |bits, i| bits | (1 << i));
             h.mask = h.mask.and_not(M32x8::from_bitmask(cut));
         }

@@ -16,7 +16,7 @@ mod traverse;
 mod triangle;
 
 pub use aabb::Aabb;
-pub use accel::{Accel, HitFilter, ShadowCache, TriangleMesh};
+pub use accel::{Accel, CutoutTest, ShadowCache, TriangleMesh};
 pub use build::{BuildParams, build_binned_sah, build_binned_sah_by, build_sweep_sah};
 pub use bvh::Bvh;
 pub use node::Node;

@@ -5,7 +5,7 @@
 
 use glam::{Affine3A, Quat, Vec3};
 use igi_bvh::{
-    Aabb, Accel, Hit, HitFilter, HitPacket8, INVALID_ID, Ray, RayPacket8, ShadowCache, TriangleMesh,
+    Aabb, Accel, CutoutTest, Hit, HitPacket8, INVALID_ID, Ray, RayPacket8, ShadowCache, TriangleMesh,
     intersect_triangle, offset_ray_origin,
 };
 use igi_simd::M32x8;
@@ -175,7 +175,7 @@ fn packets_equal_single_rays_lane_by_lane() {
 #[derive(Debug)]
 struct CutEvenTriangles;
 
-impl HitFilter for CutEvenTriangles {
+impl CutoutTest for CutEvenTriangles {
     fn is_cut(&self, _mesh: u32, prim: u32, u: f32, _v: f32) -> bool {
         prim.is_multiple_of(2) && u > 0.3
     }

@@ -163,7 +163,7 @@ mod tests {
                 transform: Affine3A::from_rotation_y(0.5),
             }],
         };
-        (frame.pixels, frame.frame, frame.settings.seed) = (PixelFormat::Srgb8, 3, 9);
+        (frame.pixels, frame.number, frame.settings.seed) = (PixelFormat::Srgb8, 3, 9);
         let job = FrameJob { id: 7, frame };
         for m in [
             Message::Frame(Box::new(job)),

@@ -5,20 +5,20 @@
 
 use igi_cluster::{ClusterError, ClusterSource, InProcess, Master, MasterConfig, Setup, WorkerSummary};
 use igi_render::PreparedScene;
-use igi_session::{Session, ViewSettings};
+use igi_session::{Session, ViewerSettings};
 use std::thread::JoinHandle;
 
 fn session(source: Option<Box<dyn igi_render::FrameSource>>) -> Session {
     let scene = PreparedScene::new(igi_scene::builtin("cornell-box").unwrap());
     let camera = *scene.camera().unwrap();
-    let settings = ViewSettings {
+    let settings = ViewerSettings {
         frame: igi_render::FrameSettings {
             width: 48,
             height: 40,
-            ..ViewSettings::for_scene(scene.bounds().diagonal()).frame
+            ..ViewerSettings::for_scene(scene.bounds().diagonal()).frame
         },
         playing: false,
-        ..ViewSettings::for_scene(scene.bounds().diagonal())
+        ..ViewerSettings::for_scene(scene.bounds().diagonal())
     };
     match source {
         Some(source) => Session::with_source(scene, camera, settings, source).unwrap(),
@@ -87,8 +87,8 @@ fn a_cluster_viewer_gives_up_a_long_frame_for_new_input() {
     use std::time::Duration;
     let (source, nodes) = cluster(1);
     let session = session(Some(Box::new(source)));
-    let fast = ViewSettings { accumulate: false, ..session.settings().clone() };
-    let slow = ViewSettings {
+    let fast = ViewerSettings { accumulate: false, ..session.settings().clone() };
+    let slow = ViewerSettings {
         frame: igi_render::FrameSettings {
             width: 3840,
             height: 2160,

@@ -311,7 +311,7 @@ pub struct FrameState {
     /// The pixels the frame delivers: the display image only, or linear radiance too.
     pub pixels: PixelFormat,
     /// Frame number (0 for the first frame).
-    pub frame: u32,
+    pub number: u32,
     /// Draw fresh VPLs and sample patterns every frame (for progressive accumulation); off,
     /// a still scene keeps the same VPLs and does not flicker.
     pub reseed_per_frame: bool,
@@ -339,7 +339,7 @@ impl FrameState {
             pose: ScenePose::default(),
             tone_map: ToneMapper::LINEAR,
             pixels: PixelFormat::Linear,
-            frame: 0,
+            number: 0,
             reseed_per_frame: false,
         }
     }
@@ -347,7 +347,7 @@ impl FrameState {
     /// The seed this frame's samples derive from: the base seed, mixed with the frame number if
     /// `reseed_per_frame` is set.
     pub fn sample_seed(&self) -> u32 {
-        if self.reseed_per_frame { hash_combine(self.settings.seed, self.frame) } else { self.settings.seed }
+        if self.reseed_per_frame { hash_combine(self.settings.seed, self.number) } else { self.settings.seed }
     }
 
     /// The part of a sample sequence this frame uses when each frame takes `per_frame`
@@ -362,10 +362,10 @@ impl FrameState {
         }
         let per_frame = per_frame.clamp(1, crate::sampling::MAX_SAMPLES);
         let frames_per_sequence = crate::sampling::MAX_SAMPLES / per_frame;
-        let epoch = self.frame / frames_per_sequence;
+        let epoch = self.number / frames_per_sequence;
         SequenceSpan {
             seed: hash_combine(self.settings.seed, epoch),
-            first: (self.frame % frames_per_sequence) * per_frame,
+            first: (self.number % frames_per_sequence) * per_frame,
         }
     }
 }

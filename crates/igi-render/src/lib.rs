@@ -50,7 +50,7 @@ pub mod schedule;
 
 pub use camera::PinholeCamera;
 pub use first_sight::default_light::{DefaultLight, add_default_light};
-pub use first_sight::viewpoint::{default_camera, start_camera};
+pub use first_sight::start_camera::{default_camera, start_camera};
 pub use frame::{Estimator, FrameSettings, FrameState};
 pub use image::film::Film;
 pub use image::frame_image::{FrameImage, PixelFormat, Pixels};

@@ -36,7 +36,7 @@
 //!    ([`AreaLights::sample`](crate::prepared::lights::AreaLights::sample), density p_A), one shadow ray.
 //! 3. Every point, spot and directional light, one shadow ray each (E_l = I/d² or E).
 //! 4. Next-event estimation of the sky: one direction ω drawn by its importance
-//!    ([`EnvironmentLight::sample`](crate::prepared::environment::EnvironmentLight::sample)), one shadow
+//!    ([`EnvironmentLight::sample`](crate::prepared::environment_light::EnvironmentLight::sample)), one shadow
 //!    ray; the sky seen by a path leaving the scene and this estimate are weighted against
 //!    each other by the power heuristic as (1) and (2) are.
 //!

@@ -18,23 +18,23 @@
 
 //!
 //! Its parts: the light sources as the renderers sample them ([`lights`]), the environment
-//! (sky) light ([`environment`]), alpha cut-outs ([`cutout`]), a viewer's changes to the
+//! (sky) light ([`environment_light`]), alpha cut-outs ([`cutout`]), a viewer's changes to the
 //! lights ([`light_edit`]) and where the scene stands for a frame ([`scene_pose`]).
 
 pub mod cutout;
-pub mod environment;
+pub mod environment_light;
 pub mod light_edit;
 pub mod lights;
 pub mod scene_pose;
 
 use crate::prepared::cutout::{AlphaCutouts, MeshMaterials};
-use crate::prepared::environment::EnvironmentLight;
+use crate::prepared::environment_light::EnvironmentLight;
 use crate::prepared::light_edit::{LightEdit, LightId};
 use crate::prepared::lights::{AreaLights, EmissionMap, EmissiveTriangle, eye_light, footprint_mean};
 use crate::prepared::scene_pose::ScenePose;
 use glam::{Affine3A, Mat3A, Vec2, Vec3};
 use igi_bvh::{Aabb, Accel, Hit, TriangleMesh};
-use igi_scene::{Animation, Camera, Environment, Light, Material, Pose, Scene, Texture, View};
+use igi_scene::{Animation, Camera, Environment, Light, Material, Pose, SavedView, Scene, Texture};
 use igi_shade::texture::MipMap;
 use igi_shade::{BrdfParams, BrdfParams8, MaterialShader, ShaderTable, ShadingHit8, SurfaceShader};
 use igi_simd::{F32x8, I32x8, M32x8, Vec3x8};
@@ -119,7 +119,7 @@ pub struct PreparedScene {
     textures: Vec<Texture>,
     lights: Vec<Light>,
     camera: Option<Camera>,
-    views: Vec<View>,
+    views: Vec<SavedView>,
     front: Option<Vec3>,
     area_lights: AreaLights,
     /// The sky, if the scene has one that emits anything.
@@ -523,7 +523,7 @@ impl PreparedScene {
     }
 
     /// The scene's named cameras ([`igi_scene::Scene::views`]).
-    pub fn views(&self) -> &[View] {
+    pub fn views(&self) -> &[SavedView] {
         &self.views
     }
 
@@ -533,7 +533,7 @@ impl PreparedScene {
     }
 
     /// Fixes the camera the scene starts with (for a scene without one, the default camera
-    /// chosen once, [`crate::first_sight::viewpoint::default_camera`]).
+    /// chosen once, [`crate::first_sight::start_camera::default_camera`]).
     pub fn set_camera(&mut self, camera: Camera) {
         self.camera = Some(camera);
     }

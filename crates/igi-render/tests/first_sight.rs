@@ -1,5 +1,5 @@
 //! What a scene without a camera or without light shows on the first command (issue 14,
-//! items 1 and 2): the default camera (`igi_render::first_sight::viewpoint`) stands inside an interior at
+//! items 1 and 2): the default camera (`igi_render::first_sight::start_camera`) stands inside an interior at
 //! eye height looking along its long axis, or frames an object from a three-quarter view
 //! above its front; the default light (`igi_render::first_sight::default_light`) lights what its own
 //! lights do not, a sun and a sky in the open and a light at the camera when enclosed.

@@ -109,7 +109,7 @@ fn the_seed_and_the_reseeded_frame_number_are_the_only_randomness() {
 
     // A still scene without reseeding keeps its VPLs: no flicker from frame to frame.
     let mut later = base.clone();
-    later.frame = 3;
+    later.number = 3;
     assert!(film_bits(&a) == film_bits(&render(&later)), "frame 3 differs from frame 0 without reseeding");
     // With reseeding every frame draws fresh VPLs and sample patterns.
     let (mut r0, mut r3) = (base.clone(), later.clone());
@@ -131,14 +131,14 @@ fn accumulation_is_the_mean_of_the_reseeded_frames() {
     let mut scene = every_path_room();
     let mut r = FrameRenderer::new(2);
     let mut f = frame(5);
-    f.frame = 10;
+    f.number = 10;
     let accumulated = r.render_accumulated(&mut scene, &f, 3, &|_, _| {}).expect("valid settings");
     let mut sum: Vec<Vec3> = vec![Vec3::ZERO; accumulated.image.film().unwrap().pixels().len()];
     let mut rays = igi_render::RayCounts::default();
     let mut g = f.clone();
     g.reseed_per_frame = true;
     for i in 0..3 {
-        g.frame = f.frame + i;
+        g.number = f.number + i;
         let one = r.render(&mut scene, &g, &|_, _| {}).expect("valid settings");
         rays += one.rays;
         let one = one.image.into_film().unwrap();

@@ -187,11 +187,11 @@ fn same_frame_gives_the_same_vpls_at_any_thread_count() {
     };
     // A still scene keeps its VPLs from frame to frame unless asked to reseed.
     let (paths, base) = vpls(&f);
-    assert_eq!(vpls(&FrameState { frame: 5, ..f.clone() }).1, base);
+    assert_eq!(vpls(&FrameState { number: 5, ..f.clone() }).1, base);
     let mut reseeded = f.clone();
     reseeded.reseed_per_frame = true;
     let (paths0, frame0) = vpls(&reseeded);
-    let (paths1, frame1) = vpls(&FrameState { frame: 1, ..reseeded.clone() });
+    let (paths1, frame1) = vpls(&FrameState { number: 1, ..reseeded.clone() });
     assert_ne!(frame0, frame1);
     assert_ne!(vpls(&FrameState { settings: FrameSettings { seed: 8, ..f.settings }, ..f.clone() }).1, base);
     // The number of paths comes from a fixed-seed pilot: it stays put.

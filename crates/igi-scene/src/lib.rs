@@ -24,7 +24,6 @@
 
 pub mod animation;
 mod builtin;
-mod catalog;
 mod digest;
 mod environment;
 mod error;
@@ -38,6 +37,7 @@ mod ply;
 mod report;
 mod resources;
 pub mod scene_file;
+mod scene_files;
 mod shader;
 mod statements;
 mod texels;
@@ -48,7 +48,6 @@ use std::path::Path;
 
 pub use animation::{Animation, Pose, Track};
 pub use builtin::{MAX_GENERATED_TRIANGLES, builtin, builtin_names, builtin_spec, closest_builtin};
-pub use catalog::{MAX_CATALOG_FILES, name_under, scene_files_under};
 pub use environment::Environment;
 pub use error::{Location, SceneError};
 use format::{Format, format_of};
@@ -56,10 +55,12 @@ pub use format::{MeshFormat, parse_mesh};
 pub use light::Light;
 pub use model::CameraDefect;
 pub use model::{
-    AlphaMask, Camera, CoverageChannel, Instance, Material, MaterialKind, Mesh, Scene, Texture, View, Wrap,
+    AlphaMask, Camera, CoverageChannel, Instance, Material, MaterialKind, Mesh, SavedView, Scene, Texture,
+    Wrap,
 };
 pub use report::LoadReport;
 pub use resources::read_regular_file;
+pub use scene_files::{MAX_CATALOG_FILES, name_under, scene_files_under};
 pub use shader::{Pattern, ShaderDesc};
 pub use texels::{ColorSpace, Image, Texels, srgb_to_linear};
 pub use texture::DEFAULT_TEXTURE_BUDGET;

@@ -237,17 +237,17 @@ pub struct Camera {
 
 /// A named camera of a scene ([`Scene::views`]).
 #[derive(Clone, Debug, PartialEq)]
-pub struct View {
+pub struct SavedView {
     /// The name a user picks it by.
     pub name: String,
     /// Where it looks from.
     pub camera: Camera,
 }
 
-impl View {
+impl SavedView {
     /// `name`, or `name (2)`, `name (3)`, ..., whichever no view of `views` has (two files,
     /// or two glTF cameras, may have the same name).
-    pub fn free_name(views: &[View], name: String) -> String {
+    pub fn free_name(views: &[SavedView], name: String) -> String {
         let taken = |n: &str| views.iter().any(|v| v.name == n);
         if !taken(&name) {
             return name;
@@ -354,7 +354,7 @@ pub struct Scene {
     /// Further named cameras (a scene file's `[[view]]` entries, a glTF file's cameras): the
     /// viewers offer them as saved views, `igi render --view NAME` renders from one. Names
     /// are unique.
-    pub views: Vec<View>,
+    pub views: Vec<SavedView>,
     /// The unit direction the model faces, where its format defines one (glTF 2.0: +Z);
     /// `None` for OBJ, PLY, built-in scenes and scene files. The default camera looks at an
     /// object's front.

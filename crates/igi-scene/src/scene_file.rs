@@ -119,7 +119,7 @@ use std::path::Path;
 use toml::Spanned;
 
 use crate::error::{Location, SceneError};
-use crate::model::{Camera, Scene, View};
+use crate::model::{Camera, SavedView, Scene};
 use crate::report::LoadReport;
 use crate::resources;
 use crate::texture::TextureSet;
@@ -188,8 +188,8 @@ fn parse_file(
         scene.views.push(view_from(&check, &scene.views, index, view)?);
     }
     for view in from_files {
-        let name = View::free_name(&scene.views, view.name);
-        scene.views.push(View { name, ..view });
+        let name = SavedView::free_name(&scene.views, view.name);
+        scene.views.push(SavedView { name, ..view });
     }
     Ok(scene)
 }
@@ -197,10 +197,10 @@ fn parse_file(
 /// `[[view]]` entry `index`, whose name none of `views` (the entries before it) has.
 fn view_from(
     check: &Checker,
-    views: &[View],
+    views: &[SavedView],
     index: usize,
     view: &Spanned<ViewSpec>,
-) -> Result<View, SceneError> {
+) -> Result<SavedView, SceneError> {
     let field = format!("view[{index}]");
     let spec = view.get_ref();
     if spec.name.trim().is_empty() {
@@ -214,7 +214,7 @@ fn view_from(
         ));
     }
     let camera = camera_from(check, view.span(), &spec.camera(), &field)?;
-    Ok(View { name: spec.name.clone(), camera })
+    Ok(SavedView { name: spec.name.clone(), camera })
 }
 
 /// The camera of `spec`, checked; errors name `field` (`camera`, `view[2]`) and `span`'s line.

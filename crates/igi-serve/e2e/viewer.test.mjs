@@ -6,7 +6,7 @@
 // Checks: on a 1920x1080 page the image fills the area beside the panel, rendered at that
 // size times the resolution scale (auto, full, 1/4); a non-blank frame arrives; a mouse drag over the image turns the view (the next
 // frame differs); a click selects the object under it (named, outlined); a setting changed in the side panel comes back in the frames' settings and
-// changes the image (the filter off; the wide filter's strength K 3 -> 1); and, with the
+// changes the image (the filter off; the coarse interleave K 3 -> 1); and, with the
 // animation playing, the latency from an input event to the first frame drawn with it is at
 // most 3 frame times + 40 ms (median of 12 drags): the frame in progress when the input comes,
 // the frame with it, encoding, sending and drawing, and one frame of slack for a busy 2-core
@@ -96,7 +96,7 @@ const unfiltered = await pixels();
 assert.notEqual(unfiltered.sum, turned.sum, "the unfiltered frame differs");
 console.log(`filter off: the frames say filter = false, pixel sum ${turned.sum} -> ${unfiltered.sum}`);
 
-// The wide filter (issue 16): with the filter back on, its strength K from the default 3 to 1
+// The coarse interleave (issue 16): with the filter back on, K from the default 3 to 1
 // (one level, the paper's 3 × 3 filter) comes back in the frames' settings and changes the image.
 await page.locator("#filter").click();
 await waitFor(() => window.__igi.header.stats.settings.filter === true);
@@ -109,7 +109,7 @@ await waitFor(() => window.__igi.header.stats.settings.coarse_interleave === 1);
 await page.waitForTimeout(200);
 const narrow = await pixels();
 assert.notEqual(narrow.sum, wide.sum, "the frame with one filter level differs");
-console.log(`wide filter K 3 -> 1: pixel sum ${wide.sum} -> ${narrow.sum}`);
+console.log(`coarse interleave K 3 -> 1: pixel sum ${wide.sum} -> ${narrow.sum}`);
 
 // Once still, the frame comes losslessly.
 await waitFor(() => window.__igi.kind === "png");

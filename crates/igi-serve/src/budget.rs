@@ -8,7 +8,7 @@
 //! shadow ray per VPL of its set (the AA samples share the set, paper 3.3), the two terms
 //! that dominate an interactive frame. Mirrors, glass and the filter add a fraction on top.
 
-use igi_session::ViewSettings;
+use igi_session::ViewerSettings;
 
 /// A bound on the rays of one frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -24,7 +24,7 @@ impl FrameBudget {
     pub const DEFAULT: Self = Self { max_mrays: 2000 };
 
     /// Refuses `settings` whose frame would cost more than the budget.
-    pub fn check(&self, settings: &ViewSettings) -> Result<(), OverBudget> {
+    pub fn check(&self, settings: &ViewerSettings) -> Result<(), OverBudget> {
         let rays = rays_per_frame(settings);
         if rays > self.max_mrays.saturating_mul(1_000_000) {
             return Err(OverBudget {
@@ -44,7 +44,7 @@ impl Default for FrameBudget {
 }
 
 /// The rays of one frame: pixels × (AA samples + VPLs per pixel).
-pub fn rays_per_frame(settings: &ViewSettings) -> u64 {
+pub fn rays_per_frame(settings: &ViewerSettings) -> u64 {
     let pixels = u64::from(settings.frame.width) * u64::from(settings.frame.height);
     pixels.saturating_mul(u64::from(settings.frame.aa) + u64::from(settings.frame.vpls_per_pixel))
 }
@@ -62,7 +62,7 @@ pub fn rays_per_frame(settings: &ViewSettings) -> u64 {
 )]
 pub struct OverBudget {
     /// The refused settings.
-    pub settings: ViewSettings,
+    pub settings: ViewerSettings,
     /// Their cost, millions of rays (rounded up).
     pub mrays: u64,
     /// The budget.
@@ -75,20 +75,20 @@ mod tests {
 
     #[test]
     fn the_defaults_and_the_panels_ranges_fit_the_hostile_frame_does_not() {
-        let defaults = ViewSettings::for_scene(1.0);
+        let defaults = ViewerSettings::for_scene(1.0);
         let budget = FrameBudget::DEFAULT;
         assert!(budget.check(&defaults).is_ok());
-        let panel_max = ViewSettings {
+        let panel_max = ViewerSettings {
             frame: igi_render::FrameSettings { vpls_per_pixel: 4096, aa: 64, ..defaults.clone().frame },
             ..defaults.clone()
         };
         assert!(budget.check(&panel_max).is_ok());
-        let uhd = ViewSettings {
+        let uhd = ViewerSettings {
             frame: igi_render::FrameSettings { width: 3840, height: 2160, ..defaults.clone().frame },
             ..defaults.clone()
         };
         assert!(budget.check(&uhd).is_ok());
-        let hostile = ViewSettings {
+        let hostile = ViewerSettings {
             frame: igi_render::FrameSettings {
                 width: 3840,
                 height: 2160,

@@ -6,7 +6,7 @@ use crate::budget::FrameBudget;
 use crate::encoder::EncodedFrame;
 use axum::extract::ws::{CloseFrame, Message, WebSocket, close_code};
 use futures_util::{SinkExt, StreamExt};
-use igi_session::{FrameStats, Input, RenderLoop, ViewSettings};
+use igi_session::{FrameStats, Input, RenderLoop, ViewerSettings};
 use serde::{Deserialize, Serialize};
 use std::collections::VecDeque;
 use std::sync::{Arc, Mutex};
@@ -98,7 +98,7 @@ pub async fn handle(
                 if let Input::Settings { settings } = &message.input {
                     // Refused here, so the error reaches the connection that sent them.
                     let refused = match settings.validate() {
-                        Err(e) => Some(ViewSettings::panel_message(&e)),
+                        Err(e) => Some(ViewerSettings::panel_message(&e)),
                         Ok(()) => budget.check(settings).err().map(|e| e.to_string()),
                     };
                     if let Some(why) = refused {

@@ -2,7 +2,8 @@
 //! The browser sends these as JSON text messages (`{"type": "key", "key": "w", "down": true}`);
 //! the window builds them from its events.
 
-use crate::settings::ViewSettings;
+use crate::settings::ViewerSettings;
+use igi_render::frame::SettingsError;
 use serde::{Deserialize, Serialize};
 
 /// How drags and keys move the camera.
@@ -89,7 +90,7 @@ pub enum Input {
     /// Replace the settings.
     Settings {
         /// The new settings (checked; invalid ones are refused with a message).
-        settings: ViewSettings,
+        settings: ViewerSettings,
     },
     /// Select the scene's light source `index` ([`crate::FrameStats::lights`]): a right-drag
     /// then moves (a sun: turns) it.
@@ -121,4 +122,41 @@ pub enum Input {
         /// The view's name.
         name: String,
     },
+}
+
+/// Why a session refused an input; the refused input changes nothing.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum InputError {
+    /// A setting outside its range ([`Input::Settings`]).
+    #[error(transparent)]
+    Settings(#[from] SettingsError),
+    /// [`Input::View`] named a view the scene does not have.
+    #[error("view: the scene has no view {0:?}")]
+    NoView(String),
+    /// A light input named a light source the scene does not have (`index` counts from 0).
+    #[error("light: the scene has {count} light sources, not {}", index + 1)]
+    NoLight {
+        /// The index asked for.
+        index: usize,
+        /// The scene's light sources.
+        count: usize,
+    },
+    /// [`Input::EditLight`] asked for an intensity or colour out of range; the message says
+    /// which.
+    #[error("light: {0}")]
+    Light(String),
+    /// [`Input::Open`] could not open the scene; the message says why.
+    #[error("open: {0}")]
+    Open(String),
+}
+
+impl InputError {
+    /// The error as the viewers' panels say it: a setting by its label there
+    /// ([`ViewerSettings::panel_message`]), the rest as they are.
+    pub fn panel_message(&self) -> String {
+        match self {
+            Self::Settings(e) => ViewerSettings::panel_message(e),
+            other => other.to_string(),
+        }
+    }
 }

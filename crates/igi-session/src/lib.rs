@@ -4,7 +4,7 @@
 //! - [`input`]: what a user can do ([`Input`]): keys, drags, scrolls, picks and settings, as
 //!   serialisable messages (the browser sends them as JSON).
 //! - [`camera_control`]: fly (WASD/QE + mouse look) and orbit (drag around a target) cameras.
-//! - [`settings`]: [`ViewSettings`], the render and display settings a viewer exposes.
+//! - [`settings`]: [`ViewerSettings`], the render and display settings a viewer exposes.
 //! - [`session`]: [`Session`], which owns the prepared scene, the scene clock, the selection
 //!   and the view's [`igi_render::Progressive`] (accumulation and tone-map feedback), and
 //!   turns inputs into frames rendered by an [`igi_render::FrameSource`] (this machine's
@@ -28,9 +28,9 @@ pub mod settings;
 
 pub use camera_control::CameraController;
 pub use catalog::{SceneCatalog, SceneOpener};
-pub use input::{Button, CameraMode, Input, Key};
+pub use input::{Button, CameraMode, Input, InputError, Key};
 pub use light_control::{LightControl, LightKind};
 pub use render_loop::{LatestFrame, RenderLoop, Watching};
 pub use selection::Selection;
 pub use session::{Frame, FrameStats, Session};
-pub use settings::ViewSettings;
+pub use settings::ViewerSettings;

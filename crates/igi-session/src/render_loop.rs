@@ -232,7 +232,7 @@ fn run(mut session: Session, shared: &Shared, latest: &LatestFrame) {
             drop(state);
             for input in &inputs {
                 if let Err(e) = session.handle(input) {
-                    shared.lock().errors.push(crate::ViewSettings::panel_message(&e));
+                    shared.lock().errors.push(e.panel_message());
                 }
             }
             state = shared.lock();

@@ -9,10 +9,10 @@
 
 use crate::camera_control::CameraController;
 use crate::catalog::SceneCatalog;
-use crate::input::{Button, CameraMode, Input};
+use crate::input::{Button, CameraMode, Input, InputError};
 use crate::light_control::{LightControl, LightKind};
 use crate::selection::Selection;
-use crate::settings::{MAX_ACCUMULATION, ViewSettings};
+use crate::settings::{MAX_ACCUMULATION, ViewerSettings};
 use glam::{Affine3A, Vec3};
 use igi_render::frame::{FrameSettings, SettingsError};
 use igi_render::{
@@ -38,7 +38,7 @@ pub struct FrameStats {
     /// Render time of the frames in the image's mean, seconds.
     pub accumulated_seconds: f64,
     /// The image is the mean of as many frames as the settings' convergence target asks
-    /// ([`ViewSettings::converge_frames`], [`ViewSettings::converge_seconds`]): nothing more
+    /// ([`ViewerSettings::converge_frames`], [`ViewerSettings::converge_seconds`]): nothing more
     /// is rendered until something changes.
     pub converged: bool,
     /// Wall time of this frame: posing the scene and rendering, ms.
@@ -60,7 +60,7 @@ pub struct FrameStats {
     /// The selected object, its name and its outline on this frame.
     pub selected: Option<Selection>,
     /// The settings the frame was rendered with.
-    pub settings: ViewSettings,
+    pub settings: ViewerSettings,
     /// The camera mode.
     pub mode: CameraMode,
     /// The camera of the frame (the viewers' "save view" prints it as a scene-file snippet).
@@ -118,7 +118,7 @@ pub struct Session {
     controller: CameraController,
     home: Camera,
     fly_speed: f32,
-    settings: ViewSettings,
+    settings: ViewerSettings,
     progressive: Progressive,
     /// Render time of the frames in `progressive`, seconds.
     accumulated_seconds: f64,
@@ -148,7 +148,7 @@ impl Session {
     pub fn new(
         scene: PreparedScene,
         camera: Camera,
-        settings: ViewSettings,
+        settings: ViewerSettings,
         threads: usize,
     ) -> Result<Self, SettingsError> {
         Self::with_source(scene, camera, settings, Box::new(FrameRenderer::new(threads)))
@@ -158,7 +158,7 @@ impl Session {
     pub fn with_source(
         scene: PreparedScene,
         camera: Camera,
-        settings: ViewSettings,
+        settings: ViewerSettings,
         source: Box<dyn FrameSource>,
     ) -> Result<Self, SettingsError> {
         settings.validate()?;
@@ -222,7 +222,7 @@ impl Session {
     }
 
     /// The current settings.
-    pub fn settings(&self) -> &ViewSettings {
+    pub fn settings(&self) -> &ViewerSettings {
         &self.settings
     }
 
@@ -280,9 +280,10 @@ impl Session {
                 && self.accumulated_seconds >= f64::from(s.converge_seconds))
     }
 
-    /// Applies an input. Invalid settings are refused (the error names the field) and change
+    /// Applies an input. An input it cannot apply (invalid settings, a view or light the scene
+    /// does not have, a scene that does not open) is refused with the reason and changes
     /// nothing.
-    pub fn handle(&mut self, input: &Input) -> Result<(), SettingsError> {
+    pub fn handle(&mut self, input: &Input) -> Result<(), InputError> {
         self.inputs += 1;
         if self.controller.handle(input, self.settings.frame.height) {
             self.changed = true;
@@ -300,10 +301,7 @@ impl Session {
             Input::Drag { dx, dy, button: Button::Secondary } => self.drag_selected(*dx, *dy),
             Input::View { name } => {
                 let Some(view) = self.scene.views().iter().find(|v| &v.name == name) else {
-                    return Err(SettingsError {
-                        field: "view",
-                        message: format!("the scene has no view {name:?}"),
-                    });
+                    return Err(InputError::NoView(name.clone()));
                 };
                 let (camera, speed) = (view.camera, self.controller.speed());
                 self.look_from(&camera, speed);
@@ -319,17 +317,16 @@ impl Session {
                 let no_light = self.no_light(*index);
                 let light = self.lights.get_mut(*index).ok_or(no_light)?;
                 let before = (light.intensity, light.colour);
-                light
-                    .set(*intensity, *colour)
-                    .map_err(|message| SettingsError { field: "light", message })?;
+                light.set(*intensity, *colour).map_err(InputError::Light)?;
                 self.changed |= before != (light.intensity, light.colour);
             }
             Input::Open { name } => {
-                let refuse = |message: String| SettingsError { field: "open", message };
                 let (catalog, current) = self.catalog.as_mut().ok_or_else(|| {
-                    refuse("this viewer opens no other scenes (a cluster's nodes hold theirs)".into())
+                    InputError::Open(
+                        "this viewer opens no other scenes (a cluster's nodes hold theirs)".into(),
+                    )
                 })?;
-                let scene = catalog.open(name).map_err(refuse)?;
+                let scene = catalog.open(name).map_err(InputError::Open)?;
                 name.clone_into(current);
                 self.replace_scene(scene);
             }
@@ -375,11 +372,8 @@ impl Session {
     }
 
     /// The error for a light index the scene does not have.
-    fn no_light(&self, index: usize) -> SettingsError {
-        SettingsError {
-            field: "light",
-            message: format!("the scene has {} light sources, not {}", self.lights.len(), index + 1),
-        }
+    fn no_light(&self, index: usize) -> InputError {
+        InputError::NoLight { index, count: self.lights.len() }
     }
 
     /// Moves the selection by a drag of (dx, dy) pixels: an object, or a point or spot
@@ -485,7 +479,7 @@ impl Session {
             } else {
                 PixelFormat::Linear
             },
-            frame: self.progressive.frames(),
+            number: self.progressive.frames(),
             reseed_per_frame: self.settings.accumulate,
         };
         let out = match self.renderer.render_frame(&mut self.scene, &frame, cancel, &|_, _| {}) {

@@ -1,4 +1,4 @@
-//! [`ViewSettings`]: what a viewer lets the user change, in one serialisable struct (the
+//! [`ViewerSettings`]: what a viewer lets the user change, in one serialisable struct (the
 //! browser receives and sends it as JSON): the frame's settings ([`FrameSettings`], the record
 //! `igi render` uses too), the tone map, the convergence target and the animation clock.
 
@@ -12,10 +12,10 @@ pub const MAX_SPEED: f32 = 100.0;
 pub const MAX_SKY: f32 = 100.0;
 /// Largest number of frames a still view accumulates (then rendering pauses).
 pub const MAX_ACCUMULATION: u32 = 4096;
-/// Default of [`ViewSettings::converge_frames`]: as many frames as `igi render --frames 64`
+/// Default of [`ViewerSettings::converge_frames`]: as many frames as `igi render --frames 64`
 /// averages for a converged image.
 pub const DEFAULT_CONVERGE_FRAMES: u32 = 64;
-/// Largest [`ViewSettings::converge_seconds`]: a day.
+/// Largest [`ViewerSettings::converge_seconds`]: a day.
 pub const MAX_CONVERGE_SECONDS: f32 = 86_400.0;
 /// Largest image of a viewer (a 4K UHD frame): a viewer keeps a few images of this size.
 pub const MAX_PIXELS: u64 = 3840 * 2160;
@@ -24,12 +24,12 @@ pub const MAX_PIXELS: u64 = 3840 * 2160;
 /// `igi render` uses too, and beside them what only a viewer has. The browser receives and
 /// sends it as one flat JSON object.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct ViewSettings {
+pub struct ViewerSettings {
     /// The settings of the frames (image size, VPLs, interleaving, filter, clamp, seed, …).
     #[serde(flatten)]
     pub frame: FrameSettings,
     /// Fixed exposure in stops, or `None` for Reinhard's operator from the previous frame's
-    /// statistics with [`ViewSettings::key`].
+    /// statistics with [`ViewerSettings::key`].
     pub exposure: Option<f32>,
     /// Reinhard key (middle grey), used without a fixed exposure.
     pub key: f32,
@@ -51,7 +51,7 @@ pub struct ViewSettings {
     pub sky: f32,
 }
 
-impl ViewSettings {
+impl ViewerSettings {
     /// A viewer's defaults with the frame settings `frame`.
     pub fn new(frame: FrameSettings) -> Self {
         Self {
@@ -128,7 +128,7 @@ impl ViewSettings {
             "width" | "height" => "image size",
             "vpls" => "VPLs per pixel",
             "interleave" => "interleave n × m",
-            "coarse-interleave" => "wide filter K",
+            "coarse-interleave" => "coarse interleave K",
             "aa" => "AA samples",
             "clamp" => "clamp d_min",
             "specular-bounces" => "specular bounces",

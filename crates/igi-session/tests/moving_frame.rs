@@ -7,7 +7,7 @@
 //! VPLs the view needs.
 
 use igi_render::PreparedScene;
-use igi_session::{Button, Frame, Input, Session, ViewSettings};
+use igi_session::{Button, Frame, Input, Session, ViewerSettings};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -37,14 +37,14 @@ fn mean_luma(frame: &Frame) -> f64 {
 fn after_moves(scene: igi_scene::Scene, name: &str) -> Vec<(f64, f64)> {
     let scene = PreparedScene::new(scene);
     let camera = *scene.camera().expect("the scene has a camera");
-    let settings = ViewSettings {
+    let settings = ViewerSettings {
         frame: igi_render::FrameSettings {
             width: 160,
             height: 120,
-            ..ViewSettings::for_scene(scene.bounds().diagonal()).frame
+            ..ViewerSettings::for_scene(scene.bounds().diagonal()).frame
         },
         playing: false,
-        ..ViewSettings::for_scene(scene.bounds().diagonal())
+        ..ViewerSettings::for_scene(scene.bounds().diagonal())
     };
     let mut session = Session::new(scene, camera, settings, 2).unwrap();
     still_view(&mut session);

@@ -9,24 +9,24 @@ use igi_render::{
     PreparedScene,
 };
 use igi_session::settings::MAX_ACCUMULATION;
-use igi_session::{Button, Input, RenderLoop, Session, ViewSettings};
+use igi_session::{Button, Input, RenderLoop, Session, ViewerSettings};
 use std::time::Duration;
 
 const SIZE: u32 = 40;
 
-fn settings(scene: &PreparedScene) -> ViewSettings {
-    ViewSettings {
+fn settings(scene: &PreparedScene) -> ViewerSettings {
+    ViewerSettings {
         frame: igi_render::FrameSettings {
             width: SIZE,
             height: SIZE,
-            ..ViewSettings::for_scene(scene.bounds().diagonal()).frame
+            ..ViewerSettings::for_scene(scene.bounds().diagonal()).frame
         },
         playing: false,
-        ..ViewSettings::for_scene(scene.bounds().diagonal())
+        ..ViewerSettings::for_scene(scene.bounds().diagonal())
     }
 }
 
-fn session(name: &str, configure: impl FnOnce(&mut ViewSettings)) -> Session {
+fn session(name: &str, configure: impl FnOnce(&mut ViewerSettings)) -> Session {
     let scene = PreparedScene::new(igi_scene::builtin(name).unwrap());
     let camera = *scene.camera().unwrap();
     let mut s = settings(&scene);
@@ -154,17 +154,17 @@ fn invalid_settings_are_refused_and_change_nothing() {
     let mut session = session("cornell-box", |_| {});
     let good = session.settings().clone();
     for bad in [
-        ViewSettings { frame: igi_render::FrameSettings { aa: 0, ..good.clone().frame }, ..good.clone() },
-        ViewSettings {
+        ViewerSettings { frame: igi_render::FrameSettings { aa: 0, ..good.clone().frame }, ..good.clone() },
+        ViewerSettings {
             frame: igi_render::FrameSettings { width: 100_000, ..good.clone().frame },
             ..good.clone()
         },
-        ViewSettings {
+        ViewerSettings {
             frame: igi_render::FrameSettings { width: 8000, height: 8000, ..good.clone().frame },
             ..good.clone()
         },
-        ViewSettings { speed: f32::NAN, ..good.clone() },
-        ViewSettings { exposure: Some(f32::INFINITY), ..good.clone() },
+        ViewerSettings { speed: f32::NAN, ..good.clone() },
+        ViewerSettings { exposure: Some(f32::INFINITY), ..good.clone() },
     ] {
         assert!(session.handle(&Input::Settings { settings: bad }).is_err());
     }
@@ -196,7 +196,7 @@ fn the_render_loop_delivers_newest_frames_with_their_inputs() {
     let idle = render_loop.latest().get().unwrap();
     assert!(render_loop.latest().wait_newer(idle.stats.id, Duration::from_millis(300)).is_none());
     // Bad settings are reported, not applied.
-    let mut bad = ViewSettings::for_scene(1.0);
+    let mut bad = ViewerSettings::for_scene(1.0);
     bad.frame.aa = 0;
     render_loop.send(Input::Settings { settings: bad });
     let deadline = std::time::Instant::now() + Duration::from_secs(10);
@@ -269,10 +269,10 @@ fn the_sky_strength_scales_the_sky_and_zero_turns_it_off() {
     // The generated tree under its sun and sky.
     let scene = PreparedScene::new(igi_scene::builtin_spec("maple-tree:triangles=180k").unwrap().unwrap());
     let camera = *scene.camera().unwrap();
-    let s = ViewSettings { accumulate: false, playing: false, ..settings(&scene) };
+    let s = ViewerSettings { accumulate: false, playing: false, ..settings(&scene) };
     let mut session = Session::new(scene, camera, s, 2).unwrap();
     let mut sky_pixel = |strength: f32| {
-        let settings = ViewSettings { sky: strength, ..session.settings().clone() };
+        let settings = ViewerSettings { sky: strength, ..session.settings().clone() };
         session.handle(&Input::Settings { settings }).unwrap();
         let frame = session.render(0.0).unwrap();
         // The top right corner: open sky beside the tree.
@@ -317,7 +317,7 @@ fn a_still_view_stops_at_its_convergence_target() {
     let mut bad = session.settings().clone();
     bad.frame.vpls_per_pixel = 0;
     let error = session.handle(&Input::Settings { settings: bad }).unwrap_err();
-    let message = ViewSettings::panel_message(&error);
+    let message = error.panel_message();
     assert!(message.starts_with("VPLs per pixel: "), "{message}");
     assert!(!session.needs_frame(), "a refused change renders nothing");
 }
@@ -325,8 +325,8 @@ fn a_still_view_stops_at_its_convergence_target() {
 /// The probe's settings, whose frame takes minutes on two threads: 3840x2160 pixels, each with
 /// 64 primary rays and 4096 VPLs (about 2 · 10¹⁰ rays on the Cornell box, 57 Mrays/s per idle
 /// core; one 64-pixel tile is 1/2040 of it).
-fn slow(settings: &ViewSettings) -> ViewSettings {
-    ViewSettings {
+fn slow(settings: &ViewerSettings) -> ViewerSettings {
+    ViewerSettings {
         frame: igi_render::FrameSettings {
             width: 3840,
             height: 2160,
@@ -434,7 +434,7 @@ fn a_view_moves_the_camera_there_and_an_unknown_one_is_refused() {
     assert_eq!(there.stats.accumulated, 1, "a new view starts the mean anew");
     assert_ne!(there.image.srgb8(), first.image.srgb8());
     let err = session.handle(&Input::View { name: "roof".into() }).unwrap_err();
-    assert_eq!(ViewSettings::panel_message(&err), "view: the scene has no view \"roof\"");
+    assert_eq!(err.panel_message(), "view: the scene has no view \"roof\"");
 }
 
 #[test]
@@ -479,9 +479,9 @@ fn lights_are_listed_edited_dragged_and_reset() {
 
     // Bad values are refused in the panel's words; reset puts every light back.
     let err = session.handle(&Input::EditLight { index: 1, intensity: -1.0, colour: [1.0; 3] }).unwrap_err();
-    assert_eq!(ViewSettings::panel_message(&err), "light: intensity -1 is not between 0 and 1000");
+    assert_eq!(err.panel_message(), "light: intensity -1 is not between 0 and 1000");
     let err = session.handle(&Input::SelectLight { index: 7 }).unwrap_err();
-    assert_eq!(ViewSettings::panel_message(&err), "light: the scene has 2 light sources, not 8");
+    assert_eq!(err.panel_message(), "light: the scene has 2 light sources, not 8");
     session.handle(&Input::Reset).unwrap();
     let reset = session.render(0.0).unwrap();
     assert_eq!((reset.stats.lights[1].intensity, reset.stats.lights[1].colour), (1.0, [1.0; 3]));
@@ -493,10 +493,7 @@ fn lights_are_listed_edited_dragged_and_reset() {
 fn a_listed_scene_opens_in_place_and_nothing_else_does() {
     let mut session = session("cornell-box", |s| s.playing = false);
     let err = session.handle(&Input::Open { name: "animated-room".into() }).unwrap_err();
-    assert!(
-        ViewSettings::panel_message(&err).starts_with("open: this viewer opens no other scenes"),
-        "{err}"
-    );
+    assert!(err.panel_message().starts_with("open: this viewer opens no other scenes"), "{err}");
     let names = vec!["cornell-box".to_string(), "animated-room".to_string(), "broken.obj".to_string()];
     let opener: igi_session::SceneOpener = Box::new(|name: &str| match igi_scene::builtin(name) {
         Some(scene) => Ok(PreparedScene::new(scene)),
@@ -513,7 +510,7 @@ fn a_listed_scene_opens_in_place_and_nothing_else_does() {
         ("broken.obj", "open: broken.obj: cannot load"),
     ] {
         let err = session.handle(&Input::Open { name: name.into() }).unwrap_err();
-        assert_eq!(ViewSettings::panel_message(&err), message);
+        assert_eq!(err.panel_message(), message);
     }
     assert_eq!(session.render(0.0).unwrap().stats.triangles, cornell.stats.triangles);
 

@@ -166,7 +166,7 @@ impl Panel {
             });
             section("Filter", false).show(ui, |ui| {
             ui.checkbox(&mut s.frame.filter, "discontinuity filter");
-            row(ui, "wide filter K (1: off)", DragValue::new(&mut s.frame.coarse_interleave).range(1..=4));
+            row(ui, "coarse interleave K (1: off)", DragValue::new(&mut s.frame.coarse_interleave).range(1..=4));
             row(ui, "normal cosine ≥", DragValue::new(&mut s.frame.filter_normal).range(-1.0..=1.0).speed(0.01));
             row(ui, "depth ratio ≤", DragValue::new(&mut s.frame.filter_depth).range(0.0..=10.0).speed(0.01));
             });

@@ -32,10 +32,11 @@ pub struct FrameArgs {
     /// Interleave pattern NxM: the frame has N·M VPL sets, one per pixel of every NxM block.
     #[arg(long, default_value = "3x3", value_parser = parse_nxm, help_heading = "Instant radiosity")]
     pub interleave: [u32; 2],
-    /// Wide filter: a second level of interleaving K times coarser, merged by a second filter
-    /// level over K×K blocks of NxM pixels, so each pixel's light is averaged from N·M·K² VPL
-    /// sets instead of N·M at the same VPLs per pixel (less of the blotchy low-frequency noise
-    /// of one frame, ARCHITECTURE.md "Two levels of interleaving"). 1 turns it off.
+    /// Coarse interleave K: a second level of interleaving K times coarser, merged by a second
+    /// filter level over K×K blocks of NxM pixels, so each pixel's light is averaged from
+    /// N·M·K² VPL sets instead of N·M at the same VPLs per pixel (less of the blotchy
+    /// low-frequency noise of one frame, ARCHITECTURE.md "Two levels of interleaving"). 1 turns
+    /// it off.
     #[arg(long, default_value_t = FrameSettings::default().coarse_interleave, help_heading = "Filter")]
     pub coarse_interleave: u32,
     /// Primary rays per pixel (interleaved super-sampling: a pixel whose rays all see one

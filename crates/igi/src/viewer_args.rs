@@ -7,7 +7,7 @@ use crate::progress::StageSpinner;
 use anyhow::{Context, Result};
 use clap::Args;
 use igi_session::settings::DEFAULT_CONVERGE_FRAMES;
-use igi_session::{SceneCatalog, Session, ViewSettings};
+use igi_session::{SceneCatalog, Session, ViewerSettings};
 
 /// Primary rays per pixel of the viewers: an interactive frame first.
 const VIEWER_AA: u32 = 1;
@@ -92,14 +92,14 @@ impl ViewerArgs {
         drop(spinner);
         let mut frame = self.frame.frame_state(&prepared)?;
         frame.settings.aa = self.frame.aa.unwrap_or(VIEWER_AA);
-        let settings = ViewSettings {
+        let settings = ViewerSettings {
             exposure: self.exposure,
             accumulate: !self.no_accumulate,
             converge_frames: self.converge_frames,
             converge_seconds: self.converge_seconds,
             playing: !self.paused,
             speed: self.speed,
-            ..ViewSettings::new(frame.settings)
+            ..ViewerSettings::new(frame.settings)
         };
         let mut session = match source {
             Some(source) => Session::with_source(prepared, frame.camera, settings, source)?,

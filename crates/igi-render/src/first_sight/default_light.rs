@@ -17,7 +17,7 @@
 //! same decision from the same scene.
 
 use crate::camera::PinholeCamera;
-use crate::first_sight::viewpoint::start_camera;
+use crate::first_sight::start_camera::start_camera;
 use crate::frame::{FrameSettings, FrameState};
 use crate::image::tonemap::luminance;
 use crate::image::tonemap::{ToneMap, ToneMapper};

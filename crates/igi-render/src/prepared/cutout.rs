@@ -1,5 +1,5 @@
 //! Alpha cut-outs (glTF `alphaMode: MASK`, glTF 2.0 section 3.9.4; MTL `map_d`) as the
-//! acceleration structure's [`HitFilter`]: a hit on a triangle of a masked material is no hit
+//! acceleration structure's [`CutoutTest`]: a hit on a triangle of a masked material is no hit
 //! where the coverage there (the mask's factor × its texel at the hit's texture coordinates)
 //! is below the cutoff. Every ray asks the same question whatever it is for (camera, shadow,
 //! VPL walk, path tracer), so a cut texel is not there for any of them. The walk knows no ray
@@ -8,7 +8,7 @@
 
 use crate::image::tonemap::luminance;
 use glam::Vec2;
-use igi_bvh::HitFilter;
+use igi_bvh::CutoutTest;
 use igi_scene::{CoverageChannel, Material};
 use igi_shade::texture::MipMap;
 use std::sync::Arc;
@@ -114,7 +114,7 @@ impl AlphaCutouts {
     }
 }
 
-impl HitFilter for AlphaCutouts {
+impl CutoutTest for AlphaCutouts {
     fn is_cut(&self, mesh: u32, prim: u32, u: f32, v: f32) -> bool {
         let Some(Some(cutouts)) = self.meshes.get(mesh as usize) else { return false };
         let Some(mask) = self.masks.get(cutouts.mask[prim as usize] as usize) else { return false };

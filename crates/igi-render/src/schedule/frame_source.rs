@@ -42,8 +42,8 @@ pub trait FrameSource: Send + std::fmt::Debug {
         false
     }
 
-    /// Renders `frames` frames from `frame` on (frame numbers `frame.frame`,
-    /// `frame.frame + 1`, …; with more than one, each with fresh VPLs and sample patterns)
+    /// Renders `frames` frames from `frame` on (frame numbers `frame.number`,
+    /// `frame.number + 1`, …; with more than one, each with fresh VPLs and sample patterns)
     /// into `view`, which starts a new mean, and shows it: a linear frame's mean, or an 8-bit
     /// frame as it came. `progress(done, total)` counts tiles over all frames. Rays, times and
     /// VPLs of the output are the sums over the frames.
@@ -64,7 +64,7 @@ pub trait FrameSource: Send + std::fmt::Debug {
         let (mut rays, mut times, mut vpls) = (RayCounts::default(), PhaseTimes::default(), 0);
         view.reset();
         for i in 0..frames {
-            f.frame = frame.frame.wrapping_add(i);
+            f.number = frame.number.wrapping_add(i);
             let done_before = per_frame.saturating_mul(i);
             let one = self.render_frame(scene, &f, &CancelToken::new(), &|done, _| {
                 progress(done_before.saturating_add(done), total)

@@ -21,7 +21,7 @@ use glam::{Affine3A, Vec3};
 use super::shapes::{cuboid, quad, sphere};
 use crate::animation::{AnimatedInstance, AnimatedLight, Animation, AnimationNode, RotationTrack, Track};
 use crate::light::Light;
-use crate::model::{Camera, Instance, Material, Scene, View};
+use crate::model::{Camera, Instance, Material, SavedView, Scene};
 use crate::validate::{MeshBuilder, Part};
 
 const WHITE: u32 = 0;
@@ -161,11 +161,11 @@ pub(super) fn scene() -> Scene {
         instances,
         lights: vec![orbit],
         views: vec![
-            View {
+            SavedView {
                 name: "statue".into(),
                 camera: Camera::looking_at(Vec3::new(1.4, 1.6, 1.6), Vec3::new(0.0, 1.0, 0.0), 50.0),
             },
-            View {
+            SavedView {
                 name: "high corner".into(),
                 camera: Camera::looking_at(
                     Vec3::new(-HALF + 0.2, HEIGHT - 0.2, HALF - 0.2),

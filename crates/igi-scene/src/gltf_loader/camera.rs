@@ -4,7 +4,7 @@
 use glam::{Mat4, Vec3};
 
 use super::loader::Loader;
-use crate::model::{Camera, View};
+use crate::model::{Camera, SavedView};
 
 impl Loader<'_> {
     /// Adds the node's camera to the views, and takes it as the scene's if it is the first
@@ -34,8 +34,8 @@ impl Loader<'_> {
                     .or(node.name())
                     .filter(|n| !n.trim().is_empty())
                     .map_or_else(|| format!("camera {}", camera.index()), str::to_string);
-                let name = View::free_name(&self.scene.views, name);
-                self.scene.views.push(View { name, camera: view });
+                let name = SavedView::free_name(&self.scene.views, name);
+                self.scene.views.push(SavedView { name, camera: view });
                 if moving.is_some() {
                     self.report.warn(
                         self.file,

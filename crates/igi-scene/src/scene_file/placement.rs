@@ -15,7 +15,7 @@ use crate::animation::{AnimatedInstance, AnimatedLight, AnimationNode, RotationT
 use crate::error::{Location, SceneError};
 use crate::format;
 use crate::light::Light;
-use crate::model::{Instance, Material, Scene, View};
+use crate::model::{Instance, Material, SavedView, Scene};
 use crate::report::LoadReport;
 use crate::resources;
 use crate::texture::TextureSet;
@@ -236,8 +236,8 @@ fn append(
             scene.camera = sub.camera.map(|camera| camera.transformed(&placement));
         }
         for view in sub.views {
-            let name = View::free_name(&scene.views, view.name);
-            scene.views.push(View { name, camera: view.camera.transformed(&placement) });
+            let name = SavedView::free_name(&scene.views, view.name);
+            scene.views.push(SavedView { name, camera: view.camera.transformed(&placement) });
         }
     }
 }

@@ -1,7 +1,7 @@
 //! A server on a free localhost port with a small session of the animated room.
 
 use igi_render::PreparedScene;
-use igi_session::{RenderLoop, Session, ViewSettings};
+use igi_session::{RenderLoop, Session, ViewerSettings};
 use std::net::SocketAddr;
 use std::sync::Arc;
 use tokio::sync::oneshot;
@@ -36,15 +36,15 @@ pub fn start(width: u32, height: u32) -> TestServer {
 pub fn start_with(width: u32, height: u32, limits: igi_serve::Limits) -> TestServer {
     let scene = PreparedScene::new(igi_scene::builtin("animated-room").unwrap());
     let camera = *scene.camera().unwrap();
-    let settings = ViewSettings {
+    let settings = ViewerSettings {
         frame: igi_render::FrameSettings {
             width,
             height,
-            ..ViewSettings::for_scene(scene.bounds().diagonal()).frame
+            ..ViewerSettings::for_scene(scene.bounds().diagonal()).frame
         },
         playing: false,
         accumulate: false,
-        ..ViewSettings::for_scene(scene.bounds().diagonal())
+        ..ViewerSettings::for_scene(scene.bounds().diagonal())
     };
     let mut session = Session::new(scene, camera, settings, 1).unwrap();
     // Two built-in scenes to open.

@@ -111,7 +111,7 @@ pub fn run(args: &FrameBenchArgs) -> Result<()> {
         prepared.pose(&f.pose);
         let posed = start.elapsed();
         posing.set(posing.get() + posed);
-        f.frame = index;
+        f.number = index;
         f.tone_map = view.tone_mapper();
         let mut out = renderer.render_frame(&mut prepared, f, &CancelToken::new(), &|_, _| {})?;
         out.elapsed += posed;

@@ -278,7 +278,7 @@ fn reference(
         Method::Accumulated { frames } => {
             let mut mean = frame.clone();
             args.frame.still_image(&mut mean, scene);
-            mean.frame = REFERENCE_FIRST_FRAME;
+            mean.number = REFERENCE_FIRST_FRAME;
             let out = renderer.render_accumulated(scene, &mean, frames, &progress)?;
             out.image.into_film().context("an accumulated frame without its film")?
         }
@@ -363,7 +363,7 @@ fn flicker(
                 // One frame each: frame k as a playing viewer numbers it. Accumulated: every
                 // animation frame averages the same frames of the sequence, so their residual
                 // noise is alike and cancels in ΔL_ref instead of counting as flicker.
-                f.frame = if frames == 1 { k } else { 0 };
+                f.number = if frames == 1 { k } else { 0 };
                 let out = renderer.render_accumulated(scene, &f, frames, &|_, _| {})?;
                 let film = out.image.into_film().context("an accumulated frame without its film")?;
                 Ok(film.pixels().iter().map(|&p| luminance(p)).collect())
