@@ -10,7 +10,7 @@ use glam::{Vec2, Vec3};
 use igi_render::igi::vpl::VplSets;
 use igi_render::igi::vpl_lighting::GlossyLobe;
 use igi_render::image::tonemap::luminance;
-use igi_render::{PinholeCamera, PreparedScene};
+use igi_render::{Film, PinholeCamera, PreparedScene};
 use igi_scene::{Light, Material, MaterialKind};
 use std::f32::consts::PI;
 
@@ -29,6 +29,25 @@ fn glossy(name: &str) -> Material {
     }
 }
 
+/// The point light of the highlight tests, its intensity, and the eye that looks at its
+/// highlight on the plane y = 0.
+const LIGHT: Vec3 = Vec3::new(0.0, 1.5, -1.0);
+const INTENSITY: Vec3 = Vec3::new(2.0, 1.5, 1.0);
+const EYE: Vec3 = Vec3::new(0.0, 1.5, 1.0);
+
+/// One exact frame (pixel-centre rays, no filter) of a 10 × 10 plane of `material` lit by
+/// the point light at [`LIGHT`], seen from [`EYE`] at 48 × 36, and its camera.
+fn plane_under_the_light(material: Material) -> (Film, PinholeCamera) {
+    let mut prepared = PreparedScene::new(scene(
+        vec![horizontal_square("plane", Vec3::ZERO, Vec2::new(10.0, 10.0), true, 0)],
+        vec![material],
+        vec![Light::Point { position: LIGHT, intensity: INTENSITY }],
+    ));
+    let cam = camera(EYE, Vec3::ZERO, 50.0);
+    let frame = exact_frame(cam, 48, 36);
+    (render_igi(&mut prepared, &frame), PinholeCamera::new(&cam, 48, 36))
+}
+
 /// Where the ray from `origin` along `d` meets the plane y = 0 inside |x|, |z| < `half`.
 fn floor_point(origin: Vec3, d: Vec3, half: f32) -> Option<Vec3> {
     (d.y < 0.0).then(|| origin - origin.y / d.y * d).filter(|p| p.x.abs() < half && p.z.abs() < half)
@@ -40,21 +59,9 @@ fn point_light_highlight_on_a_glossy_plane_matches_the_closed_form() {
     // itself is exact, so every pixel is (ρ_d/π + ρ_s (n+2)/(2π) cosⁿα) I cos θ / d², with α
     // between the light direction and the mirror direction of the view direction. The camera
     // looks at the highlight, so the glossy term dominates near its centre.
-    let light = Vec3::new(0.0, 1.5, -1.0);
-    let intensity = Vec3::new(2.0, 1.5, 1.0);
-    let mut prepared = PreparedScene::new(scene(
-        vec![horizontal_square("plane", Vec3::ZERO, Vec2::new(10.0, 10.0), true, 0)],
-        vec![glossy("plane")],
-        vec![Light::Point { position: light, intensity }],
-    ));
-    let eye = Vec3::new(0.0, 1.5, 1.0);
-    let cam = camera(eye, Vec3::ZERO, 50.0);
-    let (w, h) = (48, 36);
-    let mut frame = igi_frame(cam, w, h);
-    frame.settings.aa = 1;
-    frame.settings.filter = false;
-    let film = render_igi(&mut prepared, &frame);
-    let pin = PinholeCamera::new(&cam, w, h);
+    let (light, intensity, eye) = (LIGHT, INTENSITY, EYE);
+    let (film, pin) = plane_under_the_light(glossy("plane"));
+    let (w, h) = (film.width(), film.height());
     let (mut checked, mut highlight) = (0, 0);
     for y in 0..h {
         for x in 0..w {
@@ -152,22 +159,10 @@ fn point_light_highlight_on_a_ggx_plane_matches_the_appendix_b_brdf() {
     // here with f the glTF BRDF (written out below from appendix B, not from igi_shade) of a
     // half-metallic gold plane: the 8-wide GGX terms of the VPL loop (D, G and S, each
     // multiplied back in after lighting) must reproduce it.
-    let light = Vec3::new(0.0, 1.5, -1.0);
-    let intensity = Vec3::new(2.0, 1.5, 1.0);
+    let (light, intensity, eye) = (LIGHT, INTENSITY, EYE);
     let (base, metallic, roughness) = (Vec3::new(1.0, 0.78, 0.34), 0.5f32, 0.3f32);
-    let mut prepared = PreparedScene::new(scene(
-        vec![horizontal_square("plane", Vec3::ZERO, Vec2::new(10.0, 10.0), true, 0)],
-        vec![gltf("plane", base, metallic, roughness)],
-        vec![Light::Point { position: light, intensity }],
-    ));
-    let eye = Vec3::new(0.0, 1.5, 1.0);
-    let cam = camera(eye, Vec3::ZERO, 50.0);
-    let (w, h) = (48, 36);
-    let mut frame = igi_frame(cam, w, h);
-    frame.settings.aa = 1;
-    frame.settings.filter = false;
-    let film = render_igi(&mut prepared, &frame);
-    let pin = PinholeCamera::new(&cam, w, h);
+    let (film, pin) = plane_under_the_light(gltf("plane", base, metallic, roughness));
+    let (w, h) = (film.width(), film.height());
     let a2 = roughness.powi(4);
     let f0 = Vec3::splat(0.04).lerp(base, metallic);
     let (mut checked, mut highlight) = (0, 0);

@@ -252,6 +252,19 @@ pub struct Receivers {
 }
 
 impl Receivers {
+    /// Each chunk of eight points with its diffuse, glossy and Schlick sums, in order: what
+    /// every light and VPL walks.
+    #[inline(always)]
+    fn chunks_and_sums(
+        &mut self,
+    ) -> impl Iterator<Item = (&Chunk, (&mut Vec3x8, (&mut Vec3x8, &mut Vec3x8)))> {
+        self.chunks.iter().zip(
+            self.diffuse_radiance
+                .iter_mut()
+                .zip(self.glossy_radiance.iter_mut().zip(self.schlick_radiance.iter_mut())),
+        )
+    }
+
     /// Removes every point.
     pub fn clear(&mut self) {
         self.chunks.clear();
@@ -345,12 +358,7 @@ impl Receivers {
             let vpl_cos_min = F32x8::splat(lobe_cutoff(vpl_exponent));
             let vpl_exponent = F32x8::splat(vpl_exponent);
             let mut cache = ShadowCache::default();
-            let chunks = self.chunks.iter().zip(
-                self.diffuse_radiance
-                    .iter_mut()
-                    .zip(self.glossy_radiance.iter_mut().zip(self.schlick_radiance.iter_mut())),
-            );
-            for (chunk, (acc, (acc_glossy, acc_schlick))) in chunks {
+            for (chunk, (acc, (acc_glossy, acc_schlick))) in self.chunks_and_sums() {
                 let origin = load(&chunk.origin);
                 let d = y - origin;
                 let dist2 = d.dot(d);
@@ -422,12 +430,7 @@ impl Receivers {
         let zero = F32x8::ZERO;
         for light in lights {
             let mut cache = ShadowCache::default();
-            let chunks = self.chunks.iter().zip(
-                self.diffuse_radiance
-                    .iter_mut()
-                    .zip(self.glossy_radiance.iter_mut().zip(self.schlick_radiance.iter_mut())),
-            );
-            for (chunk, (acc, (acc_glossy, acc_schlick))) in chunks {
+            for (chunk, (acc, (acc_glossy, acc_schlick))) in self.chunks_and_sums() {
                 let origin = load(&chunk.origin);
                 let active = M32x8::from_bitmask(chunk.bits);
                 let (wi, tfar, g, colour, mut valid) = match *light {

@@ -18,14 +18,9 @@ use std::time::{Duration, Instant};
 /// Arguments of `igi bench cluster`.
 #[derive(Debug, Args)]
 pub struct ClusterBenchArgs {
-    /// Built-in scene name or scene file.
-    pub scene: String,
-    /// Timed frames per node count (after the warm-up).
-    #[arg(long, default_value_t = 20)]
-    pub frames: u32,
-    /// Untimed frames first, per node count.
-    #[arg(long, default_value_t = 2)]
-    pub warmup: u32,
+    /// The scene and the frames timed, per node count.
+    #[command(flatten)]
+    pub timed: super::TimedFrames,
     /// Play the scene's animation (every node poses the scene each frame).
     #[arg(long)]
     pub animate: bool,
@@ -85,14 +80,14 @@ struct Report {
 
 /// Runs `igi bench cluster` (on rank 0; the other ranks render).
 pub fn run(args: &ClusterBenchArgs) -> Result<()> {
-    if !(1..=100_000).contains(&args.frames) {
+    if !(1..=100_000).contains(&args.timed.frames) {
         bail!("--frames must be between 1 and 100000");
     }
-    if args.warmup == 0 {
+    if args.timed.warmup == 0 {
         bail!("--warmup must be at least 1: the end of the warm-up starts the clock");
     }
     let cluster = ClusterArgs { cluster: true, broadcast_scene: args.broadcast_scene };
-    let root = match crate::cluster::start(&cluster, &args.scene, &args.frame)? {
+    let root = match crate::cluster::start(&cluster, &args.timed.scene, &args.frame)? {
         Rank::Root(root) => root,
         Rank::NodeDone => return Ok(()),
     };
@@ -123,7 +118,7 @@ pub fn run(args: &ClusterBenchArgs) -> Result<()> {
         // one is in, with the tone map of this one's statistics (paper 3.4).
         state.tone_map = view.tone_mapper();
         master.begin(job(0, &state))?;
-        let total = args.warmup + args.frames;
+        let total = args.timed.warmup + args.timed.frames;
         let (mut wait, mut busy, mut bytes_in, mut bytes_out) = (Duration::ZERO, Duration::ZERO, 0u64, 0u64);
         let mut tiles = vec![0u64; master.nodes()];
         let mut timed_from = Instant::now();
@@ -135,10 +130,10 @@ pub fn run(args: &ClusterBenchArgs) -> Result<()> {
                 state.tone_map = view.tone_mapper();
                 master.begin(job(i + 1, &state))?;
             }
-            if i + 1 == args.warmup {
+            if i + 1 == args.timed.warmup {
                 timed_from = Instant::now();
             }
-            if i >= args.warmup {
+            if i >= args.timed.warmup {
                 wait += out.wait;
                 busy += out.busy;
                 bytes_in += out.bytes_in;
@@ -147,7 +142,7 @@ pub fn run(args: &ClusterBenchArgs) -> Result<()> {
             }
         }
         let elapsed = timed_from.elapsed().as_secs_f64();
-        let n = f64::from(args.frames);
+        let n = f64::from(args.timed.frames);
         let fps = n / elapsed.max(1e-12);
         let one = steps.first().map_or(fps, |s| s.fps);
         steps.push(Step {
@@ -164,12 +159,12 @@ pub fn run(args: &ClusterBenchArgs) -> Result<()> {
     }
     let model = project(steps.last().context("no node count measured")?);
     let report = Report {
-        scene: args.scene.clone(),
+        scene: args.timed.scene.clone(),
         width: s.width,
         height: s.height,
         threads_per_rank: threads,
         aa: s.aa,
-        frames: args.frames,
+        frames: args.timed.frames,
         animate: args.animate,
         raw_8bit_bytes: raw,
         steps,

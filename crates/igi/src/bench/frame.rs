@@ -21,14 +21,9 @@ pub const ANIMATION_FPS: f32 = 25.0;
 /// Arguments of `igi bench frame`.
 #[derive(Debug, Args)]
 pub struct FrameBenchArgs {
-    /// Built-in scene name or scene file.
-    pub scene: String,
-    /// Timed frames (after the warm-up).
-    #[arg(long, default_value_t = 20)]
-    pub frames: u32,
-    /// Untimed frames first (thread start-up, caches).
-    #[arg(long, default_value_t = 2)]
-    pub warmup: u32,
+    /// The scene and the frames timed.
+    #[command(flatten)]
+    pub timed: super::TimedFrames,
     /// Fresh VPLs every frame (as in progressive accumulation); otherwise the VPLs stay.
     #[arg(long)]
     pub reseed: bool,
@@ -85,11 +80,11 @@ struct Report {
 
 /// Runs `igi bench frame`.
 pub fn run(args: &FrameBenchArgs) -> Result<()> {
-    if !(1..=100_000).contains(&args.frames) {
+    if !(1..=100_000).contains(&args.timed.frames) {
         bail!("--frames must be between 1 and 100000");
     }
     super::json_report::check_json(args.json.as_deref())?;
-    let scene = igi_scene::load_named(&args.scene).context("cannot load scene")?;
+    let scene = igi_scene::load_named(&args.timed.scene).context("cannot load scene")?;
     let mut prepared = args.frame.prepare(scene);
     let mut frame = args.frame.frame_state(&prepared)?;
     frame.reseed_per_frame = args.reseed;
@@ -120,7 +115,7 @@ pub fn run(args: &FrameBenchArgs) -> Result<()> {
         out.image = view.show().image;
         Ok(out)
     };
-    for i in 0..args.warmup {
+    for i in 0..args.timed.warmup {
         step(&mut frame, i)?;
     }
     let warmup_posing = posing.get();
@@ -129,8 +124,8 @@ pub fn run(args: &FrameBenchArgs) -> Result<()> {
     let mut rays = igi_render::RayCounts::default();
     let mut times = igi_render::PhaseTimes::default();
     let mut vpls = 0;
-    for i in 0..args.frames {
-        let out = step(&mut frame, args.warmup + i)?;
+    for i in 0..args.timed.frames {
+        let out = step(&mut frame, args.timed.warmup + i)?;
         total += out.elapsed;
         fastest = fastest.min(out.elapsed);
         rays += out.rays;
@@ -140,7 +135,7 @@ pub fn run(args: &FrameBenchArgs) -> Result<()> {
 
     let posing = posing.get() - warmup_posing;
     let s = &frame.settings;
-    let n = f64::from(args.frames);
+    let n = f64::from(args.timed.frames);
     let per_frame_ms = |d: Duration| d.as_secs_f64() * 1e3 / n / threads as f64;
     let phases_ms = Phase::ALL
         .iter()
@@ -151,7 +146,7 @@ pub fn run(args: &FrameBenchArgs) -> Result<()> {
         })
         .collect();
     let report = Report {
-        scene: args.scene.clone(),
+        scene: args.timed.scene.clone(),
         width: s.width,
         height: s.height,
         threads,
@@ -161,7 +156,7 @@ pub fn run(args: &FrameBenchArgs) -> Result<()> {
         aa: s.aa,
         filter: s.filter,
         clamp: s.clamp,
-        frames: args.frames,
+        frames: args.timed.frames,
         animate: args.animate,
         animate_ms: posing.as_secs_f64() * 1e3 / n,
         fps: n / total.as_secs_f64().max(1e-12),
@@ -173,7 +168,7 @@ pub fn run(args: &FrameBenchArgs) -> Result<()> {
         primary_rays: rays.primary,
         shadow_rays: rays.shadow,
         specular_rays: rays.specular,
-        vpls_per_frame: vpls / args.frames as usize,
+        vpls_per_frame: vpls / args.timed.frames as usize,
         clamp_energy_loss: loss,
     };
     print_report(&report);

@@ -15,7 +15,20 @@ pub mod rays;
 pub mod scale;
 mod workload;
 
-use clap::Subcommand;
+use clap::{Args, Subcommand};
+
+/// The scene a frame-rate benchmark renders and how many of its frames it times.
+#[derive(Debug, Args)]
+pub struct TimedFrames {
+    /// Built-in scene name or scene file.
+    pub scene: String,
+    /// Timed frames (after the warm-up).
+    #[arg(long, default_value_t = 20)]
+    pub frames: u32,
+    /// Untimed frames first (thread start-up, caches).
+    #[arg(long, default_value_t = 2)]
+    pub warmup: u32,
+}
 
 /// The benchmarks.
 #[derive(Debug, Subcommand)]
