@@ -222,10 +222,8 @@ fn a_silent_node_ends_the_job_naming_its_rank() {
 
 #[test]
 fn the_job_carries_on_while_a_node_is_silent_and_ends_naming_it_once_silent_past_the_limit() {
-    let (root, nodes, switches) = start_stoppable(2);
     let limit = Duration::from_secs(3);
-    let mut master = Master::connect(root, &setup("animated-room"), stop_config(limit)).unwrap();
-    let mut animation = Animation::new();
+    let (mut master, nodes, switches, mut animation) = two_stoppable_nodes(limit);
     // Frames of two small tiles, over in far less time than rank 0 takes between two looks
     // for silent nodes: the silence is still found.
     animation.state.settings.width = 32;
@@ -401,12 +399,17 @@ fn stop_config(silence_limit: Duration) -> MasterConfig {
     }
 }
 
+/// Rank 0 of two stoppable render nodes of the animated room, with a silence limit of
+/// `silence_limit` ([`stop_config`]), and the animation its frames follow.
+fn two_stoppable_nodes(silence_limit: Duration) -> (Master<InProcess>, Vec<Node>, Vec<Switch>, Animation) {
+    let (root, nodes, switches) = start_stoppable(2);
+    let master = Master::connect(root, &setup("animated-room"), stop_config(silence_limit)).unwrap();
+    (master, nodes, switches, Animation::new())
+}
+
 #[test]
 fn a_node_that_stops_answering_has_its_tiles_rendered_by_the_others_at_once() {
-    let (root, nodes, switches) = start_stoppable(2);
-    let mut master =
-        Master::connect(root, &setup("animated-room"), stop_config(Duration::from_secs(60))).unwrap();
-    let mut animation = Animation::new();
+    let (mut master, nodes, switches, mut animation) = two_stoppable_nodes(Duration::from_secs(60));
     let both = animation.frame(&mut master).unwrap();
     assert_eq!(both.iter().sum::<u32>(), 12);
     switches[1].stop();
@@ -424,10 +427,7 @@ fn a_node_that_stops_answering_has_its_tiles_rendered_by_the_others_at_once() {
 
 #[test]
 fn a_node_that_answers_again_is_given_tiles_again_and_its_stale_tiles_are_dropped() {
-    let (root, nodes, switches) = start_stoppable(2);
-    let mut master =
-        Master::connect(root, &setup("animated-room"), stop_config(Duration::from_secs(60))).unwrap();
-    let mut animation = Animation::new();
+    let (mut master, nodes, switches, mut animation) = two_stoppable_nodes(Duration::from_secs(60));
     animation.frame(&mut master).unwrap();
     switches[1].stop();
     for _ in 0..2 {
@@ -444,10 +444,7 @@ fn a_node_that_answers_again_is_given_tiles_again_and_its_stale_tiles_are_droppe
 
 #[test]
 fn a_node_still_silent_at_the_end_of_the_job_is_waited_for_then_the_job_is_aborted() {
-    let (root, nodes, switches) = start_stoppable(2);
-    let limit = Duration::from_secs(3);
-    let mut master = Master::connect(root, &setup("animated-room"), stop_config(limit)).unwrap();
-    let mut animation = Animation::new();
+    let (mut master, nodes, switches, mut animation) = two_stoppable_nodes(Duration::from_secs(3));
     animation.frame(&mut master).unwrap();
     switches[1].stop();
     animation.frame(&mut master).unwrap();
@@ -468,10 +465,7 @@ fn a_node_still_silent_at_the_end_of_the_job_is_waited_for_then_the_job_is_abort
 
 #[test]
 fn a_node_that_answers_while_the_job_ends_ends_with_it() {
-    let (root, nodes, switches) = start_stoppable(2);
-    let mut master =
-        Master::connect(root, &setup("animated-room"), stop_config(Duration::from_secs(60))).unwrap();
-    let mut animation = Animation::new();
+    let (mut master, nodes, switches, mut animation) = two_stoppable_nodes(Duration::from_secs(60));
     animation.frame(&mut master).unwrap();
     switches[1].stop();
     animation.frame(&mut master).unwrap();
