@@ -94,10 +94,10 @@
 
 use crate::camera::PinholeCamera;
 use crate::frame::FrameState;
-use crate::image::frame_image::{PixelFormat, Pixels, TileOutput};
+use crate::image::frame_image::{PixelFormat, TileOutput};
 use crate::image::stats::{PhaseTimes, RayCounts};
 use crate::image::tile::Tile;
-use crate::image::tonemap::{LuminanceStats, ToneMapper};
+use crate::image::tonemap::ToneMapper;
 use crate::prepared::lights::{self, SHADOW_SHORTEN};
 use crate::prepared::{PreparedScene, SurfacePoint};
 use crate::sampling::{MAX_SAMPLES, hash_combine, pixel_seed, sobol4};
@@ -167,15 +167,9 @@ impl<'a> PathTracer<'a> {
                 radiance.push(self.pixel(x, y, &mut rays));
             }
         }
-        let stats = LuminanceStats::of_pixels(&radiance);
-        TileOutput {
-            tile,
-            pixels: Pixels::encode(radiance, self.pixels, &self.tone_map),
-            stats,
-            // The path tracer's rays are camera paths: counted as primary rays.
-            rays: RayCounts { primary: rays, ..RayCounts::default() },
-            times: PhaseTimes::default(),
-        }
+        // The path tracer's rays are camera paths: counted as primary rays.
+        let rays = RayCounts { primary: rays, ..RayCounts::default() };
+        TileOutput::encode(tile, radiance, self.pixels, &self.tone_map, rays, PhaseTimes::default())
     }
 
     /// The radiance one camera path through pixel (x, y) brings back (see the module

@@ -34,11 +34,11 @@ use crate::igi::discontinuity::{DiscontinuityBuffer, FilterSample, Filtered};
 use crate::igi::interleave::Interleave;
 use crate::igi::vpl::VplSets;
 use crate::igi::vpl_lighting::{GlossyLobe, Receivers};
-use crate::image::frame_image::{PixelFormat, Pixels, TileOutput};
+use crate::image::frame_image::{PixelFormat, TileOutput};
 use crate::image::pixel_rect::PixelRect;
 use crate::image::stats::{Phase, PhaseTimes, RayCounts};
 use crate::image::tile::Tile;
-use crate::image::tonemap::{LuminanceStats, ToneMapper};
+use crate::image::tonemap::ToneMapper;
 use crate::prepared::{PreparedScene, SurfacePoint};
 use glam::Vec3;
 use igi_bvh::{Hit, Ray};
@@ -270,10 +270,7 @@ impl<'a> TilePipeline<'a> {
 
         let pixels = self.compose(&tile, &region, scratch);
         times.lap(Phase::Filter, &mut clock);
-        let stats = LuminanceStats::of_pixels(&pixels);
-        let pixels = Pixels::encode(pixels, self.pixels, &self.tone_map);
-        times.lap(Phase::ToneMap, &mut clock);
-        TileOutput { tile, pixels, stats, rays, times }
+        TileOutput::encode(tile, pixels, self.pixels, &self.tone_map, rays, times)
     }
 
     /// Filters the diffuse and glossy radiance and composes the tile's pixels.

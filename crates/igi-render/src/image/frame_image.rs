@@ -8,11 +8,12 @@
 
 use crate::image::film::{Film, copy_tile};
 use crate::image::output::to_srgb8;
-use crate::image::stats::{PhaseTimes, RayCounts};
+use crate::image::stats::{Phase, PhaseTimes, RayCounts};
 use crate::image::tile::Tile;
 use crate::image::tonemap::{LuminanceStats, ToneMapper};
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
+use std::time::Instant;
 
 /// The pixels a frame delivers.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -92,6 +93,26 @@ pub struct TileOutput {
     pub rays: RayCounts,
     /// Time per phase.
     pub times: PhaseTimes,
+}
+
+impl TileOutput {
+    /// What an estimator delivers for `tile` from its `radiance`, `rays` and `times`: its
+    /// luminance statistics and its pixels in `format` ([`Pixels::encode`] with `tone_map`),
+    /// the time they take counted as the tone-map phase.
+    pub fn encode(
+        tile: Tile,
+        radiance: Vec<Vec3>,
+        format: PixelFormat,
+        tone_map: &ToneMapper,
+        rays: RayCounts,
+        mut times: PhaseTimes,
+    ) -> Self {
+        let start = Instant::now();
+        let stats = LuminanceStats::of_pixels(&radiance);
+        let pixels = Pixels::encode(radiance, format, tone_map);
+        times.add(Phase::ToneMap, start.elapsed());
+        Self { tile, pixels, stats, rays, times }
+    }
 }
 
 /// A frame's image: the display image, and the linear radiance it was made from if the frame
