@@ -106,7 +106,7 @@ impl Default for FrameSettings {
             compensate_clamp: false,
             specular_bounces: 5,
             bounces: limits::MAX_BOUNCES,
-            tile_size: 64,
+            tile_size: 128,
             seed: 0,
         }
     }

@@ -4,6 +4,8 @@
 //! the running mean of a still view ([`progressive`]), what a frame cost ([`stats`]), and the
 //! image files igi writes ([`output`]).
 
+pub mod blotch;
+pub mod convergence;
 pub mod film;
 pub mod frame_image;
 pub mod output;

@@ -83,7 +83,7 @@ pub struct FrameArgs {
     #[arg(long, default_value_t = 0, help_heading = "Performance")]
     pub threads: usize,
     /// Tile edge length in pixels (the image does not depend on it).
-    #[arg(long, default_value_t = 64, help_heading = "Performance")]
+    #[arg(long, default_value_t = FrameSettings::default().tile_size, help_heading = "Performance")]
     pub tile_size: u32,
     /// Scene clock in seconds: animated instances and lights take their pose at this time.
     #[arg(long, default_value_t = 0.0, help_heading = "Animation")]

@@ -245,6 +245,8 @@ fn the_cluster_benchmark_scales_over_the_nodes_and_only_8_bit_pixels_travel() {
         "1",
         "--threads",
         "1",
+        "--tile-size",
+        "64",
         "--json",
         json.to_str().unwrap(),
     ];

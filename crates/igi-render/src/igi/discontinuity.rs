@@ -93,11 +93,14 @@ pub struct DiscontinuityBuffer {
     layers: Vec<u32>,
 }
 
-/// One level of the filter: the window of taps around a pixel and the distance between taps.
+/// One level of the filter: the window of taps around a pixel, the distance between taps, and
+/// how the taps are weighted.
 #[derive(Clone, Copy, Debug)]
 struct Level {
     window: Window,
     stride: (u32, u32),
+    /// The coarse level's tent ([`Interleave::coarse_weight`]), else every tap weighs one.
+    tent: Option<Interleave>,
 }
 
 impl DiscontinuityBuffer {
@@ -110,7 +113,8 @@ impl DiscontinuityBuffer {
     /// With a coarse level ([`Interleave::coarse`] above 1) the first level filters every point
     /// the second level reads, the tile grown by the coarse window at stride (n, m); its results
     /// replace the points' values, and the second level averages them over the coarse window's
-    /// taps with the same similarity test, as the à-trous wavelet filter does one scale up
+    /// taps with the same similarity test, weighted by the tent of
+    /// [`Interleave::coarse_weight`], as the à-trous wavelet filter does one scale up
     /// (Dammertz et al. 2010).
     /// `points` must cover `region`, the tile plus the apron of [`Interleave::region`].
     pub fn filter(
@@ -127,12 +131,16 @@ impl DiscontinuityBuffer {
         out.diffuse_radiance.extend(points.iter().map(|p| p.diffuse_radiance));
         out.glossy_radiance.clear();
         out.glossy_radiance.extend_from_slice(glossy_in);
-        let fine = Level { window: interleave.window(), stride: (1, 1) };
+        let fine = Level { window: interleave.window(), stride: (1, 1), tent: None };
         if interleave.coarse == 1 {
             self.level(region, &tile.rect, fine, settings, points, interleave.aa, out);
             return;
         }
-        let coarse = Level { window: interleave.coarse_window(), stride: (interleave.n, interleave.m) };
+        let coarse = Level {
+            window: interleave.coarse_window(),
+            stride: (interleave.n, interleave.m),
+            tent: Some(*interleave),
+        };
         let ([l, r], [u, d]) = coarse.window;
         let read = PixelRect {
             x0: tile.rect.x0.saturating_sub(l * interleave.n).max(region.x0),
@@ -145,8 +153,9 @@ impl DiscontinuityBuffer {
         self.level(region, &tile.rect, coarse, settings, points, interleave.aa, out);
     }
 
-    /// One filter level: for each point inside `rect`, the mean of the values in the cells of
-    /// `level`'s taps around its pixel (inside `region`) whose points are [`similar`] to it.
+    /// One filter level: for each point inside `rect`, the weighted mean of the values in the
+    /// cells of `level`'s taps around its pixel (inside `region`) whose points are [`similar`]
+    /// to it.
     #[allow(clippy::too_many_arguments)]
     fn level(
         &self,
@@ -174,9 +183,12 @@ impl DiscontinuityBuffer {
             let y0 = y - sy * up.min((y - region.y0) / sy);
             let y1 = y + sy * down.min((region.y1 - 1 - y) / sy);
             let mut sum = [Vec3::ZERO; 3];
-            let mut count = 0u32;
+            let mut count = 0.0f32;
             for qy in (y0..=y1).step_by(sy as usize) {
                 for qx in (x0..=x1).step_by(sx as usize) {
+                    let w = level
+                        .tent
+                        .map_or(1.0, |il| il.coarse_weight(qx.abs_diff(x) / sx, qy.abs_diff(y) / sy));
                     let index = region.index(qx, qy);
                     let cell = &grid[index];
                     // A neighbour with a point per sample shows this point's sample.
@@ -188,21 +200,21 @@ impl DiscontinuityBuffer {
                         _ => (cell, None),
                     };
                     // The centre always counts (a normal's dot product with itself can round
-                    // below a threshold of 1), so count ≥ 1.
+                    // below a threshold of 1), so count > 0.
                     if (qx == x && qy == y) || similar(p, q, settings) {
-                        sum[0] += q.diffuse_radiance;
+                        sum[0] += w * q.diffuse_radiance;
                         if glossy {
                             let [g, s] = edge.map_or(glossy_grid[index], |at| self.edge_glossy[at]);
-                            sum[1] += g;
-                            sum[2] += s;
+                            sum[1] += w * g;
+                            sum[2] += w * s;
                         }
-                        count += 1;
+                        count += w;
                     }
                 }
             }
-            out.diffuse_radiance[i] = sum[0] / count as f32;
+            out.diffuse_radiance[i] = sum[0] / count;
             if glossy {
-                out.glossy_radiance[i] = [sum[1] / count as f32, sum[2] / count as f32];
+                out.glossy_radiance[i] = [sum[1] / count, sum[2] / count];
             }
         }
     }
@@ -390,6 +402,43 @@ mod tests {
             assert!(out[region.index(4, y)].x <= 1.0);
             assert!(out[region.index(5, y)].x >= 10.0);
         }
+    }
+
+    /// One set's error at one pixel (a close VPL) spreads as the coarse level's tent, in
+    /// steps of a third of its height, not as a 9×9 plateau with edges (the squares a box of
+    /// K×K taps made of every set's error).
+    #[test]
+    fn one_sets_error_spreads_as_a_tent_not_a_square() {
+        let region = PixelRect { x0: 0, y0: 0, x1: 45, y1: 45 };
+        let tile = Tile { index: 0, rect: region };
+        let points = grid_points(&region, |x, y| {
+            (Vec3::Y, 1.0, if (x, y) == (22, 22) { Vec3::splat(81.0) } else { Vec3::ZERO })
+        });
+        let mut out = Filtered::default();
+        let il = Interleave { n: 3, m: 3, coarse: 3, aa: 1 };
+        DiscontinuityBuffer::default().filter(
+            &region,
+            &tile,
+            &il,
+            &FilterSettings::default(),
+            (&points, &[]),
+            &mut out,
+        );
+        let v = |x: u32, y: u32| out.diffuse_radiance[region.index(x, y)].x;
+        assert!((v(22, 22) - 1.0).abs() < 1e-5, "the peak: {}", v(22, 22));
+        let mut largest_step = 0.0f32;
+        for y in 8..37 {
+            for x in 8..37 {
+                largest_step =
+                    largest_step.max((v(x + 1, y) - v(x, y)).abs()).max((v(x, y + 1) - v(x, y)).abs());
+            }
+        }
+        assert!(largest_step <= 1.0 / 3.0 + 1e-5, "a step of {largest_step} of the peak");
+        // It reaches 8 pixels out (fine window 1 + two taps of 3 at weights 2/3, 1/3), no further.
+        assert!(v(22 + 7, 22) > 0.0 && v(22 + 8, 22) == 0.0 && v(22, 22 - 8) == 0.0);
+        // The light is kept: its weights around it sum to the spike over the sets.
+        let total: f32 = out.diffuse_radiance.iter().map(|d| d.x).sum();
+        assert!((total - 81.0).abs() < 1e-3, "{total}");
     }
 
     #[test]

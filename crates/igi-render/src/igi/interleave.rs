@@ -7,9 +7,14 @@
 //! holds one pixel of every fine set, which is what the discontinuity filter averages over.
 //! A second, coarse level (ARCHITECTURE.md, "Two levels of interleaving") repeats the idea one
 //! scale up: the n×m block (⌊x/n⌋, ⌊y/m⌋) uses group (⌊x/n⌋ mod K) + K·(⌊y/m⌋ mod K) of K²
-//! groups of n·m sets, so pixel (x, y) is lit by set fine + n·m·group, and any nK × mK window
-//! holds one pixel of each of the n·m·K² sets: the filter's second level, K×K taps at stride
-//! (n, m) over the first level's averages, merges them. The frame thereby holds K² times the
+//! groups of n·m sets, so pixel (x, y) is lit by set fine + n·m·group, and the pixels of one
+//! set lie on a lattice of period nK × mK. The filter's second level merges the groups over
+//! (2K − 1)² taps at stride (n, m) around the pixel, weighted by the tent
+//! (1 − |i|/K)(1 − |j|/K) of the tap's offset (i, j): over the taps of one residue mod K the
+//! tent sums to one, so every set weighs the same and each set's lattice is interpolated
+//! bilinearly. A box of K×K taps would hold each set's one lattice point constant over the
+//! window, and a set's error would show as an nK × mK square (ARCHITECTURE.md, "The coarse
+//! level's tent"). The frame thereby holds K² times the
 //! VPLs at the same VPLs per pixel; the primary rays keep the coherence of the fine sets. With N
 //! samples per pixel, a pixel whose samples all see one surface is shaded once and lit by its
 //! whole set; in a pixel across an edge, sample j is lit by the VPLs j, j + N, j + 2N, … of
@@ -73,12 +78,21 @@ impl Interleave {
         ([(self.n - 1) / 2, self.n / 2], [(self.m - 1) / 2, self.m / 2])
     }
 
-    /// The second filter level's window, in taps at stride (n, m): K taps in x and in y split
-    /// as evenly as possible (none without a coarse level). With the first level's windows
-    /// around them it covers nK × mK pixels, one of each set.
+    /// The second filter level's window, in taps at stride (n, m): K − 1 taps on each side of
+    /// the centre, where the tent of [`Interleave::coarse_weight`] is above zero (none without
+    /// a coarse level).
     pub fn coarse_window(&self) -> Window {
-        let k = self.coarse;
-        ([(k - 1) / 2, k / 2], [(k - 1) / 2, k / 2])
+        let k = self.coarse - 1;
+        ([k, k], [k, k])
+    }
+
+    /// The second level's weight of the tap `(i, j)` taps away from the centre: the tent
+    /// (1 − |i|/K)(1 − |j|/K). For every residue r mod K, the weights of the offsets ≡ r sum
+    /// to one along each axis, so each set's taps together weigh one.
+    #[inline]
+    pub fn coarse_weight(&self, i: u32, j: u32) -> f32 {
+        let k = self.coarse as f32;
+        (1.0 - i as f32 / k) * (1.0 - j as f32 / k)
     }
 
     /// The apron of both filter levels: how far the filter of a pixel reads, in pixels.
@@ -148,28 +162,30 @@ mod tests {
     }
 
     #[test]
-    fn every_window_holds_every_set_once() {
+    fn every_set_weighs_the_same_in_the_two_levels() {
         for (n, m, coarse) in [(3, 3, 1), (2, 4, 1), (4, 1, 1), (1, 1, 1), (3, 3, 3), (3, 3, 2), (2, 3, 4)] {
             let il = Interleave { n, m, coarse, aa: 1 };
             let ([l, r], [u, d]) = il.window();
             assert_eq!((l + r + 1, u + d + 1), (n, m));
             let ([cl, cr], [cu, cd]) = il.coarse_window();
-            assert_eq!((cl + cr + 1, cu + cd + 1), (coarse, coarse));
+            assert_eq!((cl + cr + 1, cu + cd + 1), (2 * coarse - 1, 2 * coarse - 1));
             for (cx, cy) in [(17u32, 19u32), (30, 23)] {
-                // Each first-level window around the second level's taps, together: each set
-                // exactly once.
-                let mut seen = vec![0; il.sets() as usize];
-                for ty in (cy - il.m * cu..=cy + il.m * cd).step_by(il.m as usize) {
-                    for tx in (cx - il.n * cl..=cx + il.n * cr).step_by(il.n as usize) {
+                // The first-level windows around the second level's taps, each pixel weighted
+                // by its tap's tent: each set weighs exactly one.
+                let mut weight = vec![0.0f64; il.sets() as usize];
+                for (j, ty) in (cy - il.m * cu..=cy + il.m * cd).step_by(il.m as usize).enumerate() {
+                    for (i, tx) in (cx - il.n * cl..=cx + il.n * cr).step_by(il.n as usize).enumerate() {
+                        let w =
+                            il.coarse_weight(i.abs_diff(cl as usize) as u32, j.abs_diff(cu as usize) as u32);
                         for y in ty - u..=ty + d {
                             for x in tx - l..=tx + r {
-                                seen[set_of(&il, x, y) as usize] += 1;
+                                weight[set_of(&il, x, y) as usize] += f64::from(w);
                                 assert_eq!(il.set(x % n + n * (y % m), x, y), set_of(&il, x, y));
                             }
                         }
                     }
                 }
-                assert!(seen.iter().all(|&c| c == 1), "{n}x{m}, K = {coarse}: {seen:?}");
+                assert!(weight.iter().all(|&w| (w - 1.0).abs() < 1e-6), "{n}x{m}, K = {coarse}: {weight:?}");
             }
         }
     }
@@ -197,8 +213,8 @@ mod tests {
         let il = Interleave { n: 3, m: 3, coarse: 1, aa: 1 };
         assert_eq!(il.region(&tile, 20, 40), PixelRect { x0: 0, y0: 15, x1: 17, y1: 33 });
         let il = Interleave { coarse: 3, ..il };
-        assert_eq!(il.region(&tile, 20, 40), PixelRect { x0: 0, y0: 12, x1: 20, y1: 36 });
+        assert_eq!(il.region(&tile, 20, 40), PixelRect { x0: 0, y0: 9, x1: 20, y1: 39 });
         let il = Interleave { coarse: 2, ..il };
-        assert_eq!(il.apron(), ([1, 4], [1, 4]));
+        assert_eq!(il.apron(), ([4, 4], [4, 4]));
     }
 }
