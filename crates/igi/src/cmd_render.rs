@@ -9,12 +9,12 @@ use clap::{Args, ValueEnum};
 use igi_render::image::output::{ImageFormat, check_writable, write_png_rgb8};
 use igi_render::sampling::MAX_SAMPLES;
 use igi_render::{
-    Estimator, Film, FrameImage, FrameRenderer, FrameSource, FrameState, PixelFormat, PreparedScene,
-    Progressive, ToneMap, ToneMapper, write_exr, write_image,
+    Estimator, Film, FrameDone, FrameImage, FrameRenderer, FrameSource, FrameState, PixelFormat,
+    PreparedScene, Progressive, Stopped, StoppingRule, ToneMap, ToneMapper, Until, write_exr, write_image,
 };
 use std::path::Path;
 use std::path::PathBuf;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 /// How the image is computed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -37,10 +37,16 @@ pub struct RenderArgs {
     /// Rendering method.
     #[arg(long, value_enum, default_value_t = Mode::Igi, help_heading = "Sampling")]
     pub mode: Mode,
-    /// IGI: frames averaged, each with fresh VPLs (progressive convergence to the unclamped
-    /// solution: with more than one frame the clamp's bias is compensated).
-    #[arg(long, default_value_t = 1, help_heading = "Sampling")]
-    pub frames: u32,
+    /// IGI: average exactly this many frames, each with fresh VPLs; 1 is the fast single
+    /// frame. Default: average frames until the image is clean (the estimated share of
+    /// 9×9-pixel windows more than 10 % off, from the frames' own variance, reaches 1 %) or
+    /// the time budget runs out.
+    #[arg(long, help_heading = "Sampling")]
+    pub frames: Option<u32>,
+    /// IGI: seconds a converging image may take at most (without `--frames`); the first frame
+    /// always runs.
+    #[arg(long, default_value_t = 10.0, help_heading = "Sampling")]
+    pub time_budget: f64,
     /// IGI: render one frame as a viewer shows it while the view moves: without the bias
     /// compensation, with the viewers' clamp (2 % of the scene's diagonal unless `--clamp`).
     #[arg(long, help_heading = "Sampling")]
@@ -75,10 +81,13 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if !(1..=MAX_SAMPLES).contains(&args.spp) {
         bail!("--spp must be between 1 and {MAX_SAMPLES}");
     }
-    if !(1..=1_000_000).contains(&args.frames) {
+    if args.frames.is_some_and(|f| !(1..=1_000_000).contains(&f)) {
         bail!("--frames must be between 1 and 1000000");
     }
-    if args.moving_frame && args.frames > 1 {
+    if !(args.time_budget.is_finite() && args.time_budget > 0.0 && args.time_budget <= 1e7) {
+        bail!("--time-budget must be a number of seconds above 0 (and at most 10000000)");
+    }
+    if args.moving_frame && args.frames.is_some_and(|f| f > 1) {
         bail!("--moving-frame renders one frame as a viewer shows it while moving; leave out --frames");
     }
     if !(1..=1_000_000).contains(&args.sequence) {
@@ -122,27 +131,41 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     };
 
     let mut source = source.unwrap_or_else(|| Box::new(FrameRenderer::new(args.frame.threads)));
-    let bar = LateProgress::new();
+    let until = until(args);
+    let bar = LateProgress::with_rule(match until {
+        Until::Converged(rule) => Some(rule),
+        Until::Frames(_) => None,
+    });
     let start = Instant::now();
-    let totals = render_frames(args, source.as_mut(), &mut prepared, &frame, &|done, total| {
-        bar.tile_done(done, total)
-    })?;
+    let totals = render_frames(
+        args,
+        until,
+        source.as_mut(),
+        &mut prepared,
+        &frame,
+        &|done, total| bar.tile_done(done, total),
+        &mut |f| bar.frame_done(f),
+    )?;
     let elapsed = start.elapsed().as_secs_f64();
     bar.finish();
 
     let s = &frame.settings;
     let what = if args.cluster.cluster || args.sequence > 1 {
         format!(
-            "{} frame(s), each the mean of {}, in {:.3} s ({:.2} fps, {:.1} Mrays/s; ",
+            "{} image(s), each the mean of {}, in {:.3} s ({:.2} fps, {:.1} Mrays/s; ",
             args.sequence,
-            args.frames,
+            match until {
+                Until::Frames(n) => format!("{n} frame(s)"),
+                Until::Converged(_) =>
+                    format!("{:.1} frames on average", totals.frames as f64 / f64::from(args.sequence)),
+            },
             elapsed,
             f64::from(args.sequence) / elapsed.max(1e-9),
             totals.rays as f64 * 1e-6 / elapsed.max(1e-9),
         )
     } else {
         let summary = match args.mode {
-            Mode::Igi => igi_summary(&totals, args.frames, s, elapsed),
+            Mode::Igi => igi_summary(&totals, s, elapsed),
             Mode::Path => format!(
                 "path tracer, {} spp: {:.2} M rays, {:.1} Mrays/s",
                 args.spp,
@@ -164,19 +187,50 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         build.as_secs_f64(),
         args.output.display()
     );
-    if args.mode == Mode::Igi && args.frames == 1 && args.sequence == 1 {
-        let what = if args.moving_frame {
-            "one frame as a viewer shows it while the view moves"
-        } else {
-            "one frame with fresh VPLs and the clamp's bias compensated (`--moving-frame`: as a viewer shows it \
-             while moving)"
-        };
-        outln!(
-            "{what}; `--frames 64` averages 64 compensated frames into a converged image (about {:.1} s here)",
-            64.0 * elapsed
-        );
+    if args.mode == Mode::Igi && args.sequence == 1 {
+        outln!("{}", how_it_ended(args, until, &totals, elapsed));
     }
     Ok(())
+}
+
+/// When `igi render`'s images are done: after `--frames` frames, one for `--moving-frame` and
+/// the path tracer (its `--spp` are its samples), else by the stopping rule of a still image
+/// within `--time-budget`.
+fn until(args: &RenderArgs) -> Until {
+    match (args.frames, args.moving_frame || args.mode == Mode::Path) {
+        (Some(frames), _) => Until::Frames(frames),
+        (None, true) => Until::Frames(1),
+        (None, false) => {
+            Until::Converged(StoppingRule::still_image(Duration::from_secs_f64(args.time_budget)))
+        }
+    }
+}
+
+/// The line after the summary that says what the image is and why it stopped where it did.
+fn how_it_ended(args: &RenderArgs, until: Until, totals: &Totals, elapsed: f64) -> String {
+    let estimate = totals.estimated_blotch.map_or(String::new(), |b| format!(", estimated blotch10 {b:.3}"));
+    match (until, totals.stopped) {
+        (Until::Frames(1), _) if args.moving_frame => {
+            "one frame as a viewer shows it while the view moves".into()
+        }
+        (Until::Frames(1), _) => format!(
+            "one frame with fresh VPLs and the clamp's bias compensated; without `--frames` igi render \
+             averages frames until the image is clean (about {:.1} s here at most: `--time-budget`)",
+            args.time_budget.min(64.0 * elapsed)
+        ),
+        (Until::Frames(n), _) => format!("the mean of {n} compensated frames{estimate}"),
+        (Until::Converged(rule), Some(Stopped::Converged)) => format!(
+            "the mean of {} compensated frames: stopped as clean{estimate} (done at {:.3})",
+            totals.frames, rule.target
+        ),
+        (Until::Converged(rule), _) => format!(
+            "the mean of {} compensated frames: stopped at the time budget of {:.1} s{estimate} (clean at {:.3}; \
+             a larger `--time-budget` averages more)",
+            totals.frames,
+            rule.time_budget.as_secs_f64(),
+            rule.target
+        ),
+    }
 }
 
 /// What a render traced, over all its frames.
@@ -186,20 +240,29 @@ struct Totals {
     rays: u64,
     /// VPLs (surface and sky) of all frames.
     vpls: usize,
+    /// Frames rendered.
+    frames: u32,
+    /// Why the last image's mean stopped.
+    stopped: Option<Stopped>,
+    /// The last image's estimated blotch10.
+    estimated_blotch: Option<f64>,
 }
 
-/// Renders `--sequence` images (each the mean of `--frames` frames) of `first`'s estimator
-/// through `source` and writes them; `progress` follows the tiles of each image. The first
+/// Renders `--sequence` images (each a mean of frames until `until`) of `first`'s estimator
+/// through `source` and writes them; `progress` follows the tiles of each image and
+/// `on_frame` its frames. The first
 /// image, every accumulated one and EXR output come back as linear radiance (a PNG is then
 /// tone-mapped from the image's own statistics); later PNG images of a sequence come back as
 /// 8-bit pixels tone-mapped with the previous image's statistics, which is what a cluster
 /// sends (paper 3.4). This machine and a cluster therefore write the same bytes.
 fn render_frames(
     args: &RenderArgs,
+    until: Until,
     source: &mut dyn FrameSource,
     scene: &mut PreparedScene,
     first: &FrameState,
     progress: &(dyn Fn(u32, u32) + Sync),
+    on_frame: &mut dyn FnMut(&FrameDone),
 ) -> Result<Totals> {
     let tone_map = ToneMap::from_exposure(args.exposure);
     let exr = ImageFormat::from_path(&args.output)? == ImageFormat::Exr;
@@ -226,12 +289,16 @@ fn render_frames(
             let mut frame = first.clone();
             frame.pose.time = first.pose.time + k as f32 / args.fps;
             frame.tone_map = view.tone_mapper();
-            let linear = exr || args.frames > 1 || k == 0;
+            let linear = exr || until != Until::Frames(1) || k == 0;
             frame.pixels = if linear { PixelFormat::Linear } else { PixelFormat::Srgb8 };
-            let frames = if linear { args.frames } else { 1 };
-            let out = source.accumulate(scene, &frame, frames, &mut view, progress)?;
+            let until = if linear { until } else { Until::Frames(1) };
+            let mean = source.accumulate(scene, &frame, until, &mut view, progress, on_frame)?;
+            let out = mean.output;
             totals.rays += out.rays.total();
             totals.vpls += out.vpls;
+            totals.frames += mean.frames;
+            totals.stopped = Some(mean.stopped);
+            totals.estimated_blotch = mean.estimated_blotch;
             let image = match out.image {
                 FrameImage::Srgb8 { bytes, .. } => Image::Srgb8(bytes),
                 FrameImage::Linear { film, .. } if exr => Image::Exr(film),
@@ -267,8 +334,9 @@ fn sequence_path(output: &Path, k: u32, frames: u32) -> std::path::PathBuf {
     output.with_file_name(format!("{stem}-{k:04}.{ext}"))
 }
 
-/// The summary of an IGI render of `frames` frames in `seconds`: VPLs, rays.
-fn igi_summary(totals: &Totals, frames: u32, s: &igi_render::frame::FrameSettings, seconds: f64) -> String {
+/// The summary of an IGI render in `seconds`: VPLs, rays.
+fn igi_summary(totals: &Totals, s: &igi_render::frame::FrameSettings, seconds: f64) -> String {
+    let frames = totals.frames;
     let pixels = f64::from(s.width) * f64::from(s.height) * f64::from(frames);
     format!(
         "igi, {} frame(s), {} VPLs/frame in {}, aa {}, filter {}, clamp {:.3}: {:.2} M rays ({:.1} per pixel), {:.1} Mrays/s",

@@ -1,7 +1,8 @@
 //! What the command line tells a new user (issue 18): `render -h` grouped with the built-in
 //! scenes listed, the top-level help naming every command, "did you mean" for a mistyped
 //! built-in and the scene files of a folder, `--listen` with a bare port, logs without colour
-//! codes or times into a pipe, a single render saying how to converge, and `igi serve` saying
+//! codes or times into a pipe, a single frame saying how to converge, a default render converging
+//! within its time budget, and `igi serve` saying
 //! where to point the browser before it loads the scene.
 
 use std::process::{Command, Output};
@@ -83,12 +84,13 @@ fn listen_takes_a_bare_port_and_explains_a_bad_one() {
 }
 
 #[test]
-fn logs_into_a_pipe_have_no_colour_codes_or_times_and_a_render_says_how_to_converge() {
+fn logs_into_a_pipe_have_no_colour_codes_or_times_and_a_single_frame_says_how_to_converge() {
     let dir = tempfile::tempdir().unwrap();
     let png = dir.path().join("two-rooms.png");
     // two-rooms has a light, so no warning; RUST_LOG=info makes the loaders and renderer talk.
     let out = Command::new(IGI)
-        .args(["render", "two-rooms", "--width", "64", "--height", "48", "-o", png.to_str().unwrap()])
+        .args(["render", "two-rooms", "--width", "64", "--height", "48", "--frames", "1"])
+        .args(["-o", png.to_str().unwrap()])
         .env("RUST_LOG", "info")
         .output()
         .unwrap();
@@ -103,20 +105,56 @@ fn logs_into_a_pipe_have_no_colour_codes_or_times_and_a_render_says_how_to_conve
         );
     }
     let summary = text(&out.stdout);
-    assert!(summary.contains("`--frames 64` averages 64"), "{summary}");
-    let converged = igi(&[
-        "render",
-        "two-rooms",
-        "--width",
-        "64",
-        "--height",
-        "48",
-        "--frames",
-        "2",
-        "-o",
-        png.to_str().unwrap(),
-    ]);
-    assert!(!text(&converged.stdout).contains("--frames 64"), "no advice once frames are averaged");
+    assert!(
+        summary.contains("without `--frames` igi render averages frames until the image is clean"),
+        "{summary}"
+    );
+    let averaged = igi(&["render", "two-rooms", "--width", "64", "--height", "48", "--frames", "2"]);
+    assert!(!text(&averaged.stdout).contains("without `--frames`"), "no advice once frames are averaged");
+}
+
+/// Without `--frames`, `igi render` averages frames until its estimate of the remaining error
+/// says the image is clean or the time budget runs out, says which, and prints a progress line
+/// every few seconds into a pipe.
+#[test]
+fn a_default_render_converges_within_its_time_budget_and_says_why_it_stopped() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("x.png");
+    let run = |scene: &str, size: [&str; 2], budget: &str| {
+        let out = igi(&[
+            "render",
+            scene,
+            "--width",
+            size[0],
+            "--height",
+            size[1],
+            "--time-budget",
+            budget,
+            "-o",
+            png.to_str().unwrap(),
+        ]);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        (text(&out.stdout), text(&out.stderr))
+    };
+    let frames = |summary: &str| -> u32 {
+        let at = summary.find(" frame(s),").expect("a frame count");
+        summary[..at].rsplit(' ').next().unwrap().parse().unwrap()
+    };
+    // A small Cornell box is clean long before its budget: at least the 4 frames the estimate
+    // needs, and a summary that says it stopped as clean.
+    let (summary, _) = run("cornell-box", ["96", "96"], "60");
+    assert!(summary.contains("stopped as clean"), "{summary}");
+    assert!(frames(&summary) >= 4, "{summary}");
+    // Two rooms lit through a doorway at 320x240 is not clean in 2 s: it stops at the budget,
+    // after 1 s has printed a progress line into the pipe.
+    let start = std::time::Instant::now();
+    let (summary, log) = run("two-rooms", ["320", "240"], "2");
+    let seconds = start.elapsed().as_secs_f64();
+    assert!(summary.contains("stopped at the time budget of 2.0 s"), "{summary}");
+    assert!(log.contains("igi: rendering, 1."), "a progress line after a second: {log}");
+    assert!(!log.contains('\r') && !log.contains('\u{1b}'), "no bar into a pipe: {log:?}");
+    // The budget is a ceiling (load, BVH and the file included, with a margin for a busy machine).
+    assert!(seconds < 8.0, "{seconds} s");
 }
 
 #[test]
@@ -124,7 +162,7 @@ fn a_view_renders_from_the_scenes_named_camera_and_an_unknown_one_lists_them() {
     let dir = std::env::temp_dir().join(format!("igi-cli-views-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let (home, statue) = (dir.join("home.png"), dir.join("statue.png"));
-    let small = ["--width", "64", "--height", "48", "--vpls", "2", "--aa", "1"];
+    let small = ["--width", "64", "--height", "48", "--vpls", "2", "--aa", "1", "--frames", "1"];
     for (file, view) in [(&home, None), (&statue, Some("statue"))] {
         let mut args = vec!["render", "animated-room", "-o", file.to_str().unwrap()];
         args.extend(small);

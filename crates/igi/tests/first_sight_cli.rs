@@ -63,7 +63,7 @@ fn render_says_which_light_it_added_and_the_flag_turns_it_off() {
     let dir = box_scene("render");
     let obj = dir.join("box.obj");
     let png = dir.join("out.png");
-    let cheap = ["--width", "32", "--height", "24", "--aa", "1"];
+    let cheap = ["--width", "32", "--height", "24", "--aa", "1", "--frames", "1"];
     let mut args = vec!["render", obj.to_str().unwrap(), "-o", png.to_str().unwrap()];
     args.extend(cheap);
     let (_, log) = run(&args);

@@ -23,7 +23,20 @@ fn render(output: &Path, side: u32) -> Command {
     let mut command = Command::new(IGI);
     command
         .args(["render", "cornell-box", "--width", &side, "--height", &side])
-        .args(["--aa", "1", "--vpls", "1", "--interleave", "1x1", "--bounces", "0", "--no-filter", "-o"])
+        .args([
+            "--aa",
+            "1",
+            "--vpls",
+            "1",
+            "--interleave",
+            "1x1",
+            "--bounces",
+            "0",
+            "--no-filter",
+            "--frames",
+            "1",
+            "-o",
+        ])
         .arg(output);
     command
 }
