@@ -20,6 +20,8 @@
 //! - [`image`]: pixel rectangles and tiles ([`Tile`]), the framebuffer ([`Film`]), a frame's
 //!   pixels ([`FrameImage`]), tone mapping, the running mean of a still view
 //!   ([`Progressive`]), costs, and EXR and PNG files.
+//! - [`temporal`]: a view's frames averaged across camera and object motion (reprojection,
+//!   history refused at disocclusions and where the light changed).
 //! - [`camera`] and [`sampling`]: the pinhole camera ([`PinholeCamera`]), identical to the
 //!   Embree benchmark's, and deterministic sample sequences, shared by every room.
 //!
@@ -47,6 +49,7 @@ pub mod path_tracer;
 pub mod prepared;
 pub mod sampling;
 pub mod schedule;
+pub mod temporal;
 
 pub use camera::PinholeCamera;
 pub use first_sight::default_light::{DefaultLight, add_default_light};
@@ -67,3 +70,5 @@ pub use prepared::{GeometryBytes, PreparedScene, SurfacePoint};
 pub use schedule::cancel::{CancelToken, Cancelled};
 pub use schedule::frame_renderer::{FrameError, FrameOutput, FramePlan, FrameRenderer};
 pub use schedule::frame_source::{Accumulated, FrameDone, FrameSource};
+pub use temporal::history::{Motion, TemporalHistory};
+pub use temporal::surface_buffer::SurfaceBuffer;

@@ -15,14 +15,21 @@ use crate::selection::Selection;
 use crate::settings::{MAX_ACCUMULATION, ViewerSettings};
 use glam::{Affine3A, Vec3};
 use igi_render::frame::{FrameSettings, SettingsError};
+use igi_render::image::tonemap::LuminanceStats;
 use igi_render::{
-    CancelToken, Estimator, FrameError, FrameImage, FrameRenderer, FrameSource, FrameState, Phase,
-    PinholeCamera, PixelFormat, PreparedScene, Progressive, ScenePose, Shown, start_camera,
+    CancelToken, Estimator, FrameError, FrameImage, FrameRenderer, FrameSource, FrameState, Motion, Phase,
+    PinholeCamera, PixelFormat, PreparedScene, Progressive, ScenePose, Shown, SurfaceBuffer, TemporalHistory,
+    start_camera,
 };
 use igi_scene::Camera;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::time::Instant;
+
+/// The most frames the history of a moving view stands for: each frame is then at least a
+/// sixteenth of the image, so the history neither blurs nor lags for long
+/// (ARCHITECTURE.md, "Temporal reuse while the view moves").
+pub const MOVING_HISTORY: f32 = 15.0;
 
 /// What a viewer shows beside a frame.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -33,8 +40,13 @@ pub struct FrameStats {
     pub input_seq: u64,
     /// Scene clock, seconds.
     pub time: f32,
-    /// Frames in the image's mean (1 right after a change).
+    /// Frames in the image's mean (1 right after a change; with temporal reuse the mean number
+    /// of frames the pixels' history stands for).
     pub accumulated: u32,
+    /// With temporal reuse, the share of pixels that kept their history in this frame: 0 at
+    /// a cut (another scene, view, settings or light, the animation clock), below 1 where
+    /// surfaces came into view or the light changed. `None` without temporal reuse.
+    pub history_kept: Option<f64>,
     /// Render time of the frames in the image's mean, seconds.
     pub accumulated_seconds: f64,
     /// The image is the mean of as many frames as the settings' convergence target asks
@@ -131,6 +143,14 @@ pub struct Session {
     moved: BTreeMap<u32, Vec3>,
     /// The view changed since the last frame.
     changed: bool,
+    /// The change was more than camera or object motion: the history cannot be reprojected.
+    cut: bool,
+    /// Temporal reuse: the running mean across motion.
+    history: TemporalHistory,
+    /// Frames since the last cut (the sample sequence's position with temporal reuse).
+    since_cut: u32,
+    /// Frames since the last change of any kind.
+    since_change: u32,
     /// The selection changed since the last frame: the next frame shows it, and the mean
     /// goes on (what is rendered is the same).
     reselected: bool,
@@ -176,6 +196,10 @@ impl Session {
             lights: LightControl::of(&scene),
             moved: BTreeMap::new(),
             changed: true,
+            cut: true,
+            history: TemporalHistory::new(),
+            since_cut: 0,
+            since_change: 0,
             reselected: false,
             inputs: 0,
             frames: 0,
@@ -211,7 +235,13 @@ impl Session {
         self.moved.clear();
         self.selected = None;
         self.clock = 0.0;
+        self.cut_here();
+    }
+
+    /// Marks a change the history cannot follow (another scene, view, settings or light).
+    fn cut_here(&mut self) {
         self.changed = true;
+        self.cut = true;
     }
 
     /// Moves the camera to `camera` with fly speed `speed`, in the same camera mode.
@@ -245,7 +275,7 @@ impl Session {
     pub fn set_clock(&mut self, t: f32) {
         if t.is_finite() && t >= 0.0 && t != self.clock {
             self.clock = t;
-            self.changed = true;
+            self.cut_here();
         }
     }
 
@@ -273,11 +303,19 @@ impl Session {
     /// ask for.
     fn converged(&self) -> bool {
         let s = &self.settings;
-        let frames = self.progressive.frames();
+        let frames = self.accumulated();
         frames >= s.converge_frames.min(MAX_ACCUMULATION)
             || (s.converge_seconds > 0.0
                 && frames > 0
                 && self.accumulated_seconds >= f64::from(s.converge_seconds))
+    }
+
+    /// Frames averaged since the view last changed.
+    fn accumulated(&self) -> u32 {
+        match self.settings.temporal {
+            true => self.since_change,
+            false => self.progressive.frames(),
+        }
     }
 
     /// Applies an input. An input it cannot apply (invalid settings, a view or light the scene
@@ -294,7 +332,7 @@ impl Session {
                 if *settings != self.settings {
                     self.settings = settings.clone();
                     self.progressive.set_tone_map(settings.tone_map());
-                    self.changed = true;
+                    self.cut_here();
                 }
             }
             Input::Pick { x, y } => self.pick(*x, *y),
@@ -305,7 +343,7 @@ impl Session {
                 };
                 let (camera, speed) = (view.camera, self.controller.speed());
                 self.look_from(&camera, speed);
-                self.changed = true;
+                self.cut_here();
             }
             Input::SelectLight { index } => {
                 let light = self.lights.get(*index).ok_or_else(|| self.no_light(*index))?;
@@ -318,7 +356,9 @@ impl Session {
                 let light = self.lights.get_mut(*index).ok_or(no_light)?;
                 let before = (light.intensity, light.colour);
                 light.set(*intensity, *colour).map_err(InputError::Light)?;
-                self.changed |= before != (light.intensity, light.colour);
+                if before != (light.intensity, light.colour) {
+                    self.cut_here();
+                }
             }
             Input::Open { name } => {
                 let (catalog, current) = self.catalog.as_mut().ok_or_else(|| {
@@ -335,7 +375,7 @@ impl Session {
                 self.moved.clear();
                 self.lights = LightControl::of(&self.scene);
                 self.selected = None;
-                self.changed = true;
+                self.cut_here();
             }
             _ => {}
         }
@@ -414,7 +454,7 @@ impl Session {
                 };
                 if let Some(step) = step {
                     light.transform = step * light.transform;
-                    self.changed = true;
+                    self.cut_here();
                 }
             }
         }
@@ -433,21 +473,29 @@ impl Session {
         let start = Instant::now();
         let dt = if dt.is_finite() { dt.clamp(0.0, 0.25) } else { 0.0 };
         if self.is_animating() {
+            // Animated lights move with the clock: their light must show at once.
             self.clock += dt * self.settings.speed;
-            self.changed = true;
+            self.cut_here();
         }
         if self.controller.advance(dt) {
             self.changed = true;
         }
         let changed = std::mem::take(&mut self.changed);
+        let cut = std::mem::take(&mut self.cut) || !self.settings.temporal;
         let reselected = std::mem::take(&mut self.reselected);
+        let temporal = self.settings.temporal;
         if changed {
             self.progressive.reset();
             self.accumulated_seconds = 0.0;
         }
+        let (since_cut, since_change) = match (cut, changed) {
+            (true, _) => (0, 0),
+            (false, true) => (self.since_cut, 0),
+            (false, false) => (self.since_cut, self.since_change),
+        };
 
         // Linear radiance where it is averaged: a cluster sends 8-bit pixels otherwise.
-        let averaged = self.settings.accumulate && !changed;
+        let averaged = (self.settings.accumulate && !changed) || temporal;
         // A still view's frames after the first of its mean are still images, with the
         // viewer's clamp: the clamp's bias is compensated, so the mean converges to the
         // unclamped solution as `igi render --frames N` does. The first frame of a mean is the
@@ -455,7 +503,11 @@ impl Session {
         // "Still images are bias-compensated"); on a cluster, whose moving frames come as 8-bit
         // pixels outside the mean, the mean's first frame is thereby the same as a local
         // session's.
-        let settings = match self.settings.accumulate && self.progressive.frames() > 0 {
+        let still = match temporal {
+            true => !changed && since_cut > 0,
+            false => self.progressive.frames() > 0,
+        };
+        let settings = match self.settings.accumulate && still {
             true => self.settings.frame.still_image(None),
             false => self.settings.frame,
         };
@@ -479,19 +531,48 @@ impl Session {
             } else {
                 PixelFormat::Linear
             },
-            number: self.progressive.frames(),
-            reseed_per_frame: self.settings.accumulate,
+            // With temporal reuse every frame after a cut brings fresh VPLs and samples (the
+            // history averages their independent errors); without, a moving view keeps the
+            // samples of its first frame, so it does not flicker.
+            number: if temporal { since_cut } else { self.progressive.frames() },
+            reseed_per_frame: self.settings.accumulate || temporal,
         };
         let out = match self.renderer.render_frame(&mut self.scene, &frame, cancel, &|_, _| {}) {
             Ok(out) => out,
             Err(e) => {
                 // The change still has to be shown.
                 self.changed |= changed;
+                self.cut |= cut;
                 self.reselected |= reselected;
                 return Err(e);
             }
         };
-        self.progressive.add(out.image, out.stats);
+        if cut {
+            self.history.clear();
+        }
+        (self.since_cut, self.since_change) = (since_cut + 1, since_change + 1);
+        let history_kept = match (temporal, out.image.film()) {
+            (true, Some(film)) => {
+                // After the render the scene stands in the frame's pose.
+                let motion = match changed {
+                    true => Motion::Moved(SurfaceBuffer::trace(
+                        &self.scene,
+                        PinholeCamera::new(&frame.camera, settings.width, settings.height),
+                    )),
+                    false => Motion::Still,
+                };
+                let limit = if changed { MOVING_HISTORY } else { f32::INFINITY };
+                let mean = self.history.add(film, motion, limit);
+                let stats = LuminanceStats::of_pixels(mean.pixels());
+                self.progressive.reset();
+                self.progressive.add(FrameImage::from_film(mean, &frame.tone_map), stats);
+                Some(self.history.kept())
+            }
+            _ => {
+                self.progressive.add(out.image, out.stats);
+                None
+            }
+        };
         let Shown { image, .. } = self.progressive.show();
 
         let elapsed = start.elapsed().as_secs_f64();
@@ -514,7 +595,11 @@ impl Session {
             id: self.frames,
             input_seq: self.inputs,
             time: self.clock,
-            accumulated: self.progressive.frames().max(1),
+            accumulated: match history_kept {
+                Some(_) => self.history.mean_frames().round().max(1.0) as u32,
+                None => self.progressive.frames().max(1),
+            },
+            history_kept,
             accumulated_seconds: self.accumulated_seconds,
             converged: self.settings.accumulate && !self.needs_frame(),
             render_ms: elapsed * 1e3,

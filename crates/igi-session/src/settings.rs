@@ -20,6 +20,11 @@ pub const MAX_CONVERGE_SECONDS: f32 = 86_400.0;
 /// Largest image of a viewer (a 4K UHD frame): a viewer keeps a few images of this size.
 pub const MAX_PIXELS: u64 = 3840 * 2160;
 
+/// Serde's default of [`ViewerSettings::temporal`] for a page that does not send it.
+fn on() -> bool {
+    true
+}
+
 /// Render, display and animation settings of a viewer: the frame's settings, the record
 /// `igi render` uses too, and beside them what only a viewer has. The browser receives and
 /// sends it as one flat JSON object.
@@ -38,6 +43,10 @@ pub struct ViewerSettings {
     pub path_tracer: bool,
     /// Average frames while nothing changes (progressive convergence).
     pub accumulate: bool,
+    /// While the camera or objects move, blend each frame with the reprojected history of
+    /// the earlier ones (temporal reuse); off, every change shows a frame of its own.
+    #[serde(default = "on")]
+    pub temporal: bool,
     /// A still view is converged, and rendering stops, after this many frames
     /// (1 ..= [`MAX_ACCUMULATION`]).
     pub converge_frames: u32,
@@ -60,6 +69,7 @@ impl ViewerSettings {
             key: igi_render::image::tonemap::DEFAULT_KEY,
             path_tracer: false,
             accumulate: true,
+            temporal: true,
             converge_frames: DEFAULT_CONVERGE_FRAMES,
             converge_seconds: 0.0,
             playing: true,

@@ -44,6 +44,8 @@ fn after_moves(scene: igi_scene::Scene, name: &str) -> Vec<(f64, f64)> {
             ..ViewerSettings::for_scene(scene.bounds().diagonal()).frame
         },
         playing: false,
+        // The frame after a move on its own, not blended with the history.
+        temporal: false,
         ..ViewerSettings::for_scene(scene.bounds().diagonal())
     };
     let mut session = Session::new(scene, camera, settings, 2).unwrap();

@@ -181,6 +181,8 @@ impl Panel {
             }
             s.exposure = fixed.then_some(stops);
             ui.checkbox(&mut s.accumulate, "accumulate while still");
+            ui.checkbox(&mut s.temporal, "temporal reuse while moving")
+                .on_hover_text("blend each frame with the reprojected history of the earlier ones while the camera or objects move");
             row(
                 ui,
                 "converged after frames",
@@ -229,6 +231,15 @@ impl Panel {
                     "converging: {} of {} frames, {:.1} s",
                     stats.accumulated, stats.settings.converge_frames, stats.accumulated_seconds
                 ));
+            }
+            match stats.history_kept {
+                Some(0.0) => {
+                    ui.label("history refused (a cut): the frame stands alone");
+                }
+                Some(kept) if kept < 0.999 => {
+                    ui.label(format!("history kept in {:.0} % of the image", 100.0 * kept));
+                }
+                _ => {}
             }
             section("Statistics", true).show(ui, |ui| {
             let text = format!(

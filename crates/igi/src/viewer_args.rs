@@ -29,6 +29,10 @@ pub struct ViewerArgs {
     /// Show single frames only (no progressive accumulation while the view is still).
     #[arg(long, help_heading = "Sampling")]
     pub no_accumulate: bool,
+    /// Show each frame on its own while the camera or objects move (no temporal reuse of the
+    /// reprojected history; also in the panel).
+    #[arg(long, help_heading = "Sampling")]
+    pub no_temporal: bool,
     /// A still view is converged, and rendering stops, after this many accumulated frames
     /// (also in the panel).
     #[arg(long, default_value_t = DEFAULT_CONVERGE_FRAMES, help_heading = "Sampling")]
@@ -95,6 +99,7 @@ impl ViewerArgs {
         let settings = ViewerSettings {
             exposure: self.exposure,
             accumulate: !self.no_accumulate,
+            temporal: !self.no_temporal,
             converge_frames: self.converge_frames,
             converge_seconds: self.converge_seconds,
             playing: !self.paused,
@@ -152,8 +157,8 @@ mod tests {
     /// The bits of an image's linear radiance.
     type Bits = Vec<[u32; 3]>;
 
-    /// The first frame a viewer started with `options` shows (not accumulating, the clock
-    /// paused: the moving frame), and the EXR `igi render --moving-frame` writes with the same
+    /// The first frame a viewer started with `options` shows (not accumulating, no temporal
+    /// reuse, the clock paused: the moving frame), and the EXR `igi render --moving-frame` writes with the same
     /// options from the viewer's camera, as bits. (A viewer's camera controller keeps a view
     /// as position, angles and distance, so its camera can differ from the one it started
     /// with in the last bits; the settings are what is compared here.)
@@ -161,7 +166,9 @@ mod tests {
         let bits = |pixels: &mut dyn Iterator<Item = [f32; 3]>| -> Bits {
             pixels.map(|p| p.map(f32::to_bits)).collect()
         };
-        let line = ["igi", scene, "--no-accumulate", "--paused"].into_iter().chain(options.iter().copied());
+        let line = ["igi", scene, "--no-accumulate", "--no-temporal", "--paused"]
+            .into_iter()
+            .chain(options.iter().copied());
         let viewer = ViewerLine::try_parse_from(line).expect("a viewer's command line").args;
         let mut session = viewer.session().expect("the session starts").expect("not a cluster node");
         let frame = session.render(0.0).expect("the first frame");

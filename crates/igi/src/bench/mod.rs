@@ -7,6 +7,7 @@
 //! RMSE) and the flicker of an animation. `igi bench scale` measures how the cost of a ray grows
 //! with the triangle count.
 
+pub mod camera_path;
 pub mod cluster;
 pub mod frame;
 mod json_report;

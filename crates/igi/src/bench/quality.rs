@@ -20,19 +20,24 @@
 //! the accumulated frames, flicker = mean over frame pairs and pixels of |ΔL − ΔL_ref|, divided
 //! by the mean of L_ref: 0 when one frame changes exactly as the converged image does.
 
+use super::camera_path::{self, Orbit, OrbitReport};
 use super::frame::ANIMATION_FPS;
 use crate::frame_args::FrameArgs;
 use crate::progress::LateProgress;
 use anyhow::{Context, Result, bail};
 use clap::Args;
+use igi_render::image::blotch::Blotch;
 use igi_render::image::output::{to_srgb8, write_exr};
 use igi_render::image::tonemap::luminance;
 use igi_render::schedule::frame_renderer::FrameRenderer;
-use igi_render::{Estimator, Film, FrameSource, FrameState, PreparedScene, ScenePose, ToneMap, ToneMapper};
+use igi_render::{
+    Estimator, Film, FrameSource, FrameState, PixelFormat, PreparedScene, Progressive, ScenePose,
+    StoppingRule, ToneMap, ToneMapper, Until,
+};
 use serde::Serialize;
 use std::hash::{Hash, Hasher};
 use std::path::{Path, PathBuf};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 /// Arguments of `igi bench quality`.
 #[derive(Debug, Args)]
@@ -58,6 +63,22 @@ pub struct QualityBenchArgs {
     /// Also measure flicker over this many frames of the scene's animation (0: off).
     #[arg(long, default_value_t = 0)]
     pub flicker: u32,
+    /// The time budget of the default image (as `igi render --time-budget`).
+    #[arg(long, default_value_t = 10.0)]
+    pub time_budget: f64,
+    /// Instead of the still image, measure this many frames of an orbit about the view's
+    /// target as a viewer shows them, with temporal reuse and without (0: off).
+    #[arg(long, default_value_t = 0)]
+    pub orbit: u32,
+    /// Degrees the orbit turns per frame.
+    #[arg(long, default_value_t = 4.0, allow_hyphen_values = true)]
+    pub orbit_degrees: f32,
+    /// The first orbit frame measured (1-based).
+    #[arg(long, default_value_t = 9)]
+    pub orbit_from: u32,
+    /// Frames averaged for the converged image of each measured orbit frame's view.
+    #[arg(long, default_value_t = 64)]
+    pub orbit_reference_frames: u32,
     /// Write the results as JSON.
     #[arg(long)]
     pub json: Option<PathBuf>,
@@ -68,13 +89,33 @@ pub struct QualityBenchArgs {
 
 /// Error figures of one image against the reference.
 #[derive(Debug, Serialize)]
-struct Figures {
+pub struct Figures {
     /// Mean LDR-FLIP of the display images.
-    flip: f64,
+    pub flip: f64,
     /// RMSE of the display values in [0, 1].
-    rmse: f64,
+    pub rmse: f64,
+    /// The share of pixels whose 9×9 window is more than 10 % off in luminance (blotch10,
+    /// [`Blotch`]).
+    pub blotch10: f64,
+    /// Frames in the image.
+    pub frames: u32,
     /// Wall time to render the image.
-    seconds: f64,
+    pub seconds: f64,
+}
+
+impl Figures {
+    /// The figures of `film`, rendered in `seconds` from `frames` frames, against `reference`
+    /// (`reference_display` its display image).
+    pub fn of(reference: &Film, reference_display: &[u8], film: &Film, frames: u32, seconds: f64) -> Self {
+        let test = display(film);
+        Self {
+            flip: mean_flip(reference_display, &test, film.width(), film.height()),
+            rmse: rmse(reference_display, &test),
+            blotch10: Blotch::between(reference, film).over_10,
+            frames,
+            seconds,
+        }
+    }
 }
 
 /// The results, as printed and written.
@@ -94,7 +135,9 @@ struct Report {
     reference_method: String,
     /// Time to render the reference (0 when it was read from its file).
     reference_seconds: f64,
-    /// One frame as `igi render` writes it (bias-compensated).
+    /// What `igi render` writes by default: compensated frames until the stopping rule.
+    default: Figures,
+    /// One frame as `igi render --frames 1` writes it (bias-compensated).
     one_frame: Figures,
     /// One frame as a viewer shows it while the view moves (no compensation, the smaller
     /// clamp).
@@ -124,7 +167,24 @@ pub fn run(args: &QualityBenchArgs) -> Result<()> {
     if args.flicker == 1 || args.flicker > 10_000 {
         bail!("--flicker must be 0 (off) or between 2 and 10000 frames");
     }
+    if !(args.time_budget.is_finite() && args.time_budget > 0.0 && args.time_budget <= 1e7) {
+        bail!("--time-budget must be a number of seconds above 0 (and at most 10000000)");
+    }
     super::json_report::check_json(args.json.as_deref())?;
+    if args.orbit > 0 {
+        let orbit = Orbit {
+            frames: args.orbit,
+            degrees: args.orbit_degrees,
+            from: args.orbit_from,
+            reference_frames: args.orbit_reference_frames,
+        };
+        let report = camera_path::measure(&args.frame, &args.scene, orbit)?;
+        print_orbit(&args.scene, &report);
+        if let Some(path) = &args.json {
+            super::json_report::write_json(path, &report)?;
+        }
+        return Ok(());
+    }
     let scene = igi_scene::load_named(&args.scene).context("cannot load scene")?;
     let digest = scene.digest();
     let mut prepared = args.frame.prepare(scene);
@@ -139,12 +199,15 @@ pub fn run(args: &QualityBenchArgs) -> Result<()> {
 
     let mut still = frame.clone();
     args.frame.still_image(&mut still, &prepared);
-    let one_frame = figures(&reference_display, &mut renderer, &mut prepared, &still, 1)?;
-    let moving_frame = figures(&reference_display, &mut renderer, &mut prepared, &frame, 1)?;
-    let mut accumulating = frame.clone();
-    args.frame.still_image(&mut accumulating, &prepared);
-    let accumulated =
-        figures(&reference_display, &mut renderer, &mut prepared, &accumulating, args.accumulate)?;
+    let mut measure = |frame: &FrameState, until: Until| {
+        figures((&reference, &reference_display), &mut renderer, &mut prepared, frame, until)
+    };
+    let rule = StoppingRule::still_image(Duration::from_secs_f64(args.time_budget));
+    let default = measure(&still, Until::Converged(rule))?;
+    let one_frame = measure(&still, Until::Frames(1))?;
+    let moving_frame = measure(&frame, Until::Frames(1))?;
+    let accumulated = measure(&still, Until::Frames(args.accumulate))?;
+    let accumulating = still;
     let flicker = if args.flicker > 1 {
         Some(flicker(
             &mut renderer,
@@ -177,6 +240,7 @@ pub fn run(args: &QualityBenchArgs) -> Result<()> {
             _ => method.to_string(),
         },
         reference_seconds,
+        default,
         one_frame,
         moving_frame,
         accumulated_frames: args.accumulate,
@@ -294,30 +358,35 @@ fn reference(
 
 /// The 8-bit sRGB display image of `film`, tone-mapped with its own statistics (Reinhard), as
 /// `igi render` writes a PNG.
-fn display(film: &Film) -> Vec<u8> {
+pub fn display(film: &Film) -> Vec<u8> {
     to_srgb8(film, &ToneMapper::for_film(ToneMap::default(), film))
 }
 
-/// Renders the mean of `frames` frames of `frame` and measures it against `reference`.
+/// Renders the mean of `frame`'s frames until `until` (in linear radiance) and measures it
+/// against the reference (its film and display image).
 fn figures(
-    reference: &[u8],
+    (reference, reference_display): (&Film, &[u8]),
     renderer: &mut FrameRenderer,
     scene: &mut PreparedScene,
     frame: &FrameState,
-    frames: u32,
+    until: Until,
 ) -> Result<Figures> {
     let start = Instant::now();
     let bar = LateProgress::new();
-    let out = renderer.render_accumulated(scene, frame, frames, &|done, total| bar.tile_done(done, total))?;
+    let linear = FrameState { pixels: PixelFormat::Linear, ..frame.clone() };
+    let mut view = Progressive::new(ToneMap::default());
+    let mean = renderer.accumulate(
+        scene,
+        &linear,
+        until,
+        &mut view,
+        &|done, total| bar.tile_done(done, total),
+        &mut |_| {},
+    )?;
     bar.finish();
     let seconds = start.elapsed().as_secs_f64();
-    let film = out.image.into_film().context("an accumulated frame without its film")?;
-    let test = display(&film);
-    Ok(Figures {
-        flip: mean_flip(reference, &test, film.width(), film.height()),
-        rmse: rmse(reference, &test),
-        seconds,
-    })
+    let film = mean.output.image.into_film().context("an accumulated frame without its film")?;
+    Ok(Figures::of(reference, reference_display, &film, mean.frames, seconds))
 }
 
 /// Mean LDR-FLIP of two 8-bit sRGB images of the same size (67 pixels per degree: a 0.7 m wide
@@ -391,6 +460,24 @@ pub fn flicker_of(frames: &[Vec<f32>], reference: &[Vec<f32>]) -> f64 {
     if pairs == 0 || mean <= 0.0 { 0.0 } else { change / pairs as f64 / mean }
 }
 
+fn print_orbit(scene: &str, r: &OrbitReport) {
+    outln!(
+        "{scene}: orbit of {}° per frame, frames {}-{} against the converged image of each view",
+        r.degrees,
+        r.measured[0],
+        r.measured[1]
+    );
+    for (name, f) in [("temporal reuse", &r.temporal), ("single frames", &r.single)] {
+        outln!(
+            "  {name:<15} mean FLIP {:.4}  blotch10 {:.4}  {:.1} ms a frame  history kept {:.0} %",
+            f.flip,
+            f.blotch10,
+            f.frame_ms,
+            100.0 * f.history_kept
+        );
+    }
+}
+
 fn print(r: &Report) {
     outln!(
         "{}: {}x{}, aa {}, {} VPLs per pixel in {}, filter {}",
@@ -409,8 +496,15 @@ fn print(r: &Report) {
     };
     outln!("  reference: {}, {made}: {}", r.reference_method, r.reference.display());
     let line = |name: String, f: &Figures| {
-        outln!("  {name:<12} mean FLIP {:.4}  RMSE {:.4}  {:.3} s", f.flip, f.rmse, f.seconds);
+        outln!(
+            "  {name:<18} mean FLIP {:.4}  blotch10 {:.4}  RMSE {:.4}  {:.3} s",
+            f.flip,
+            f.blotch10,
+            f.rmse,
+            f.seconds
+        );
     };
+    line(format!("default ({} frames)", r.default.frames), &r.default);
     line("one frame".into(), &r.one_frame);
     line("moving frame".into(), &r.moving_frame);
     line(format!("{} frames", r.accumulated_frames), &r.accumulated);

@@ -1,0 +1,101 @@
+//! Temporal reuse (issue 32): the history follows the camera and moved objects, is refused where
+//! a surface comes into view or is seen from its other side, and a still view's history is the
+//! plain mean of its frames. Frames here are constant images, so every pixel's value says
+//! exactly how many frames and which ones it averages.
+
+use glam::{Affine3A, Vec3};
+use igi_render::{Film, Motion, PinholeCamera, PreparedScene, ScenePose, SurfaceBuffer, TemporalHistory};
+use igi_scene::Camera;
+
+const W: u32 = 96;
+const H: u32 = 72;
+
+fn constant(value: f32) -> Film {
+    Film::from_pixels(W, H, vec![Vec3::splat(value); (W * H) as usize])
+}
+
+fn room() -> (PreparedScene, Camera) {
+    let scene = PreparedScene::new(igi_scene::builtin("animated-room").expect("a built-in scene"));
+    let camera = *scene.camera().expect("the room has a camera");
+    (scene, camera)
+}
+
+fn surfaces(scene: &PreparedScene, camera: &Camera) -> SurfaceBuffer {
+    SurfaceBuffer::trace(scene, PinholeCamera::new(camera, W, H))
+}
+
+#[test]
+fn a_still_views_history_is_the_mean_of_its_frames() {
+    let (scene, camera) = room();
+    let mut history = TemporalHistory::new();
+    history.add(&constant(1.0), Motion::Moved(surfaces(&scene, &camera)), f32::INFINITY);
+    history.add(&constant(2.0), Motion::Still, f32::INFINITY);
+    let mean = history.add(&constant(6.0), Motion::Still, f32::INFINITY);
+    assert!(mean.pixels().iter().all(|&p| p == Vec3::splat(3.0)), "(1 + 2 + 6) / 3");
+    assert_eq!((history.kept(), history.mean_frames()), (1.0, 3.0));
+    // A moving view's history stands for at most the caller's limit of frames.
+    let limited = history.add(&constant(0.0), Motion::Still, 1.0);
+    assert!(limited.pixels().iter().all(|&p| p == Vec3::splat(1.5)), "(3 + 0) / 2");
+}
+
+#[test]
+fn the_history_follows_the_camera_and_is_refused_where_surfaces_come_into_view() {
+    let (scene, camera) = room();
+    let mut history = TemporalHistory::new();
+    history.add(&constant(2.0), Motion::Moved(surfaces(&scene, &camera)), 15.0);
+    // Step sideways: most of what the camera saw is still in view, a strip at one side is new.
+    let right = (camera.target - camera.position).cross(camera.up).normalize();
+    let step = 0.02 * scene.bounds().diagonal() * right;
+    let moved = Camera { position: camera.position + step, target: camera.target + step, ..camera };
+    let out = history.add(&constant(4.0), Motion::Moved(surfaces(&scene, &moved)), 15.0);
+    // Either the mean of both frames or the new frame alone (a new surface, or a silhouette
+    // where the history is clamped into the new frame's neighbourhood): nothing else.
+    assert!(out.pixels().iter().all(|p| (p.x - 3.0).abs() < 1e-5 || p.x == 4.0));
+    let kept = out.pixels().iter().filter(|p| (p.x - 3.0).abs() < 1e-5).count() as f64 / f64::from(W * H);
+    assert!(
+        history.kept() > 0.8 && kept > 0.6 && history.kept() < 1.0,
+        "{} kept, {kept} blended",
+        history.kept()
+    );
+}
+
+#[test]
+fn a_moved_object_carries_its_history_and_leaves_no_ghost() {
+    let (mut scene, camera) = room();
+    let buffer = |scene: &PreparedScene| surfaces(scene, &camera);
+    let before = buffer(&scene);
+    // The first frame: the statue 10, everything else 2.
+    let first = Film::from_pixels(
+        W,
+        H,
+        before.instance.iter().map(|&i| Vec3::splat(if i == 1 { 10.0 } else { 2.0 })).collect(),
+    );
+    let mut history = TemporalHistory::new();
+    history.add(&first, Motion::Moved(before.clone()), 15.0);
+    // The statue (instance 1) moves sideways.
+    let right = (camera.target - camera.position).cross(camera.up).normalize();
+    let offset = 0.05 * scene.bounds().diagonal() * right;
+    scene.pose(&ScenePose { moved: vec![(1, Affine3A::from_translation(offset))], ..ScenePose::at(0.0) });
+    let after = buffer(&scene);
+    let out = history.add(&constant(4.0), Motion::Moved(after.clone()), 15.0);
+    let (mut statue_kept, mut statue, mut uncovered, mut ghost) = (0, 0, 0, 0);
+    for i in 0..(W * H) as usize {
+        let value = out.pixels()[i].x;
+        if after.instance[i] == 1 {
+            // The statue's history moved with it: (10 + 4) / 2 where it was kept.
+            statue += 1;
+            statue_kept += usize::from((value - 7.0).abs() < 1e-5);
+        } else if before.instance[i] == 1 {
+            // Where the statue stood and no longer does: the background came into view, with
+            // the background's history (3) or none (4), never the statue's.
+            uncovered += 1;
+            ghost += usize::from(value > 3.0 + 1e-5 && value != 4.0);
+        }
+    }
+    assert!(statue > 50 && uncovered > 20, "{statue} statue pixels, {uncovered} uncovered");
+    assert_eq!(ghost, 0, "{ghost} of {uncovered} uncovered pixels show the statue's history");
+    assert!(
+        statue_kept as f64 > 0.5 * f64::from(statue),
+        "{statue_kept} of {statue} statue pixels kept their history"
+    );
+}
