@@ -1,14 +1,16 @@
-//! A viewer session rendered by the cluster (over the in-process transport): the moving frame
-//! comes as 8-bit pixels and equals the local session's; once the view is still, linear frames
-//! accumulate, one frame behind the local session (whose first frame had linear pixels too),
-//! and give the same images byte for byte.
+//! A viewer session rendered by the cluster (over the in-process transport). With temporal
+//! reuse (the default) the history lives on rank 0 and every frame comes as linear radiance:
+//! moving, still and after a move, the cluster's frames are the local session's byte for byte.
+//! Without it the moving frame comes as 8-bit pixels and equals the local session's; once the
+//! view is still, linear frames accumulate, one frame behind the local session (whose first
+//! frame had linear pixels too), and give the same images byte for byte.
 
 use igi_cluster::{ClusterError, ClusterSource, InProcess, Master, MasterConfig, Setup, WorkerSummary};
 use igi_render::PreparedScene;
-use igi_session::{Session, ViewerSettings};
+use igi_session::{Button, CameraMode, Input, Session, ViewerSettings};
 use std::thread::JoinHandle;
 
-fn session(source: Option<Box<dyn igi_render::FrameSource>>) -> Session {
+fn session(source: Option<Box<dyn igi_render::FrameSource>>, temporal: bool) -> Session {
     let scene = PreparedScene::new(igi_scene::builtin("cornell-box").unwrap());
     let camera = *scene.camera().unwrap();
     let settings = ViewerSettings {
@@ -18,6 +20,7 @@ fn session(source: Option<Box<dyn igi_render::FrameSource>>) -> Session {
             ..ViewerSettings::for_scene(scene.bounds().diagonal()).frame
         },
         playing: false,
+        temporal,
         ..ViewerSettings::for_scene(scene.bounds().diagonal())
     };
     match source {
@@ -54,8 +57,8 @@ fn cluster(nodes: usize) -> (ClusterSource<InProcess>, Vec<JoinHandle<Result<Wor
 #[test]
 fn a_cluster_session_shows_the_local_sessions_frames() {
     let (source, nodes) = cluster(2);
-    let mut cluster = session(Some(Box::new(source)));
-    let mut local = session(None);
+    let mut cluster = session(Some(Box::new(source)), false);
+    let mut local = session(None, false);
 
     let local_frames: Vec<_> = (0..4).map(|_| local.render(0.0).unwrap()).collect();
     let cluster_frames: Vec<_> = (0..5).map(|_| cluster.render(0.0).unwrap()).collect();
@@ -78,41 +81,29 @@ fn a_cluster_session_shows_the_local_sessions_frames() {
     nodes.into_iter().for_each(|n| assert!(n.join().unwrap().is_ok()));
 }
 
-/// The probe's frame of hours on one node (3840x2160, 64 AA samples, 4096 VPLs per pixel) is
-/// given up on rank 0 too when new input comes: the input's frame comes in seconds, and the
-/// long frame is never shown.
 #[test]
-fn a_cluster_viewer_gives_up_a_long_frame_for_new_input() {
-    use igi_session::{Input, RenderLoop};
-    use std::time::Duration;
-    let (source, nodes) = cluster(1);
-    let session = session(Some(Box::new(source)));
-    let fast = ViewerSettings { accumulate: false, ..session.settings().clone() };
-    let slow = ViewerSettings {
-        frame: igi_render::FrameSettings {
-            width: 3840,
-            height: 2160,
-            vpls_per_pixel: 4096,
-            aa: 64,
-            ..fast.clone().frame
-        },
-        ..fast.clone()
-    };
-    let render_loop = RenderLoop::spawn(session);
-    render_loop.send(Input::Settings { settings: fast.clone() });
-    render_loop.latest().wait_newer(0, Duration::from_secs(30)).expect("a first frame");
-    render_loop.send(Input::Settings { settings: slow });
-    // Let the long frame start.
-    std::thread::sleep(Duration::from_secs(1));
-    let seq = render_loop.send(Input::Settings { settings: fast.clone() });
-    let mut frame = render_loop.latest().get().unwrap();
-    while frame.stats.input_seq < seq {
-        let Some(newer) = render_loop.latest().wait_newer(frame.stats.id, Duration::from_secs(20)) else {
-            panic!("no frame within 20 s of the input: rank 0 waited for the long frame");
-        };
-        assert_eq!(newer.stats.settings, fast, "frame {} has the long frame's settings", newer.stats.id);
-        frame = newer;
+fn with_temporal_reuse_a_cluster_session_shows_the_local_sessions_frames_while_moving() {
+    let (source, nodes) = cluster(2);
+    let mut sessions = [session(Some(Box::new(source)), true), session(None, true)];
+    let frames: Vec<Vec<_>> = sessions
+        .iter_mut()
+        .map(|s| {
+            s.handle(&Input::Mode { mode: CameraMode::Orbit }).unwrap();
+            let mut frames = vec![s.render(0.0).unwrap()];
+            for _ in 0..3 {
+                s.handle(&Input::Drag { dx: 0.5, dy: 0.0, button: Button::Primary }).unwrap();
+                frames.push(s.render(0.0).unwrap());
+            }
+            frames.push(s.render(0.0).unwrap());
+            frames
+        })
+        .collect();
+    for (k, (c, l)) in frames[0].iter().zip(&frames[1]).enumerate() {
+        assert_eq!(c.stats.history_kept, l.stats.history_kept, "frame {k}");
+        assert!(c.image.srgb8() == l.image.srgb8(), "frame {k} differs");
+        assert!(c.image.film().unwrap().pixels() == l.image.film().unwrap().pixels(), "frame {k} differs");
     }
-    drop(render_loop);
+    assert!(frames[1][3].stats.history_kept.is_some_and(|k| k > 0.5), "the moving frames kept history");
+    drop(sessions);
     nodes.into_iter().for_each(|n| assert!(n.join().unwrap().is_ok()));
 }

@@ -79,6 +79,9 @@ fn render_args<'a>(scene: &'a str, out: &'a str, extra: &[&'a str]) -> Vec<&'a s
         // comparison of bytes cannot allow.
         "--frames",
         "1",
+        // Several tiles per frame, so that every node gets some.
+        "--tile-size",
+        "64",
     ];
     args.extend_from_slice(extra);
     args

@@ -35,7 +35,7 @@ fn view(args: &[&str], shot: &Path) -> (image::RgbImage, Placement) {
         .args(["-a", "-s", "-screen 0 1600x1200x24", IGI, "view"])
         .args(SCENE)
         .args(args)
-        .args(["--paused", "--no-accumulate", "--exit-after-frames", "3", "--screenshot"])
+        .args(["--paused", "--no-accumulate", "--no-temporal", "--exit-after-frames", "3", "--screenshot"])
         .arg(shot)
         .env("LIBGL_ALWAYS_SOFTWARE", "1")
         .output()
