@@ -129,9 +129,15 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         Mode::Igi => Estimator::Igi,
         Mode::Path => Estimator::PathTracer { spp: args.spp },
     };
+    let until = until(args);
+    if let (Until::Converged(_), None) = (until, args.frame.aa) {
+        // A converging mean anti-aliases itself: each frame's one ray per pixel is jittered
+        // anew, so frames of one ray a pixel give it more frames (and VPL sets) in its budget
+        // (ARCHITECTURE.md, "Convergence by the blotch figure").
+        frame.settings.aa = 1;
+    }
 
     let mut source = source.unwrap_or_else(|| Box::new(FrameRenderer::new(args.frame.threads)));
-    let until = until(args);
     let bar = LateProgress::with_rule(match until {
         Until::Converged(rule) => Some(rule),
         Until::Frames(_) => None,

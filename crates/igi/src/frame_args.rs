@@ -41,7 +41,9 @@ pub struct FrameArgs {
     pub coarse_interleave: u32,
     /// Primary rays per pixel (interleaved super-sampling: a pixel whose rays all see one
     /// surface is shaded once, with all its VPLs; across an edge each ray is lit by its share
-    /// of them). Default 4; 1 in the interactive viewers (`view`, `serve`).
+    /// of them). Default 4 for one frame and `--frames N`; 1 for `igi render`'s converging
+    /// mean (its frames' jittered rays anti-alias it) and in the interactive viewers (`view`,
+    /// `serve`).
     #[arg(long, help_heading = "Sampling")]
     pub aa: Option<u32>,
     /// Show the raw interleaved image: no discontinuity filter.
