@@ -45,6 +45,14 @@ fn accumulated_frames_are_closer_to_the_reference_than_one_frame_and_the_referen
         assert!(flip > 0.0 && flip < 1.0 && rmse > 0.0 && rmse < 1.0, "{f}");
     }
     assert!(mean["flip"].as_f64() < one["flip"].as_f64(), "16 frames {mean} against one {one}");
+    // What igi render writes by default: at least the 4 frames of its stopping rule, and fewer
+    // blotches than one frame (against a reference of 64 paths a pixel, itself blotchy at 64²).
+    let default = &first["default"];
+    assert!(default["frames"].as_u64().unwrap() >= 4, "{default}");
+    assert!(
+        default["blotch10"].as_f64().unwrap() < 0.75 * one["blotch10"].as_f64().unwrap(),
+        "{default} {one}"
+    );
     assert!(first["reference_seconds"].as_f64().unwrap() > 0.0);
     // The second run reads the reference and measures the same images.
     let second = report(igi(&args));
@@ -54,6 +62,34 @@ fn accumulated_frames_are_closer_to_the_reference_than_one_frame_and_the_referen
     assert!(second["reference_method"].as_str().unwrap().contains("not recorded"), "{second}");
     assert_eq!(second["one_frame"]["flip"], first["one_frame"]["flip"]);
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A change of the light shows in the frame it happens (a cut: no history lags it), and an
+/// orbit keeps most of its history with temporal reuse and none without.
+#[test]
+fn a_light_change_lags_no_frame_and_an_orbit_keeps_its_history() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("lag.json");
+    let small = ["--width", "64", "--height", "48", "--view-reference-frames", "8", "--json"];
+    let run = |scene: &str, mode: &[&str]| -> serde_json::Value {
+        let mut args = vec!["bench", "quality", scene];
+        args.extend(mode);
+        args.extend(small);
+        args.push(json.to_str().unwrap());
+        let out = igi(&args);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap()
+    };
+    let lag = run("animated-room", &["--lag", "0.5"]);
+    assert_eq!(lag["lag_frames"], 1, "{lag}");
+    assert!(lag["shares"][0].as_f64().unwrap() > 0.9, "{lag}");
+    let orbit = run("cornell-box", &["--orbit", "6", "--orbit-from", "3", "--orbit-degrees", "2"]);
+    assert!(orbit["temporal"]["history_kept"].as_f64().unwrap() > 0.5, "{orbit}");
+    assert_eq!(orbit["single"]["history_kept"].as_f64(), Some(0.0), "{orbit}");
+    for way in ["temporal", "single"] {
+        let f = &orbit[way];
+        assert!(f["flip"].as_f64().unwrap() > 0.0 && f["blotch10"].as_f64().unwrap() < 1.0, "{f}");
+    }
 }
 
 #[test]

@@ -1,9 +1,10 @@
 //! `igi bench quality --orbit N`: the error of what a viewer shows while the camera moves.
-//! The camera orbits the view's target by `--orbit-degrees` per frame; a viewer's session (its
+//! The camera orbits the view's target (or the point `--orbit-distance` ahead of it) by
+//! `--orbit-degrees` per frame; a viewer's session (its
 //! defaults: one primary ray per pixel, the frame settings of the command line) renders N frames
 //! as it would while dragging, with temporal reuse and without; each frame from
 //! `--orbit-from` on is measured (mean FLIP, blotch10) against the converged image of its own
-//! view, the mean of `--orbit-reference-frames` compensated frames on samples the measured
+//! view, the mean of `--view-reference-frames` compensated frames on samples the measured
 //! frames do not use.
 
 use super::quality::{Figures, display};
@@ -24,6 +25,9 @@ pub struct Orbit {
     pub from: u32,
     /// Frames averaged for each view's converged image.
     pub reference_frames: u32,
+    /// The distance of the point orbited, along the view direction; `None`: the camera's
+    /// target.
+    pub distance: Option<f32>,
 }
 
 /// The figures of an orbit, each the mean over the measured frames.
@@ -64,12 +68,19 @@ pub fn measure(args: &FrameArgs, scene_name: &str, orbit: Orbit) -> Result<Orbit
         bail!("--orbit-degrees must be between -180 and 180");
     }
     if !(1..=100_000).contains(&orbit.reference_frames) {
-        bail!("--orbit-reference-frames must be between 1 and 100000");
+        bail!("--view-reference-frames must be between 1 and 100000");
     }
     let load =
         || -> Result<_> { Ok(args.prepare(igi_scene::load_named(scene_name).context("cannot load scene")?)) };
     let mut reference_scene = load()?;
-    let first = args.frame_state(&reference_scene)?;
+    let mut first = args.frame_state(&reference_scene)?;
+    if let Some(d) = orbit.distance {
+        if !(d.is_finite() && d > 0.0) {
+            bail!("--orbit-distance must be a positive distance");
+        }
+        let c = &mut first.camera;
+        c.target = c.position + (c.target - c.position).normalize() * d;
+    }
     let mut renderer = FrameRenderer::new(args.threads);
     let mut references: Vec<Film> = Vec::new();
     let mut run = |temporal: bool| -> Result<OrbitFigures> {
@@ -103,6 +114,15 @@ pub fn measure(args: &FrameArgs, scene_name: &str, orbit: Orbit) -> Result<Orbit
                     .image
                     .into_film()
                     .context("a reference without its radiance")?;
+                // A view of nothing (the eye left the scene, or stands in a wall) measures
+                // nothing: every image of it is black.
+                let lit = reference.pixels().iter().filter(|p| p.max_element() > 0.0).count();
+                if lit * 20 < reference.pixels().len() {
+                    bail!(
+                        "frame {k} of the orbit sees almost nothing ({lit} lit pixels): the eye left the \
+                         scene; orbit a nearer point (--orbit-distance) or turn the other way"
+                    );
+                }
                 references.push(reference);
             }
             let reference = &references[at];

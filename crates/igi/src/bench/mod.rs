@@ -3,14 +3,16 @@
 //! instant-radiosity frame (primary rays, shadow rays to virtual point lights) on exactly the
 //! workload of `../shared/tools/embree-bench`, so the two can be compared ray for ray.
 //! `igi bench cluster` measures frames of a cluster job as its render nodes grow. `igi bench
-//! quality` measures one frame and accumulated frames against a path-traced reference (FLIP,
-//! RMSE) and the flicker of an animation. `igi bench scale` measures how the cost of a ray grows
+//! quality` measures the default image, one frame and accumulated frames against a path-traced
+//! reference (FLIP, blotch10, RMSE), the flicker of an animation, an orbiting camera with and
+//! without temporal reuse, and the lag of a change of the light. `igi bench scale` measures how the cost of a ray grows
 //! with the triangle count.
 
 pub mod camera_path;
 pub mod cluster;
 pub mod frame;
 mod json_report;
+pub mod light_lag;
 pub mod quality;
 pub mod rays;
 pub mod scale;
@@ -40,8 +42,9 @@ pub enum BenchCommand {
     Rays(rays::RaysArgs),
     /// Cluster frame rate, traffic and scaling from 1 to N render nodes (under mpirun).
     Cluster(cluster::ClusterBenchArgs),
-    /// Image error of one frame and of accumulated frames against a path-traced reference
-    /// (mean FLIP, RMSE), and the flicker of an animation.
+    /// Image error of the default image, one frame and accumulated frames against a reference
+    /// (mean FLIP, blotch10, RMSE), the flicker of an animation, an orbiting camera, the lag of
+    /// a change of the light.
     Quality(quality::QualityBenchArgs),
     /// Build time, memory and time per primary and shadow ray as the same view's triangle count
     /// grows by tenfold steps (10^4 to 10^7 unique, then instanced to 10^8).

@@ -1,13 +1,15 @@
-//! `igi bench quality`: how far one frame (bias-compensated, as `igi render` writes it, and as
-//! a viewer shows it while the view moves), and the mean of N frames, are from the converged
-//! image, and how much an animation flickers (issue 16 measures every change to image quality
-//! with it).
+//! `igi bench quality`: how far what `igi render` writes by default (frames until its stopping
+//! rule), one frame (bias-compensated, and as a viewer shows it while the view moves), and the
+//! mean of N frames are from the converged image, and how much an animation flickers (issue 16
+//! measures every change to image quality with it). `--orbit` measures a moving camera instead
+//! ([`super::camera_path`]), `--lag` a change of the light ([`super::light_lag`]).
 //!
 //! Every image is compared as a user sees it: its linear radiance tone-mapped with its own
 //! statistics (Reinhard, as `igi render` writes a PNG) and encoded as 8-bit sRGB. The figures
 //! are the mean LDR-FLIP (Andersson et al. 2020, NVIDIA's implementation through the `nv-flip`
-//! crate, 67 pixels per degree) and the RMSE of the display values in [0, 1], the figures of
-//! `../shared/tools/compare` in its `ldr` mode on the same PNGs. The reference is the path
+//! crate, 67 pixels per degree), blotch10 on the linear images ([`Blotch`]) and the RMSE of the
+//! display values in [0, 1], the figures of `../shared/tools/compare` (its `ldr` mode on the
+//! same PNGs for FLIP and RMSE). The reference is the path
 //! tracer at `--reference-spp` samples per pixel, or with `--reference-frames N` the mean of N
 //! IGI frames (converging to the same solution; the path tracer is slow to find light that
 //! comes through a doorway), kept as an EXR file so that later runs reuse it.
@@ -22,6 +24,7 @@
 
 use super::camera_path::{self, Orbit, OrbitReport};
 use super::frame::ANIMATION_FPS;
+use super::light_lag;
 use crate::frame_args::FrameArgs;
 use crate::progress::LateProgress;
 use anyhow::{Context, Result, bail};
@@ -73,12 +76,22 @@ pub struct QualityBenchArgs {
     /// Degrees the orbit turns per frame.
     #[arg(long, default_value_t = 4.0, allow_hyphen_values = true)]
     pub orbit_degrees: f32,
+    /// Orbit the point this far ahead of the camera instead of its target (scene units; a
+    /// far target takes the orbit out of a room).
+    #[arg(long)]
+    pub orbit_distance: Option<f32>,
     /// The first orbit frame measured (1-based).
     #[arg(long, default_value_t = 9)]
     pub orbit_from: u32,
-    /// Frames averaged for the converged image of each measured orbit frame's view.
+    /// Instead of the still image, measure the lag of a change of the light: the frames a
+    /// viewer takes to show the change the scene's animation makes between `--time` and this
+    /// many seconds later.
+    #[arg(long)]
+    pub lag: Option<f32>,
+    /// Frames averaged for the converged image of each view `--orbit` measures and of the
+    /// two poses of `--lag`.
     #[arg(long, default_value_t = 64)]
-    pub orbit_reference_frames: u32,
+    pub view_reference_frames: u32,
     /// Write the results as JSON.
     #[arg(long)]
     pub json: Option<PathBuf>,
@@ -171,12 +184,31 @@ pub fn run(args: &QualityBenchArgs) -> Result<()> {
         bail!("--time-budget must be a number of seconds above 0 (and at most 10000000)");
     }
     super::json_report::check_json(args.json.as_deref())?;
+    if let Some(seconds) = args.lag {
+        let report = light_lag::measure(&args.frame, &args.scene, seconds, args.view_reference_frames)?;
+        outln!(
+            "{}: a change of the light over {seconds} s of the animation, {} pixels changed",
+            args.scene,
+            report.changed_pixels
+        );
+        let shares: Vec<String> = report.shares.iter().map(|s| format!("{:.0} %", 100.0 * s)).collect();
+        outln!("  share of the change shown, frame 1 on: {}", shares.join(", "));
+        match report.lag_frames {
+            Some(k) => outln!("  lag: 90 % of the change in frame {k}"),
+            None => outln!("  lag: 90 % of the change not reached in {} frames", report.shares.len()),
+        }
+        if let Some(path) = &args.json {
+            super::json_report::write_json(path, &report)?;
+        }
+        return Ok(());
+    }
     if args.orbit > 0 {
         let orbit = Orbit {
             frames: args.orbit,
             degrees: args.orbit_degrees,
             from: args.orbit_from,
-            reference_frames: args.orbit_reference_frames,
+            reference_frames: args.view_reference_frames,
+            distance: args.orbit_distance,
         };
         let report = camera_path::measure(&args.frame, &args.scene, orbit)?;
         print_orbit(&args.scene, &report);
