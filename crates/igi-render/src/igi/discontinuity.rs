@@ -354,18 +354,22 @@ mod tests {
         points
     }
 
-    fn run(points: &[FilterSample], region: &PixelRect, tile: &Tile) -> Vec<Vec3> {
+    /// The filter's output for `points` covering `region`, filtered for `tile` with `il`.
+    fn filter(points: &[FilterSample], region: &PixelRect, tile: &Tile, il: &Interleave) -> Filtered {
         let mut out = Filtered::default();
-        let il = Interleave { n: 3, m: 3, coarse: 1, aa: 1 };
         DiscontinuityBuffer::default().filter(
             region,
             tile,
-            &il,
+            il,
             &FilterSettings::default(),
             (points, &[]),
             &mut out,
         );
-        out.diffuse_radiance
+        out
+    }
+
+    fn run(points: &[FilterSample], region: &PixelRect, tile: &Tile) -> Vec<Vec3> {
+        filter(points, region, tile, &Interleave { n: 3, m: 3, coarse: 1, aa: 1 }).diffuse_radiance
     }
 
     #[test]
@@ -414,16 +418,7 @@ mod tests {
         let points = grid_points(&region, |x, y| {
             (Vec3::Y, 1.0, if (x, y) == (22, 22) { Vec3::splat(81.0) } else { Vec3::ZERO })
         });
-        let mut out = Filtered::default();
-        let il = Interleave { n: 3, m: 3, coarse: 3, aa: 1 };
-        DiscontinuityBuffer::default().filter(
-            &region,
-            &tile,
-            &il,
-            &FilterSettings::default(),
-            (&points, &[]),
-            &mut out,
-        );
+        let out = filter(&points, &region, &tile, &Interleave { n: 3, m: 3, coarse: 3, aa: 1 });
         let v = |x: u32, y: u32| out.diffuse_radiance[region.index(x, y)].x;
         assert!((v(22, 22) - 1.0).abs() < 1e-5, "the peak: {}", v(22, 22));
         let mut largest_step = 0.0f32;
@@ -480,15 +475,7 @@ mod tests {
             .collect();
         points.extend([point(1, 1, 0, false, 10.0), point(1, 1, 1, false, 20.0)]);
         points.extend([point(2, 1, 0, false, 30.0), point(2, 1, 1, false, 40.0)]);
-        let mut out = Filtered::default();
-        DiscontinuityBuffer::default().filter(
-            &region,
-            &tile,
-            &il,
-            &FilterSettings::default(),
-            (&points, &[]),
-            &mut out,
-        );
+        let out = filter(&points, &region, &tile, &il);
         let value = |x: u32, y: u32, sample: u32| {
             let i = points
                 .iter()

@@ -60,11 +60,6 @@ impl TemporalHistory {
         *self = Self::default();
     }
 
-    /// True while no frame is in the history.
-    pub fn is_empty(&self) -> bool {
-        self.surfaces.is_none()
-    }
-
     /// The share of the last frame's pixels that kept history (0 after a cut).
     pub fn kept(&self) -> f64 {
         self.kept as f64 / self.radiance.len().max(1) as f64
@@ -85,7 +80,9 @@ impl TemporalHistory {
         let fits = self.radiance.len() == len
             && self.surfaces.as_ref().is_some_and(|s| (s.camera.width, s.camera.height) == (w, h));
         let (mut history, mut frames) = match (&motion, &self.surfaces) {
-            (Motion::Still, Some(_)) if fits => (self.radiance.clone(), self.frames.clone()),
+            (Motion::Still, Some(_)) if fits => {
+                (std::mem::take(&mut self.radiance), std::mem::take(&mut self.frames))
+            }
             (Motion::Moved(current), Some(previous)) if fits => self.reproject(previous, current),
             _ => (vec![Vec3::ZERO; len], vec![0.0; len]),
         };
