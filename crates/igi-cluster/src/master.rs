@@ -486,7 +486,7 @@ fn check_tile(rank: usize, job: &FrameJob, grid: &TileGrid, result: &TileResult)
     }
     let expected = grid.tile(result.tile).rect.pixel_count();
     let count = result.pixels.pixel_count();
-    if result.pixels.format() != job.frame.pixels || count != Some(expected) {
+    if !result.pixels.fits(job.frame.pixels) || count != Some(expected) {
         return bad(format!(
             "tile {} with {} pixels of the wrong kind or count ({expected} expected)",
             result.tile,

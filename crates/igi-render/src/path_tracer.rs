@@ -169,7 +169,8 @@ impl<'a> PathTracer<'a> {
         }
         // The path tracer's rays are camera paths: counted as primary rays.
         let rays = RayCounts { primary: rays, ..RayCounts::default() };
-        TileOutput::encode(tile, radiance, self.pixels, &self.tone_map, rays, PhaseTimes::default())
+        // No VPLs: temporal reuse carries all of a path-traced frame's radiance.
+        TileOutput::encode(tile, (radiance, None), self.pixels, &self.tone_map, rays, PhaseTimes::default())
     }
 
     /// The radiance one camera path through pixel (x, y) brings back (see the module

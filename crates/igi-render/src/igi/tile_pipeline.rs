@@ -49,6 +49,9 @@ mod primary;
 mod shadow;
 mod specular;
 
+/// Path code of a camera ray's own hit ([`PathState::path`]: no specular bounce yet).
+const CAMERA_PATH: u32 = 1;
+
 /// Path-code bit of the shading points found by the clamp's bias compensation
 /// ([`TilePipeline::compensate`]): their light joins the D of their camera path's point, and
 /// only the camera paths' own points go through the filter.
@@ -268,13 +271,20 @@ impl<'a> TilePipeline<'a> {
             times.lap(Phase::Shadow, &mut clock);
         }
 
-        let pixels = self.compose(&tile, &region, scratch);
+        let radiance = self.compose(&tile, &region, scratch);
         times.lap(Phase::Filter, &mut clock);
-        TileOutput::encode(tile, pixels, self.pixels, &self.tone_map, rays, times)
+        TileOutput::encode(tile, radiance, self.pixels, &self.tone_map, rays, times)
     }
 
-    /// Filters the diffuse and glossy radiance and composes the tile's pixels.
-    fn compose(&self, tile: &Tile, region: &PixelRect, s: &mut TileScratch) -> Vec<Vec3> {
+    /// Filters the diffuse and glossy radiance and composes the tile's pixels, and for a
+    /// layered frame their [`VplDiffuse`](crate::image::frame_image::VplDiffuse) part: ρ_d·D
+    /// of the camera rays' own hits.
+    fn compose(
+        &self,
+        tile: &Tile,
+        region: &PixelRect,
+        s: &mut TileScratch,
+    ) -> (Vec<Vec3>, Option<Vec<Vec3>>) {
         let TileScratch {
             points,
             emitted,
@@ -334,6 +344,7 @@ impl<'a> TilePipeline<'a> {
 
         let aa = self.interleave.aa as usize;
         let mut pixels = vec![Vec3::ZERO; tile.rect.pixel_count()];
+        let mut layer = (self.pixels == PixelFormat::Layered).then(|| vec![Vec3::ZERO; pixels.len()]);
         let tile_index = |pixel: u32| {
             let (x, y) = region.pixel(pixel);
             tile.rect.contains(x, y).then(|| tile.rect.index(x, y))
@@ -341,7 +352,12 @@ impl<'a> TilePipeline<'a> {
         for (i, (p, d)) in camera().zip(&filtered.diffuse_radiance).enumerate() {
             if let Some(pixel) = tile_index(p.state.pixel) {
                 let g = filtered.glossy_radiance.get(i).map_or(Vec3::ZERO, |[g, s]| p.glossy * *g + *s);
-                pixels[pixel] += p.state.coverage as f32 * p.state.throughput * (p.albedo * *d + g + p.exact);
+                let (coverage, diffuse) = (p.state.coverage as f32, p.albedo * *d);
+                pixels[pixel] += coverage * p.state.throughput * (diffuse + g + p.exact);
+                // Only the camera ray's own hit: what a mirror or glass shows moves with the view.
+                if let (Some(layer), CAMERA_PATH) = (&mut layer, p.state.path) {
+                    layer[pixel] += coverage * diffuse;
+                }
             }
         }
         let scale = 1.0 / aa as f32;
@@ -353,6 +369,9 @@ impl<'a> TilePipeline<'a> {
                 pixels[i] = (pixels[i] + e) * scale;
             }
         }
-        pixels
+        if let Some(layer) = &mut layer {
+            layer.iter_mut().for_each(|v| *v *= scale);
+        }
+        (pixels, layer)
     }
 }

@@ -18,10 +18,17 @@
 //! view moves (the resampled history blurs and lags), unbounded while it stands still, where
 //! the history is the plain mean of the frames (progressive refinement).
 //!
+//! Only a frame's [`VplDiffuse`] layer is carried across a move: the rest of its radiance
+//! (emission, exact lights, glossy reflection, what mirrors and glass show) depends on the
+//! view or carries no VPL noise, so it is taken from the new frame, and averaged in place only
+//! while the view stands still. A glossy highlight thereby stays where the new view sees it,
+//! and an emitter's radiance never bleeds into its neighbours through the resampling.
+//!
 //! Everything is per pixel or per block in a fixed order, so the image does not depend on
 //! the thread count, tile size or node count that rendered the frames.
 
 use crate::image::film::Film;
+use crate::image::frame_image::VplDiffuse;
 use crate::temporal::surface_buffer::SurfaceBuffer;
 use glam::{Affine3A, Vec3};
 use igi_bvh::INVALID_ID;
@@ -42,8 +49,13 @@ pub const SILHOUETTE_DEPTH_RATIO: f32 = 0.1;
 /// and the surfaces of the last frame.
 #[derive(Clone, Debug, Default)]
 pub struct TemporalHistory {
+    /// The mean of the frames' [`VplDiffuse`] layers (of their whole radiance for frames
+    /// without one), per pixel.
     radiance: Vec<Vec3>,
     frames: Vec<f32>,
+    /// The mean of the rest of the frames' radiance since the view last moved, and its frames.
+    rest: Vec<Vec3>,
+    rest_frames: f32,
     surfaces: Option<SurfaceBuffer>,
     /// Pixels of the last frame that kept history.
     kept: usize,
@@ -70,13 +82,21 @@ impl TemporalHistory {
         self.frames.iter().map(|&n| f64::from(n)).sum::<f64>() / self.frames.len().max(1) as f64
     }
 
-    /// Adds `frame` and returns the new image: each pixel the mean of the frame and its
-    /// history weighted as at most `max_history` frames. With [`Motion::Still`] the history
-    /// is read in place, else reprojected from the surfaces of the last frame to those of
-    /// this one.
-    pub fn add(&mut self, frame: &Film, motion: Motion, max_history: f32) -> Film {
+    /// Adds `frame` (with its [`VplDiffuse`] layer, if it has one) and returns the new image:
+    /// each pixel the mean of the frame and its history weighted as at most `max_history`
+    /// frames. With [`Motion::Still`] the history is read in place, else its layer part is
+    /// reprojected from the surfaces of the last frame to those of this one and the rest
+    /// starts anew.
+    pub fn add(
+        &mut self,
+        frame: &Film,
+        layer: Option<&VplDiffuse>,
+        motion: Motion,
+        max_history: f32,
+    ) -> Film {
         let (w, h) = (frame.width(), frame.height());
         let len = frame.pixels().len();
+        let reusable = layer.map_or(frame.pixels(), |VplDiffuse(layer)| layer.pixels());
         let fits = self.radiance.len() == len
             && self.surfaces.as_ref().is_some_and(|s| (s.camera.width, s.camera.height) == (w, h));
         let (mut history, mut frames) = match (&motion, &self.surfaces) {
@@ -86,20 +106,28 @@ impl TemporalHistory {
             (Motion::Moved(current), Some(previous)) if fits => self.reproject(previous, current),
             _ => (vec![Vec3::ZERO; len], vec![0.0; len]),
         };
+        if !(fits && matches!(motion, Motion::Still)) {
+            (self.rest, self.rest_frames) = (vec![Vec3::ZERO; len], 0.0);
+        }
         if let Motion::Moved(surfaces) = motion {
-            clamp_at_silhouettes(frame, &surfaces, &mut history);
+            clamp_at_silhouettes(reusable, &surfaces, &mut history);
             self.surfaces = Some(surfaces);
         } else if !fits {
             self.surfaces = None;
         }
         self.kept = frames.iter().filter(|&&n| n > 0.0).count();
-        let mut out = history;
-        out.par_iter_mut().zip(frames.par_iter_mut()).zip(frame.pixels()).for_each(|((hist, n), &x)| {
+        history.par_iter_mut().zip(frames.par_iter_mut()).zip(reusable).for_each(|((hist, n), &x)| {
             let k = n.min(max_history);
             *hist = (x + *hist * k) / (k + 1.0);
             *n = k + 1.0;
         });
-        self.radiance.clone_from(&out);
+        let k = self.rest_frames.min(max_history);
+        self.rest.par_iter_mut().zip(frame.pixels()).zip(reusable).for_each(|((rest, &x), &part)| {
+            *rest = (x - part + *rest * k) / (k + 1.0);
+        });
+        self.rest_frames = k + 1.0;
+        let out = history.par_iter().zip(&self.rest).map(|(&part, &rest)| part + rest).collect();
+        self.radiance = history;
         self.frames = frames;
         Film::from_pixels(w, h, out)
     }
@@ -209,13 +237,13 @@ pub enum Motion {
 }
 
 /// At silhouettes (pixels whose 3×3 neighbourhood sees another instance or a depth step),
-/// clamps the history into the range of the new frame's 3×3 neighbourhood, as temporal
+/// clamps the history into the range of the new frame's 3×3 neighbourhood (of `pixels`, the
+/// part of the frame the history holds), as temporal
 /// anti-aliasing does everywhere (Karis 2014): there each frame's jittered sample sees one side
 /// or the other, and reprojecting through the pixel centre's surface would drag the other
 /// side's colour along.
-fn clamp_at_silhouettes(frame: &Film, surfaces: &SurfaceBuffer, history: &mut [Vec3]) {
-    let (w, h) = (frame.width() as i64, frame.height() as i64);
-    let pixels = frame.pixels();
+fn clamp_at_silhouettes(pixels: &[Vec3], surfaces: &SurfaceBuffer, history: &mut [Vec3]) {
+    let (w, h) = (i64::from(surfaces.camera.width), i64::from(surfaces.camera.height));
     history.par_chunks_mut(w as usize).enumerate().for_each(|(y, row)| {
         let y = y as i64;
         for x in 0..w {

@@ -2,7 +2,7 @@
 //! 8-ray packets (paper Figure 2), and the shading of their hits, once per pixel whose samples
 //! see one surface (paper 3.3).
 
-use super::{PathState, PendingHit, PrimaryPacket, TilePipeline, TileScratch, WholePixel};
+use super::{CAMERA_PATH, PathState, PendingHit, PrimaryPacket, TilePipeline, TileScratch, WholePixel};
 use crate::igi::packet::unpack_hits;
 use crate::image::pixel_rect::PixelRect;
 use crate::image::stats::RayCounts;
@@ -87,7 +87,7 @@ impl TilePipeline<'_> {
                     pixel: p.pixels[lane],
                     sample: shading_sample as u32,
                     coverage: aa as u32,
-                    path: 1,
+                    path: CAMERA_PATH,
                     throughput: Vec3::ONE,
                     root: 0,
                     depth: 0.0,
@@ -140,7 +140,7 @@ impl TilePipeline<'_> {
                     pixel: p.pixels[lane],
                     sample: sample as u32,
                     coverage: 1,
-                    path: 1,
+                    path: CAMERA_PATH,
                     throughput: Vec3::ONE,
                     root: 0,
                     depth: 0.0,
