@@ -2,13 +2,15 @@
 //! them, run under MPI (`mpirun -n N+1 igi bench cluster SCENE`). For each node count: frames
 //! per second, rank 0's time waiting for tiles and its own work per frame, the bytes that
 //! travel per frame against the raw 8-bit image, the tiles each rank rendered, and the scaling
-//! efficiency; then a model that projects larger clusters from these measurements.
+//! efficiency; then a model that projects larger clusters from these measurements. The nodes
+//! send what a viewer asks for (`--pixels`): 8-bit pixels while the view moves, or linear
+//! radiance with its VPL-diffuse layer with temporal reuse.
 
 use super::frame::ANIMATION_FPS;
 use crate::cluster::{ClusterArgs, Rank};
 use crate::frame_args::FrameArgs;
 use anyhow::{Context, Result, bail};
-use clap::Args;
+use clap::{Args, ValueEnum};
 use igi_cluster::FrameJob;
 use igi_render::{PixelFormat, Progressive, ToneMap};
 use serde::Serialize;
@@ -27,12 +29,37 @@ pub struct ClusterBenchArgs {
     /// Send the scene's files from rank 0 instead of loading them on every node.
     #[arg(long)]
     pub broadcast_scene: bool,
+    /// The pixels the nodes send.
+    #[arg(long, value_enum, default_value_t = WirePixels::Srgb8)]
+    pub pixels: WirePixels,
     /// Write the results as JSON.
     #[arg(long)]
     pub json: Option<PathBuf>,
     /// Frame options (`--threads` is per rank).
     #[command(flatten)]
     pub frame: FrameArgs,
+}
+
+/// The pixels a viewer asks its nodes for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum WirePixels {
+    /// Tone-mapped 8-bit pixels: a viewer without temporal reuse while the view moves.
+    Srgb8,
+    /// Linear radiance: a still view's mean.
+    Linear,
+    /// Linear radiance and its VPL-diffuse layer: a viewer with temporal reuse.
+    Layered,
+}
+
+impl WirePixels {
+    fn format(self) -> PixelFormat {
+        match self {
+            Self::Srgb8 => PixelFormat::Srgb8,
+            Self::Linear => PixelFormat::Linear,
+            Self::Layered => PixelFormat::Layered,
+        }
+    }
 }
 
 /// One node count's measurements.
@@ -73,6 +100,7 @@ struct Report {
     aa: u32,
     frames: u32,
     animate: bool,
+    pixels: WirePixels,
     raw_8bit_bytes: u64,
     steps: Vec<Step>,
     model: Vec<Projection>,
@@ -111,7 +139,7 @@ pub fn run(args: &ClusterBenchArgs) -> Result<()> {
             let mut frame = state.clone();
             frame.pose.time =
                 if args.animate { args.frame.time + i as f32 / ANIMATION_FPS } else { args.frame.time };
-            frame.pixels = PixelFormat::Srgb8;
+            frame.pixels = args.pixels.format();
             FrameJob { id: 0, frame }
         };
         // Pipelined as a viewer runs: the next frame starts as soon as the last tile of this
@@ -166,6 +194,7 @@ pub fn run(args: &ClusterBenchArgs) -> Result<()> {
         aa: s.aa,
         frames: args.timed.frames,
         animate: args.animate,
+        pixels: args.pixels,
         raw_8bit_bytes: raw,
         steps,
         model,
@@ -209,7 +238,7 @@ fn project(step: &Step) -> Vec<Projection> {
 
 fn print_report(r: &Report) {
     outln!(
-        "{}: {}x{}, aa {}, {} thread(s) per rank, {} frames per node count{}; raw 8-bit image {} bytes",
+        "{}: {}x{}, aa {}, {} thread(s) per rank, {} frames per node count{}, {:?} pixels; raw 8-bit image {} bytes",
         r.scene,
         r.width,
         r.height,
@@ -217,6 +246,7 @@ fn print_report(r: &Report) {
         r.threads_per_rank,
         r.frames,
         if r.animate { ", animated" } else { "" },
+        r.pixels,
         r.raw_8bit_bytes
     );
     for s in &r.steps {
