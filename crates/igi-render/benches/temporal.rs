@@ -6,7 +6,7 @@
 
 use criterion::{BatchSize, Criterion, criterion_group, criterion_main};
 use glam::Vec3;
-use igi_render::{Film, Motion, PinholeCamera, PreparedScene, SurfaceBuffer, TemporalHistory, VplDiffuse};
+use igi_render::{DiffuseLayer, Film, Motion, PinholeCamera, PreparedScene, SurfaceBuffer, TemporalHistory};
 use igi_scene::Camera;
 use std::hint::black_box;
 
@@ -15,7 +15,7 @@ const H: u32 = 480;
 
 /// A frame whose radiance varies over the image (and its layer, a share of it), so the
 /// silhouette clamp and the blend do real work.
-fn frame(seed: f32) -> (Film, VplDiffuse) {
+fn frame(seed: f32) -> (Film, DiffuseLayer) {
     let pixels: Vec<Vec3> = (0..W * H)
         .map(|i| {
             let (x, y) = ((i % W) as f32, (i / W) as f32);
@@ -23,7 +23,7 @@ fn frame(seed: f32) -> (Film, VplDiffuse) {
         })
         .collect();
     let layer = pixels.iter().map(|&p| 0.7 * p).collect();
-    (Film::from_pixels(W, H, pixels), VplDiffuse(Film::from_pixels(W, H, layer)))
+    (Film::from_pixels(W, H, pixels), DiffuseLayer(Film::from_pixels(W, H, layer)))
 }
 
 fn temporal(c: &mut Criterion) {

@@ -57,7 +57,7 @@ pub use first_sight::start_camera::{default_camera, start_camera};
 pub use frame::{Estimator, FrameSettings, FrameState};
 pub use image::convergence::{Stopped, StoppingRule, Until};
 pub use image::film::Film;
-pub use image::frame_image::{FrameImage, PixelFormat, Pixels, VplDiffuse};
+pub use image::frame_image::{DiffuseLayer, FrameImage, PixelFormat, Pixels};
 pub use image::output::{OutputError, write_exr, write_image, write_png};
 pub use image::pixel_rect::PixelRect;
 pub use image::progressive::{Progressive, Shown};

@@ -1,13 +1,13 @@
 //! Temporal reuse (issue 32): the history follows the camera and moved objects, is refused where
 //! a surface comes into view or is seen from its other side, and a still view's history is the
 //! plain mean of its frames. Frames here are constant images, so every pixel's value says
-//! exactly how many frames and which ones it averages. A frame's VPL-diffuse layer is what the
+//! exactly how many frames and which ones it averages. A frame's diffuse layer is what the
 //! history carries across a move; the rest of its radiance comes from the new frame.
 
 use glam::{Affine3A, Vec3};
 use igi_render::{
-    Film, FrameRenderer, FrameSettings, FrameState, Motion, PinholeCamera, PixelFormat, PreparedScene,
-    ScenePose, SurfaceBuffer, TemporalHistory, VplDiffuse,
+    DiffuseLayer, Film, FrameRenderer, FrameSettings, FrameState, Motion, PinholeCamera, PixelFormat,
+    PreparedScene, ScenePose, SurfaceBuffer, TemporalHistory,
 };
 use igi_scene::Camera;
 
@@ -105,9 +105,9 @@ fn a_moved_object_carries_its_history_and_leaves_no_ghost() {
 }
 
 #[test]
-fn only_the_vpl_diffuse_layer_crosses_a_move_and_the_rest_is_averaged_while_still() {
+fn only_the_diffuse_layer_crosses_a_move_and_the_rest_is_averaged_while_still() {
     let (scene, camera) = room();
-    let layer = |v: f32| VplDiffuse(constant(v));
+    let layer = |v: f32| DiffuseLayer(constant(v));
     let mut history = TemporalHistory::new();
     // Radiance 5 of which the layer is 2 (the rest, say a glossy highlight, 3).
     history.add(&constant(5.0), Some(&layer(2.0)), Motion::Moved(surfaces(&scene, &camera)), 15.0);
@@ -142,8 +142,8 @@ fn a_layered_frame_has_the_same_radiance_and_its_layer_holds_no_emission() {
     let a = renderer.render(&mut scene, &linear, &|_, _| {}).unwrap().image;
     let b = renderer.render(&mut scene, &layered, &|_, _| {}).unwrap().image;
     assert_eq!(a.film().unwrap().pixels(), b.film().unwrap().pixels(), "the layer changes no pixel");
-    assert!(a.vpl_diffuse().is_none(), "a linear frame carries no layer");
-    let VplDiffuse(layer) = b.vpl_diffuse().expect("a layered IGI frame has its layer");
+    assert!(a.diffuse_layer().is_none(), "a linear frame carries no layer");
+    let DiffuseLayer(layer) = b.diffuse_layer().expect("a layered IGI frame has its layer");
     let radiance = b.film().unwrap().pixels();
     // The layer is part of the radiance, and most of it on the box's diffuse walls ...
     let (mut walls, mut lit) = (0, 0);
@@ -161,4 +161,28 @@ fn a_layered_frame_has_the_same_radiance_and_its_layer_holds_no_emission() {
     // ... but the lamp's own emission is not in it: the brightest pixels are the lamp's.
     let brightest = (0..radiance.len()).max_by(|&i, &j| radiance[i].x.total_cmp(&radiance[j].x)).unwrap();
     assert!(layer.pixels()[brightest].max_element() < 0.1 * radiance[brightest].max_element());
+}
+
+#[test]
+fn the_exact_lights_diffuse_light_is_in_the_layer_and_highlights_are_not() {
+    // The room's point light lights diffuse walls and a glossy statue.
+    let (mut scene, camera) = room();
+    let settings = FrameSettings { width: 64, height: 48, aa: 1, seed: 2, ..FrameSettings::default() };
+    let frame = FrameState { pixels: PixelFormat::Layered, ..FrameState::new(camera, settings) };
+    let out = FrameRenderer::new(2).render(&mut scene, &frame, &|_, _| {}).unwrap().image;
+    let DiffuseLayer(layer) = out.diffuse_layer().expect("a layered IGI frame has its layer");
+    // Reflected light (below the lamp's emission): all in the layer on diffuse surfaces, the
+    // point light's included; on the statue its glossy part is not.
+    let (mut reflected, mut all_layer) = (0, 0);
+    for (&l, &r) in layer.pixels().iter().zip(out.film().unwrap().pixels()) {
+        if r.max_element() > 0.0 && r.max_element() < 5.0 {
+            reflected += 1;
+            all_layer += usize::from((l - r).abs().max_element() <= 1e-4 * r.max_element());
+        }
+    }
+    let glossy = reflected - all_layer;
+    assert!(
+        reflected > 2000 && all_layer as f64 > 0.9 * reflected as f64 && glossy > 20,
+        "{all_layer} of {reflected} reflecting pixels are all layer, {glossy} have glossy light"
+    );
 }

@@ -526,8 +526,8 @@ impl Session {
                 lights: self.lights.iter().filter_map(LightControl::edit).collect(),
             },
             tone_map: self.progressive.tone_mapper(),
-            // Temporal reuse carries the VPLs' diffuse light across a move and takes the rest
-            // from each frame ([`igi_render::VplDiffuse`]).
+            // Temporal reuse carries the diffuse light across a move and takes the rest
+            // from each frame ([`igi_render::DiffuseLayer`]).
             pixels: if temporal {
                 PixelFormat::Layered
             } else if self.renderer.prefers_srgb8() && !averaged {
@@ -566,7 +566,7 @@ impl Session {
                     false => Motion::Still,
                 };
                 let limit = if changed { MOVING_HISTORY } else { f32::INFINITY };
-                let mean = self.history.add(film, out.image.vpl_diffuse(), motion, limit);
+                let mean = self.history.add(film, out.image.diffuse_layer(), motion, limit);
                 let stats = LuminanceStats::of_pixels(mean.pixels());
                 self.progressive.reset();
                 self.progressive.add(FrameImage::from_film(mean, &frame.tone_map), stats);

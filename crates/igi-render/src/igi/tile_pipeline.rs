@@ -112,8 +112,9 @@ struct ShadingPoint {
     /// lobe, reflected as it is ([`crate::igi::vpl_lighting`]).
     glossy_radiance: [Vec3; 2],
     /// Radiance reflected from point, spot and directional lights: exact, so never filtered
-    /// (their shadow edges stay sharp).
-    exact: Vec3,
+    /// (their shadow edges stay sharp); its diffuse and its glossy part (the glossy lobe's and
+    /// the Schlick term's), since only the first is the same from every direction.
+    exact: [Vec3; 2],
     /// The light the bias compensation found for this camera path's point, as a share of D:
     /// it is filtered with D ([`TilePipeline::compensate`]).
     compensation: Vec3,
@@ -277,8 +278,9 @@ impl<'a> TilePipeline<'a> {
     }
 
     /// Filters the diffuse and glossy radiance and composes the tile's pixels, and for a
-    /// layered frame their [`VplDiffuse`](crate::image::frame_image::VplDiffuse) part: ρ_d·D
-    /// of the camera rays' own hits.
+    /// layered frame their [`DiffuseLayer`](crate::image::frame_image::DiffuseLayer) part: the
+    /// diffuse reflection (ρ_d·D and the exact lights' diffuse term) of the camera rays' own
+    /// hits.
     fn compose(
         &self,
         tile: &Tile,
@@ -303,7 +305,8 @@ impl<'a> TilePipeline<'a> {
             let p = points[i];
             if p.state.path & COMPENSATION != 0 {
                 let [g, schlick] = p.glossy_radiance;
-                let reflected = p.albedo * p.diffuse_radiance + p.glossy * g + schlick + p.exact;
+                let reflected =
+                    p.albedo * p.diffuse_radiance + p.glossy * g + schlick + p.exact[0] + p.exact[1];
                 points[p.state.root as usize].compensation += p.state.throughput * reflected;
             }
         }
@@ -352,8 +355,9 @@ impl<'a> TilePipeline<'a> {
         for (i, (p, d)) in camera().zip(&filtered.diffuse_radiance).enumerate() {
             if let Some(pixel) = tile_index(p.state.pixel) {
                 let g = filtered.glossy_radiance.get(i).map_or(Vec3::ZERO, |[g, s]| p.glossy * *g + *s);
-                let (coverage, diffuse) = (p.state.coverage as f32, p.albedo * *d);
-                pixels[pixel] += coverage * p.state.throughput * (diffuse + g + p.exact);
+                let (coverage, [exact_diffuse, exact_glossy]) = (p.state.coverage as f32, p.exact);
+                let diffuse = p.albedo * *d + exact_diffuse;
+                pixels[pixel] += coverage * p.state.throughput * (diffuse + g + exact_glossy);
                 // Only the camera ray's own hit: what a mirror or glass shows moves with the view.
                 if let (Some(layer), CAMERA_PATH) = (&mut layer, p.state.path) {
                     layer[pixel] += coverage * diffuse;

@@ -5,7 +5,7 @@
 //! view moves (paper 3.4): a quarter of the bytes of linear radiance. Linear radiance is asked
 //! for where it is averaged (progressive refinement), written to EXR, or tone-mapped from the
 //! image's own statistics; a linear frame still carries its display image. A frame shown with
-//! temporal reuse asks for its [`VplDiffuse`] layer as well: the part of the radiance the
+//! temporal reuse asks for its [`DiffuseLayer`] as well: the part of the radiance the
 //! history may carry to another view (ARCHITECTURE.md, "Temporal reuse while the view moves").
 
 use crate::image::film::{Film, copy_tile};
@@ -25,20 +25,21 @@ pub enum PixelFormat {
     /// Linear radiance (32-bit float RGB), and the display image made from it.
     #[default]
     Linear,
-    /// Linear radiance with its [`VplDiffuse`] layer, and the display image: for temporal
+    /// Linear radiance with its [`DiffuseLayer`], and the display image: for temporal
     /// reuse, which reprojects the layer and takes the rest from the frame itself.
     Layered,
 }
 
-/// The radiance the VPLs give a camera ray's first hit through its diffuse lobe, ρ_d·D
-/// (with the bias compensation's light): the only term of a frame that is both noisy (the
-/// VPLs' error) and independent of the direction it is seen from. Emission, the exact lights,
-/// glossy reflection and everything seen through mirrors and glass are the rest of the
-/// radiance: noise-free or view-dependent, so temporal reuse takes them from each new frame
-/// while the view moves (a glossy highlight reprojected from earlier views would trail the
-/// camera, and a bright emitter would bleed into its neighbours through the resampling).
+/// The diffuse layer of a frame: the light a camera ray's first hit reflects through its
+/// diffuse lobe, from the VPLs (ρ_d·D, with the bias compensation's light) and from the exact
+/// lights. It is the part of the radiance that looks the same from every direction, and it
+/// holds all of the VPLs' diffuse noise, so temporal reuse reprojects it. Emission, glossy
+/// reflection and everything seen through mirrors and glass are the rest: view-dependent or
+/// noise-free, so temporal reuse takes them from each new frame while the view moves (a
+/// glossy highlight reprojected from earlier views would trail the camera, and a bright
+/// emitter would bleed into its neighbours through the resampling).
 #[derive(Clone, Debug, PartialEq)]
-pub struct VplDiffuse(pub Film);
+pub struct DiffuseLayer(pub Film);
 
 /// The pixels of one tile, row-major within the tile, in the frame's [`PixelFormat`]. The
 /// display image is encoded with the tile (while it is in cache) in either format.
@@ -50,8 +51,8 @@ pub enum Pixels {
     Linear {
         /// The radiance.
         radiance: Vec<Vec3>,
-        /// For [`PixelFormat::Layered`]: the radiance's [`VplDiffuse`] part per pixel.
-        vpl_diffuse: Option<Vec<Vec3>>,
+        /// For [`PixelFormat::Layered`]: the radiance's [`DiffuseLayer`] part per pixel.
+        diffuse_layer: Option<Vec<Vec3>>,
         /// `radiance` tone-mapped and sRGB-encoded, 3 bytes per pixel.
         srgb8: Vec<u8>,
     },
@@ -60,19 +61,19 @@ pub enum Pixels {
 impl Pixels {
     /// A tile's `radiance` in `format`: the display image tone-mapped with `tone_map` and
     /// sRGB-encoded (while the tile is in cache, for either format), with the radiance itself
-    /// for a linear frame, and for a layered one its [`VplDiffuse`] part `vpl_diffuse` (an
+    /// for a linear frame, and for a layered one its [`DiffuseLayer`] part `diffuse_layer` (an
     /// estimator without VPLs has none: then temporal reuse carries all of its radiance).
     pub fn encode(
         radiance: Vec<Vec3>,
-        vpl_diffuse: Option<Vec<Vec3>>,
+        diffuse_layer: Option<Vec<Vec3>>,
         format: PixelFormat,
         tone_map: &ToneMapper,
     ) -> Self {
         let mut srgb8 = vec![0u8; 3 * radiance.len()];
         tone_map.encode_pixels(&radiance, &mut srgb8);
         match format {
-            PixelFormat::Linear => Self::Linear { radiance, vpl_diffuse: None, srgb8 },
-            PixelFormat::Layered => Self::Linear { radiance, vpl_diffuse, srgb8 },
+            PixelFormat::Linear => Self::Linear { radiance, diffuse_layer: None, srgb8 },
+            PixelFormat::Layered => Self::Linear { radiance, diffuse_layer, srgb8 },
             PixelFormat::Srgb8 => Self::Srgb8(srgb8),
         }
     }
@@ -81,8 +82,8 @@ impl Pixels {
     pub fn fits(&self, format: PixelFormat) -> bool {
         match self {
             Self::Srgb8(_) => format == PixelFormat::Srgb8,
-            Self::Linear { vpl_diffuse: None, .. } => format != PixelFormat::Srgb8,
-            Self::Linear { vpl_diffuse: Some(_), .. } => format == PixelFormat::Layered,
+            Self::Linear { diffuse_layer: None, .. } => format != PixelFormat::Srgb8,
+            Self::Linear { diffuse_layer: Some(_), .. } => format == PixelFormat::Layered,
         }
     }
 
@@ -91,8 +92,8 @@ impl Pixels {
     pub fn pixel_count(&self) -> Option<usize> {
         match self {
             Self::Srgb8(bytes) => (bytes.len() % 3 == 0).then_some(bytes.len() / 3),
-            Self::Linear { radiance, vpl_diffuse, srgb8 } => (srgb8.len() == 3 * radiance.len()
-                && vpl_diffuse.as_ref().is_none_or(|layer| layer.len() == radiance.len()))
+            Self::Linear { radiance, diffuse_layer, srgb8 } => (srgb8.len() == 3 * radiance.len()
+                && diffuse_layer.as_ref().is_none_or(|layer| layer.len() == radiance.len()))
             .then_some(radiance.len()),
         }
     }
@@ -123,12 +124,12 @@ pub struct TileOutput {
 }
 
 impl TileOutput {
-    /// What an estimator delivers for `tile` from its `radiance` (and its [`VplDiffuse`] part,
+    /// What an estimator delivers for `tile` from its `radiance` (and its [`DiffuseLayer`] part,
     /// if it has one), `rays` and `times`: its luminance statistics and its pixels in `format`
     /// ([`Pixels::encode`] with `tone_map`), the time they take counted as the tone-map phase.
     pub fn encode(
         tile: Tile,
-        (radiance, vpl_diffuse): (Vec<Vec3>, Option<Vec<Vec3>>),
+        (radiance, diffuse_layer): (Vec<Vec3>, Option<Vec<Vec3>>),
         format: PixelFormat,
         tone_map: &ToneMapper,
         rays: RayCounts,
@@ -136,7 +137,7 @@ impl TileOutput {
     ) -> Self {
         let start = Instant::now();
         let stats = LuminanceStats::of_pixels(&radiance);
-        let pixels = Pixels::encode(radiance, vpl_diffuse, format, tone_map);
+        let pixels = Pixels::encode(radiance, diffuse_layer, format, tone_map);
         times.add(Phase::ToneMap, start.elapsed());
         Self { tile, pixels, stats, rays, times }
     }
@@ -160,8 +161,8 @@ pub enum FrameImage {
         /// The radiance.
         film: Film,
         /// For a [`PixelFormat::Layered`] frame of an estimator with VPLs: the radiance's
-        /// [`VplDiffuse`] part.
-        vpl_diffuse: Option<VplDiffuse>,
+        /// [`DiffuseLayer`] part.
+        diffuse_layer: Option<DiffuseLayer>,
         /// `film` tone-mapped and sRGB-encoded, 3 bytes per pixel.
         srgb8: Vec<u8>,
     },
@@ -171,7 +172,7 @@ impl FrameImage {
     /// A linear image and its display image under `tone_map` ([`to_srgb8`]).
     pub fn from_film(film: Film, tone_map: &ToneMapper) -> Self {
         let srgb8 = to_srgb8(&film, tone_map);
-        Self::Linear { film, vpl_diffuse: None, srgb8 }
+        Self::Linear { film, diffuse_layer: None, srgb8 }
     }
 
     /// The image of a frame put together from its tiles, which must all be in `format` and
@@ -189,16 +190,16 @@ impl FrameImage {
         for (tile, pixels) in tiles {
             assert!(pixels.fits(format), "a tile of another format than its frame");
             copy_tile(&mut bytes, 3 * width as usize, &tile, pixels.srgb8(), 3);
-            if let (Pixels::Linear { radiance, vpl_diffuse, .. }, Some(film)) = (pixels, &mut film) {
+            if let (Pixels::Linear { radiance, diffuse_layer, .. }, Some(film)) = (pixels, &mut film) {
                 film.write_tile(&tile, &radiance);
-                match (vpl_diffuse, &mut layer) {
+                match (diffuse_layer, &mut layer) {
                     (Some(part), Some(layer)) => layer.write_tile(&tile, &part),
                     _ => layer = None,
                 }
             }
         }
         match film {
-            Some(film) => Self::Linear { film, vpl_diffuse: layer.map(VplDiffuse), srgb8: bytes },
+            Some(film) => Self::Linear { film, diffuse_layer: layer.map(DiffuseLayer), srgb8: bytes },
             None => Self::Srgb8 { width, height, bytes },
         }
     }
@@ -227,11 +228,11 @@ impl FrameImage {
         }
     }
 
-    /// The radiance's [`VplDiffuse`] part, if the frame asked for it and its estimator has one.
-    pub fn vpl_diffuse(&self) -> Option<&VplDiffuse> {
+    /// The radiance's [`DiffuseLayer`] part, if the frame asked for it and its estimator has one.
+    pub fn diffuse_layer(&self) -> Option<&DiffuseLayer> {
         match self {
             Self::Srgb8 { .. } => None,
-            Self::Linear { vpl_diffuse, .. } => vpl_diffuse.as_ref(),
+            Self::Linear { diffuse_layer, .. } => diffuse_layer.as_ref(),
         }
     }
 }

@@ -18,9 +18,9 @@
 //! view moves (the resampled history blurs and lags), unbounded while it stands still, where
 //! the history is the plain mean of the frames (progressive refinement).
 //!
-//! Only a frame's [`VplDiffuse`] layer is carried across a move: the rest of its radiance
-//! (emission, exact lights, glossy reflection, what mirrors and glass show) depends on the
-//! view or carries no VPL noise, so it is taken from the new frame, and averaged in place only
+//! Only a frame's [`DiffuseLayer`] is carried across a move: the rest of its radiance
+//! (emission, glossy reflection, what mirrors and glass show) depends on the view or carries
+//! no VPL noise, so it is taken from the new frame, and averaged in place only
 //! while the view stands still. A glossy highlight thereby stays where the new view sees it,
 //! and an emitter's radiance never bleeds into its neighbours through the resampling.
 //!
@@ -28,7 +28,7 @@
 //! the thread count, tile size or node count that rendered the frames.
 
 use crate::image::film::Film;
-use crate::image::frame_image::VplDiffuse;
+use crate::image::frame_image::DiffuseLayer;
 use crate::temporal::surface_buffer::SurfaceBuffer;
 use glam::{Affine3A, Vec3};
 use igi_bvh::INVALID_ID;
@@ -49,7 +49,7 @@ pub const SILHOUETTE_DEPTH_RATIO: f32 = 0.1;
 /// and the surfaces of the last frame.
 #[derive(Clone, Debug, Default)]
 pub struct TemporalHistory {
-    /// The mean of the frames' [`VplDiffuse`] layers (of their whole radiance for frames
+    /// The mean of the frames' [`DiffuseLayer`]s (of their whole radiance for frames
     /// without one), per pixel.
     radiance: Vec<Vec3>,
     frames: Vec<f32>,
@@ -82,7 +82,7 @@ impl TemporalHistory {
         self.frames.iter().map(|&n| f64::from(n)).sum::<f64>() / self.frames.len().max(1) as f64
     }
 
-    /// Adds `frame` (with its [`VplDiffuse`] layer, if it has one) and returns the new image:
+    /// Adds `frame` (with its [`DiffuseLayer`], if it has one) and returns the new image:
     /// each pixel the mean of the frame and its history weighted as at most `max_history`
     /// frames. With [`Motion::Still`] the history is read in place, else its layer part is
     /// reprojected from the surfaces of the last frame to those of this one and the rest
@@ -90,13 +90,13 @@ impl TemporalHistory {
     pub fn add(
         &mut self,
         frame: &Film,
-        layer: Option<&VplDiffuse>,
+        layer: Option<&DiffuseLayer>,
         motion: Motion,
         max_history: f32,
     ) -> Film {
         let (w, h) = (frame.width(), frame.height());
         let len = frame.pixels().len();
-        let reusable = layer.map_or(frame.pixels(), |VplDiffuse(layer)| layer.pixels());
+        let reusable = layer.map_or(frame.pixels(), |DiffuseLayer(layer)| layer.pixels());
         let fits = self.radiance.len() == len
             && self.surfaces.as_ref().is_some_and(|s| (s.camera.width, s.camera.height) == (w, h));
         let (mut history, mut frames) = match (&motion, &self.surfaces) {

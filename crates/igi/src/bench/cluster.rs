@@ -4,7 +4,7 @@
 //! travel per frame against the raw 8-bit image, the tiles each rank rendered, and the scaling
 //! efficiency; then a model that projects larger clusters from these measurements. The nodes
 //! send what a viewer asks for (`--pixels`): 8-bit pixels while the view moves, or linear
-//! radiance with its VPL-diffuse layer with temporal reuse.
+//! radiance with its diffuse layer with temporal reuse.
 
 use super::frame::ANIMATION_FPS;
 use crate::cluster::{ClusterArgs, Rank};
@@ -48,7 +48,7 @@ pub enum WirePixels {
     Srgb8,
     /// Linear radiance: a still view's mean.
     Linear,
-    /// Linear radiance and its VPL-diffuse layer: a viewer with temporal reuse.
+    /// Linear radiance and its diffuse layer: a viewer with temporal reuse.
     Layered,
 }
 

@@ -112,13 +112,14 @@ impl TilePipeline<'_> {
         for &(_, i) in run {
             let p = &mut points[i as usize];
             let n = origins(p).len();
-            let mut sum = Vec3::ZERO;
+            let (mut diffuse, mut glossy) = (Vec3::ZERO, Vec3::ZERO);
             for _ in 0..n {
                 let (d, g, schlick) = receivers.radiance(k);
-                sum += p.albedo * d + p.glossy * g + schlick;
+                diffuse += p.albedo * d;
+                glossy += p.glossy * g + schlick;
                 k += 1;
             }
-            p.exact = sum / n as f32;
+            p.exact = [diffuse / n as f32, glossy / n as f32];
         }
     }
 }

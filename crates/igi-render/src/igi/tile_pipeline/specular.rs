@@ -132,7 +132,7 @@ impl TilePipeline<'_> {
                 lobe: GlossyLobe::new(b, ns, -dir),
                 diffuse_radiance: Vec3::ZERO,
                 glossy_radiance: [Vec3::ZERO; 2],
-                exact: Vec3::ZERO,
+                exact: [Vec3::ZERO; 2],
                 compensation: Vec3::ZERO,
                 sample_origins,
             });
