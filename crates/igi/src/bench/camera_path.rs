@@ -54,6 +54,9 @@ pub struct OrbitFigures {
     pub frame_ms: f64,
     /// Mean share of pixels that kept their history (0 without temporal reuse).
     pub history_kept: f64,
+    /// The least share of any measured frame: near 0 where the eye passed through a wall or
+    /// the view turned to something new, which no history can help.
+    pub history_kept_least: f64,
 }
 
 /// The frame number the references start at: far from the measured frames' samples.
@@ -95,6 +98,7 @@ pub fn measure(args: &FrameArgs, scene_name: &str, orbit: Orbit) -> Result<Orbit
         let mut session = Session::new(scene, first.camera, settings.clone(), args.threads)?;
         session.handle(&Input::Mode { mode: CameraMode::Orbit })?;
         let (mut flip, mut blotch, mut ms, mut kept, mut n) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        let mut least: f64 = 1.0;
         for k in 1..=orbit.frames {
             // A drag over the image's height turns the orbit once around.
             let dx = orbit.degrees / 360.0 * height as f32;
@@ -131,9 +135,16 @@ pub fn measure(args: &FrameArgs, scene_name: &str, orbit: Orbit) -> Result<Orbit
             blotch += figures.blotch10;
             ms += frame.stats.render_ms;
             kept += frame.stats.history_kept.unwrap_or(0.0);
+            least = least.min(frame.stats.history_kept.unwrap_or(0.0));
             n += 1.0;
         }
-        Ok(OrbitFigures { flip: flip / n, blotch10: blotch / n, frame_ms: ms / n, history_kept: kept / n })
+        Ok(OrbitFigures {
+            flip: flip / n,
+            blotch10: blotch / n,
+            frame_ms: ms / n,
+            history_kept: kept / n,
+            history_kept_least: least,
+        })
     };
     let temporal = run(true)?;
     let single = run(false)?;

@@ -501,11 +501,19 @@ fn print_orbit(scene: &str, r: &OrbitReport) {
     );
     for (name, f) in [("temporal reuse", &r.temporal), ("single frames", &r.single)] {
         outln!(
-            "  {name:<15} mean FLIP {:.4}  blotch10 {:.4}  {:.1} ms a frame  history kept {:.0} %",
+            "  {name:<15} mean FLIP {:.4}  blotch10 {:.4}  {:.1} ms a frame  history kept {:.0} % (least {:.0} %)",
             f.flip,
             f.blotch10,
             f.frame_ms,
-            100.0 * f.history_kept
+            100.0 * f.history_kept,
+            100.0 * f.history_kept_least
+        );
+    }
+    if r.temporal.history_kept_least < 0.5 {
+        outln!(
+            "  a measured frame kept {:.0} % of its history: the eye went through something or turned to a new view, \
+             which no history helps; another --orbit-distance measures the reuse itself",
+            100.0 * r.temporal.history_kept_least
         );
     }
 }
