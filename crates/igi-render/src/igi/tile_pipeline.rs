@@ -371,10 +371,10 @@ impl<'a> TilePipeline<'a> {
                 let e: Vec3 = emitted[r * aa..(r + 1) * aa].iter().sum();
                 let i = tile.rect.index(x, y);
                 pixels[i] = (pixels[i] + e) * scale;
+                if let Some(layer) = &mut layer {
+                    layer[i] *= scale;
+                }
             }
-        }
-        if let Some(layer) = &mut layer {
-            layer.iter_mut().for_each(|v| *v *= scale);
         }
         (pixels, layer)
     }

@@ -122,11 +122,14 @@ impl TemporalHistory {
             *n = k + 1.0;
         });
         let k = self.rest_frames.min(max_history);
-        self.rest.par_iter_mut().zip(frame.pixels()).zip(reusable).for_each(|((rest, &x), &part)| {
-            *rest = (x - part + *rest * k) / (k + 1.0);
-        });
+        // The rest's new mean, and the image: the layer's mean plus the rest's, in one pass.
+        let out = (self.rest.par_iter_mut().zip(frame.pixels()).zip(reusable).zip(&history))
+            .map(|(((rest, &x), &part), &mean)| {
+                *rest = (x - part + *rest * k) / (k + 1.0);
+                mean + *rest
+            })
+            .collect();
         self.rest_frames = k + 1.0;
-        let out = history.par_iter().zip(&self.rest).map(|(&part, &rest)| part + rest).collect();
         self.radiance = history;
         self.frames = frames;
         Film::from_pixels(w, h, out)
