@@ -91,8 +91,13 @@ impl Interleave {
     /// to one along each axis, so each set's taps together weigh one.
     #[inline]
     pub fn coarse_weight(&self, i: u32, j: u32) -> f32 {
-        let k = self.coarse as f32;
-        (1.0 - i as f32 / k) * (1.0 - j as f32 / k)
+        self.coarse_tent(i) * self.coarse_tent(j)
+    }
+
+    /// One axis of [`Interleave::coarse_weight`]: 1 − |i|/K.
+    #[inline]
+    pub fn coarse_tent(&self, i: u32) -> f32 {
+        1.0 - i as f32 / self.coarse as f32
     }
 
     /// The apron of both filter levels: how far the filter of a pixel reads, in pixels.
