@@ -42,7 +42,6 @@
 use crate::igi::vpl::Vpl;
 use crate::image::stats::RayCounts;
 use crate::prepared::lights::{SHADOW_SHORTEN, SpotCone};
-use crate::sampling::hash_combine;
 use glam::Vec3;
 use igi_bvh::{Accel, RayPacket8, ShadowCache, offset_ray_origin};
 use igi_scene::Light;
@@ -331,27 +330,21 @@ impl Receivers {
     }
 
     /// Adds the light of the surface VPLs `vpls`, each weighted by `weight`, with the clamp
-    /// `d_min2` = d_min² (0 for none) and the shadow rays' roulette below the geometry term
-    /// `roulette_below` ([`shadow_roulette_below`]; 0 traces every ray).
+    /// `d_min2` = d_min² (0 for none).
     pub fn add_vpls<'v>(
         &mut self,
         accel: &Accel,
         vpls: impl Iterator<Item = &'v Vpl>,
         weight: f32,
-        (d_min2, roulette_below): (f32, f32),
+        d_min2: f32,
         counts: &mut RayCounts,
     ) {
         let d_min2 = F32x8::splat(d_min2);
         for vpl in vpls {
-            let vpl_hash = hash_combine(
-                hash_combine(vpl.position.x.to_bits(), vpl.position.y.to_bits()),
-                vpl.position.z.to_bits(),
-            );
             // The shadow rays end at the VPL lifted off its surface, so that surface does not
             // count as a blocker.
             let target = offset_ray_origin(vpl.position, vpl.normal);
             let colour = vpl.power * (weight * FRAC_1_PI * FRAC_1_PI);
-            let colour_sum = colour.x + colour.y + colour.z;
             let glossy_colour = vpl.glossy * (weight * FRAC_1_PI);
             let schlick_colour = vpl.schlick * (weight * FRAC_1_PI);
             let vpl_lobe = vpl.lobe;
@@ -382,9 +375,15 @@ impl Receivers {
                     continue;
                 }
                 let g = cos_x * cos_y / dist2.max(d_min2);
-                let diffuse_only = vpl_lobe.is_none() && chunk.glossy_bits == 0;
-                // D = E/π from the VPL's diffuse part and, for a glossy VPL, its lobe toward x,
-                // before visibility (every term is a multiple of g).
+                let packet =
+                    RayPacket8 { origin, dir: wi, tnear: zero, tfar: dist * F32x8::splat(SHADOW_SHORTEN) };
+                let lit = unoccluded(accel, &packet, valid, &mut cache, counts);
+                let g = F32x8::select(lit, g, zero);
+                if vpl_lobe.is_none() && chunk.glossy_bits == 0 {
+                    accumulate(acc, g, colour);
+                    continue;
+                }
+                // D = E/π from the VPL's diffuse part and, for a glossy VPL, its lobe toward x.
                 let mut e = Vec3x8::splat(colour.to_array()) * g;
                 match vpl_lobe {
                     None => {}
@@ -413,26 +412,6 @@ impl Receivers {
                             + Vec3x8::splat(schlick_colour.to_array()) * (g * s * dv);
                     }
                 }
-                let (mut valid, mut g, mut e) = (valid, g, e);
-                if roulette_below > 0.0 && chunk.glossy_bits == 0 {
-                    // Russian roulette on the shadow ray (ARCHITECTURE.md, "Shadow rays by
-                    // Russian roulette"): a lane whose unoccluded light is below the threshold
-                    // traces its ray with probability p and, if it survives, counts 1/p times.
-                    let strength = e.x + e.y + e.z;
-                    let p =
-                        (strength * F32x8::splat(1.0 / (roulette_below * colour_sum))).min(F32x8::splat(1.0));
-                    valid = valid & roulette_uniforms(chunk, vpl_hash).lt(p);
-                    let scale = F32x8::splat(1.0) / p;
-                    (g, e) = (g * scale, e * scale);
-                }
-                let packet =
-                    RayPacket8 { origin, dir: wi, tnear: zero, tfar: dist * F32x8::splat(SHADOW_SHORTEN) };
-                let lit = unoccluded(accel, &packet, valid, &mut cache, counts);
-                if diffuse_only {
-                    accumulate(acc, F32x8::select(lit, g, zero), colour);
-                    continue;
-                }
-                let e = e * F32x8::select(lit, F32x8::splat(1.0), zero);
                 chunk.add(e, wi, acc, acc_glossy, acc_schlick);
             }
         }
@@ -504,23 +483,6 @@ impl Receivers {
     }
 }
 
-/// Shadow rays by Russian roulette (Arvo & Kirk 1990; ARCHITECTURE.md, "Shadow rays by
-/// Russian roulette"), as Ward's adaptive shadow testing skips the tests that cannot matter:
-/// where a VPL's unoccluded light at a matte point is that of a geometry term below
-/// [`SHADOW_ROULETTE`]/diagonal² (about a point a diagonal away, at a grazing angle), its
-/// shadow ray is traced with probability (light / threshold) and counts 1/probability times
-/// if it is. The estimate stays unbiased, and a skipped ray's error is below the threshold.
-/// The threshold depends on the scene alone, not on the clamp, so a clamped image stays
-/// darker than the unclamped one pixel by pixel.
-pub fn shadow_roulette_below(diagonal: f32) -> f32 {
-    if diagonal.is_finite() && diagonal > 0.0 { SHADOW_ROULETTE / (diagonal * diagonal) } else { 0.0 }
-}
-
-/// See [`shadow_roulette_below`]. 2 measured (2026-11-28, ARCHITECTURE.md): all rays per
-/// pixel 12.5 -> 11.1 on `sponza-roof-light`, 12.4 -> 9.8 on the Cornell box, mean FLIP and
-/// blotch10 of one and of 16 frames within 1.5 % of tracing every ray; 5 was 3-12 % worse.
-const SHADOW_ROULETTE: f32 = 2.0;
-
 /// Fraction of a glossy lobe's peak below which its value is dropped: cosⁿα < 10⁻⁶ changes the
 /// light a lobe reflects by far less than a VPL's own noise.
 const NEGLIGIBLE_LOBE: f32 = 1e-6;
@@ -550,20 +512,6 @@ fn accumulate(acc: &mut Vec3x8, g: F32x8, colour: Vec3) {
     );
 }
 
-/// One uniform number in [0, 1) per lane for the shadow-ray roulette, hashed from the VPL and
-/// the lane's point, so it does not depend on the tile, thread or node that lights the point.
-#[inline]
-fn roulette_uniforms(chunk: &Chunk, vpl_hash: u32) -> F32x8 {
-    let [x, y, z] = &chunk.origin;
-    F32x8::from_array(std::array::from_fn(|l| {
-        let h = hash_combine(
-            hash_combine(hash_combine(vpl_hash, x[l].to_bits()), y[l].to_bits()),
-            z[l].to_bits(),
-        );
-        (h >> 8) as f32 * (1.0 / 16_777_216.0)
-    }))
-}
-
 /// The lanes of `valid` whose shadow ray reaches its end, with the shadow cache of the light
 /// (the packets toward one light come in pixel order, so the triangle that blocked the last
 /// one often blocks the next). A packet of one ray goes through the single-ray kernel, which is
@@ -584,41 +532,4 @@ fn unoccluded(
         accel.occluded8_cached(packet, valid, cache)
     };
     valid.and_not(blocked)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use igi_bvh::TriangleMesh;
-
-    /// Points along a floor lit by one VPL above its start: far points get a small share of the
-    /// clamp's ceiling, so the roulette traces fewer shadow rays than points, and over many
-    /// VPL placements the light it estimates is the exact light (unbiased).
-    #[test]
-    fn shadow_roulette_traces_fewer_rays_and_keeps_the_mean() {
-        let (accel, _) = Accel::build(vec![TriangleMesh::default()], &[]);
-        let points: Vec<Vec3> = (0..64).map(|i| Vec3::new(0.25 + i as f32 * 0.5, 0.0, 0.0)).collect();
-        let (mut estimated, mut exact, mut rays, mut lanes) = (0.0f64, 0.0f64, 0u64, 0u64);
-        let mut receivers = Receivers::default();
-        for trial in 0..400 {
-            let vpl =
-                Vpl::diffuse(Vec3::new(trial as f32 * 1e-3, 1.0, 0.0), Vec3::NEG_Y, Vec3::splat(PI * PI));
-            receivers.clear();
-            for &p in &points {
-                receivers.push(p, Vec3::Y, Vec3::Y, None);
-            }
-            let mut counts = RayCounts::default();
-            receivers.add_vpls(&accel, std::iter::once(&vpl), 1.0, (1.0, 0.005), &mut counts);
-            rays += counts.shadow;
-            lanes += points.len() as u64;
-            for (k, &p) in points.iter().enumerate() {
-                let d = offset_ray_origin(vpl.position, vpl.normal) - p;
-                let (cos_x, cos_y) = (d.normalize().y, d.normalize().y);
-                exact += f64::from(cos_x * cos_y / d.length_squared().max(1.0));
-                estimated += f64::from(receivers.radiance(k).0.x);
-            }
-        }
-        assert!(rays * 2 < lanes, "{rays} shadow rays for {lanes} point-VPL pairs");
-        assert!((estimated / exact - 1.0).abs() < 0.03, "estimated {estimated}, exact {exact}");
-    }
 }
