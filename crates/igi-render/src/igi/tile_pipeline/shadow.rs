@@ -45,13 +45,16 @@ impl TilePipeline<'_> {
             receivers.clear();
             for &(_, i) in run {
                 let p = &points[i as usize];
-                receivers.push(p.origin, p.ns, p.ng, p.lobe);
+                let (x, y) = region.pixel(p.state.pixel);
+                let frame = pixel_seed(x, y, self.roulette_seed);
+                let seed = hash_combine(hash_combine(frame, p.state.sample), p.state.path);
+                receivers.push((p.origin, seed), p.ns, p.ng, p.lobe);
             }
             receivers.regularise();
             let sky = self.vpls.sky(set).iter().skip(skip).step_by(step);
             receivers.add_lights(accel, sky, weight, rays);
             let vpls = self.vpls.set(set).iter().skip(skip).step_by(step);
-            receivers.add_vpls(accel, vpls, weight, self.d_min2, rays);
+            receivers.add_vpls(accel, vpls, weight, (self.d_min2, self.roulette_below), rays);
             for (k, &(_, i)) in run.iter().enumerate() {
                 let p = &mut points[i as usize];
                 let (d, g, schlick) = receivers.radiance(k);
@@ -104,7 +107,8 @@ impl TilePipeline<'_> {
         for &(_, i) in run {
             let p = &points[i as usize];
             for k in origins(p) {
-                receivers.push(origin(p, k), p.ns, p.ng, p.lobe);
+                // The exact lights' rays are all traced: no roulette seed.
+                receivers.push((origin(p, k), 0), p.ns, p.ng, p.lobe);
             }
         }
         receivers.add_lights(self.scene.accel(), self.vpls.lights().iter(), 1.0, rays);
