@@ -440,7 +440,6 @@ impl Receivers {
                     continue;
                 }
                 let g = cos_x * cos_y / dist2.max(d_min2);
-                let diffuse_only = vpl_lobe.is_none() && chunk.glossy_bits == 0;
                 // D = E/π from the VPL's diffuse part and, for a glossy VPL, its lobe toward x,
                 // before visibility (every term is a multiple of g).
                 let mut e = Vec3x8::splat(colour.to_array()) * g;
@@ -473,8 +472,8 @@ impl Receivers {
                 }
                 let (mut valid, mut g, mut e) = (valid, g, e);
                 // The receivers' weights of this light, before visibility (the roulette needs
-                // them).
-                let weights = (!diffuse_only).then(|| chunk.weights(wi));
+                // them); none where a Lambertian VPL lights matte points only.
+                let weights = (vpl_lobe.is_some() || chunk.glossy_bits != 0).then(|| chunk.weights(wi));
                 if roulette_below > 0.0 {
                     // Russian roulette on the shadow ray (ARCHITECTURE.md, "Shadow rays by
                     // Russian roulette"): a lane whose unoccluded light is below the threshold
@@ -491,17 +490,16 @@ impl Receivers {
                 let packet =
                     RayPacket8 { origin, dir: wi, tnear: zero, tfar: dist * F32x8::splat(SHADOW_SHORTEN) };
                 let lit = unoccluded(accel, &packet, valid, &mut cache, counts);
-                if diffuse_only {
-                    accumulate(acc, F32x8::select(lit, g, zero), colour);
-                    continue;
-                }
-                let e = Vec3x8::new(
-                    F32x8::select(lit, e.x, zero),
-                    F32x8::select(lit, e.y, zero),
-                    F32x8::select(lit, e.z, zero),
-                );
-                if let Some(weights) = &weights {
-                    chunk.add_weighted(e, weights, acc, acc_glossy, acc_schlick);
+                match &weights {
+                    None => accumulate(acc, F32x8::select(lit, g, zero), colour),
+                    Some(weights) => {
+                        let e = Vec3x8::new(
+                            F32x8::select(lit, e.x, zero),
+                            F32x8::select(lit, e.y, zero),
+                            F32x8::select(lit, e.z, zero),
+                        );
+                        chunk.add_weighted(e, weights, acc, acc_glossy, acc_schlick);
+                    }
                 }
             }
         }
