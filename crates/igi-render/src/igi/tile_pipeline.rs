@@ -33,7 +33,7 @@ use crate::frame::{FilterSettings, FrameState, SequenceSpan};
 use crate::igi::discontinuity::{DiscontinuityBuffer, FilterSample, Filtered};
 use crate::igi::interleave::Interleave;
 use crate::igi::vpl::VplSets;
-use crate::igi::vpl_lighting::{GlossyLobe, Receivers, shadow_roulette_below};
+use crate::igi::vpl_lighting::{GlossyLobe, Receivers, ShadowRoulette};
 use crate::image::frame_image::{PixelFormat, TileOutput};
 use crate::image::pixel_rect::PixelRect;
 use crate::image::stats::{Phase, PhaseTimes, RayCounts};
@@ -210,8 +210,8 @@ pub struct TilePipeline<'a> {
     /// One ray through each pixel centre (one sample per pixel, no reseeding).
     pixel_centres: bool,
     d_min2: f32,
-    /// The geometry term below which shadow rays go by roulette ([`shadow_roulette_below`]).
-    roulette_below: f32,
+    /// Which shadow rays go by roulette.
+    roulette: ShadowRoulette,
     /// The frame's seed of the shadow-ray roulette ([`FrameState::sample_seed`]: another draw
     /// every reseeded frame).
     roulette_seed: u32,
@@ -238,7 +238,7 @@ impl<'a> TilePipeline<'a> {
             sequence: frame.sequence(s.aa),
             pixel_centres: s.aa == 1 && !frame.reseed_per_frame,
             d_min2: s.clamp * s.clamp,
-            roulette_below: shadow_roulette_below(scene.bounds().diagonal()),
+            roulette: ShadowRoulette::for_scene(scene.bounds().diagonal()),
             roulette_seed: frame.sample_seed(),
             compensate_clamp: s.compensate_clamp,
             filter: s.discontinuity_filter(),

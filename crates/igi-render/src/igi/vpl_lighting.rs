@@ -39,6 +39,7 @@
 //! paper mentions). Point and directional lights are exact direct light, not samples of it,
 //! so they are neither clamped nor weighted.
 
+use crate::frame::FrameSettings;
 use crate::igi::vpl::Vpl;
 use crate::image::stats::RayCounts;
 use crate::prepared::lights::{SHADOW_SHORTEN, SpotCone};
@@ -292,6 +293,125 @@ impl ReceiverWeights {
     }
 }
 
+/// A surface VPL as the VPL loop sees it: its position lifted off its surface (the shadow
+/// rays end there, so that surface does not count as a blocker) and its powers scaled by its
+/// weight and 1/π², as splatted constants.
+struct VplEmitter {
+    y: Vec3x8,
+    ny: Vec3x8,
+    /// Diffuse power times weight/π² (D = E/π of a Lambertian VPL is colour · g).
+    colour: Vec3,
+    /// The sum of `colour`'s channels: the roulette's threshold is relative to it.
+    colour_sum: f32,
+    glossy_colour: Vec3,
+    schlick_colour: Vec3,
+    lobe: Option<GlossyLobe>,
+    axis: Vec3x8,
+    cos_min: F32x8,
+    exponent: F32x8,
+}
+
+/// A VPL's light at a chunk's points before visibility.
+struct Unshadowed {
+    /// Lanes the VPL lights (both faces turned to each other).
+    valid: M32x8,
+    /// Distances to the VPL.
+    dist: F32x8,
+    /// Squared distances to the VPL and their clamped values.
+    dist2: (F32x8, F32x8),
+    /// Unit directions to the VPL.
+    wi: Vec3x8,
+    /// Clamped geometry terms.
+    g: F32x8,
+    /// D = E/π from the VPL's diffuse part and its glossy lobe toward the points.
+    e: Vec3x8,
+    /// The points' weights of this light; none where a Lambertian VPL lights matte points.
+    weights: Option<ReceiverWeights>,
+}
+
+impl Unshadowed {
+    /// How much the light counts in the lanes' pixels at most, as the roulette sees it: e's
+    /// channels summed, times the receivers' total weight, with the geometry term clamped at
+    /// the squared distance `d_min2` instead of the frame's.
+    #[inline(always)]
+    fn roulette_strength(&self, d_min2: F32x8) -> F32x8 {
+        let (e, (dist2, clamped)) = (self.e, self.dist2);
+        let weight = self.weights.as_ref().map_or(F32x8::splat(1.0), ReceiverWeights::total);
+        (e.x + e.y + e.z) * weight * (clamped / dist2.max(d_min2))
+    }
+}
+
+impl VplEmitter {
+    fn new(vpl: &Vpl, weight: f32) -> Self {
+        let colour = vpl.power * (weight * FRAC_1_PI * FRAC_1_PI);
+        let (axis, exponent) = match vpl.lobe {
+            Some(GlossyLobe::Phong { axis, exponent }) => (axis, exponent),
+            _ => (vpl.normal, 1.0),
+        };
+        Self {
+            y: Vec3x8::splat(offset_ray_origin(vpl.position, vpl.normal).to_array()),
+            ny: Vec3x8::splat(vpl.normal.to_array()),
+            colour,
+            colour_sum: colour.x + colour.y + colour.z,
+            glossy_colour: vpl.glossy * (weight * FRAC_1_PI),
+            schlick_colour: vpl.schlick * (weight * FRAC_1_PI),
+            lobe: vpl.lobe,
+            axis: Vec3x8::splat(axis.to_array()),
+            cos_min: F32x8::splat(lobe_cutoff(exponent)),
+            exponent: F32x8::splat(exponent),
+        }
+    }
+
+    /// The VPL's light at the points of `chunk` before visibility, with the clamp `d_min2`;
+    /// `None` if it lights none of them.
+    #[inline(always)]
+    fn unshadowed(&self, chunk: &Chunk, d_min2: F32x8) -> Option<Unshadowed> {
+        let d = self.y - load(&chunk.origin);
+        let dist2 = d.dot(d);
+        let dist = dist2.sqrt();
+        let wi = d * (F32x8::splat(1.0) / dist);
+        let cos_x = load(&chunk.ns).dot(wi);
+        let cos_y = -self.ny.dot(wi);
+        let zero = F32x8::ZERO;
+        let valid = M32x8::from_bitmask(chunk.bits)
+            & cos_x.gt(zero)
+            & cos_y.gt(zero)
+            & load(&chunk.ng).dot(wi).gt(zero);
+        if valid.none() {
+            return None;
+        }
+        let clamped = dist2.max(d_min2);
+        let g = cos_x * cos_y / clamped;
+        // Every term is a multiple of g.
+        let mut e = Vec3x8::splat(self.colour.to_array()) * g;
+        match self.lobe {
+            None => {}
+            Some(GlossyLobe::Phong { .. }) => {
+                let cos_alpha = -self.axis.dot(wi);
+                let inside = cos_alpha.gt(self.cos_min);
+                if inside.any() {
+                    let lobe_y = F32x8::select(inside, phong_lobe8(self.exponent, cos_alpha), zero);
+                    e = e + Vec3x8::splat(self.glossy_colour.to_array()) * (g * lobe_y);
+                }
+            }
+            Some(GlossyLobe::Ggx { fixed, alpha }) => {
+                // The VPL's BRDF between the light's direction and x: its diffuse part
+                // weighted by 1 − s, its specular part by F₀(1 − s) + s.
+                let fixed = Vec3x8::splat(fixed.to_array());
+                let (s, dv) =
+                    ggx_terms(F32x8::splat(alpha), <[F32x8; 3]>::from(self.ny), fixed.into(), (-wi).into());
+                let one = F32x8::splat(1.0);
+                let (s, dv) = (F32x8::select(valid, s, zero), F32x8::select(valid, dv, zero));
+                e = e * (one - s)
+                    + Vec3x8::splat(self.glossy_colour.to_array()) * (g * (one - s) * dv)
+                    + Vec3x8::splat(self.schlick_colour.to_array()) * (g * s * dv);
+            }
+        }
+        let weights = (self.lobe.is_some() || chunk.glossy_bits != 0).then(|| chunk.weights(wi));
+        Some(Unshadowed { valid, dist, dist2: (dist2, clamped), wi, g, e, weights })
+    }
+}
+
 fn load(a: &[[f32; 8]; 3]) -> Vec3x8 {
     Vec3x8::new(F32x8::from_array(a[0]), F32x8::from_array(a[1]), F32x8::from_array(a[2]))
 }
@@ -309,6 +429,11 @@ pub struct Receivers {
     diffuse_radiance: Vec<Vec3x8>,
     glossy_radiance: Vec<Vec3x8>,
     schlick_radiance: Vec<Vec3x8>,
+    /// Per chunk, the light of all the VPLs being added before visibility
+    /// ([`Unshadowed::strength`]): the roulette's relative threshold.
+    unshadowed_total: Vec<F32x8>,
+    /// Per chunk, the running sums of the roulette's systematic sampling.
+    roulette_sum: Vec<F32x8>,
     len: usize,
 }
 
@@ -393,105 +518,77 @@ impl Receivers {
     }
 
     /// Adds the light of the surface VPLs `vpls`, each weighted by `weight`, with the clamp
-    /// `d_min2` = d_min² (0 for none) and the shadow rays' roulette below the geometry term
-    /// `roulette_below` ([`shadow_roulette_below`]; 0 traces every ray).
+    /// `d_min2` = d_min² (0 for none), and the shadow rays' `roulette`.
     pub fn add_vpls<'v>(
         &mut self,
         accel: &Accel,
-        vpls: impl Iterator<Item = &'v Vpl>,
+        vpls: impl Iterator<Item = &'v Vpl> + Clone,
         weight: f32,
-        (d_min2, roulette_below): (f32, f32),
+        d_min2: f32,
+        roulette: ShadowRoulette,
         counts: &mut RayCounts,
     ) {
         let d_min2 = F32x8::splat(d_min2);
-        for (index, vpl) in (0u32..).zip(vpls) {
-            // The shadow rays end at the VPL lifted off its surface, so that surface does not
-            // count as a blocker.
-            let target = offset_ray_origin(vpl.position, vpl.normal);
-            let colour = vpl.power * (weight * FRAC_1_PI * FRAC_1_PI);
-            let colour_sum = colour.x + colour.y + colour.z;
-            let glossy_colour = vpl.glossy * (weight * FRAC_1_PI);
-            let schlick_colour = vpl.schlick * (weight * FRAC_1_PI);
-            let vpl_lobe = vpl.lobe;
-            let y = Vec3x8::splat(target.to_array());
-            let ny = Vec3x8::splat(vpl.normal.to_array());
-            let (vpl_axis, vpl_exponent) = match vpl.lobe {
-                Some(GlossyLobe::Phong { axis, exponent }) => (axis, exponent),
-                _ => (vpl.normal, 1.0),
-            };
-            let vpl_axis = Vec3x8::splat(vpl_axis.to_array());
-            let vpl_cos_min = F32x8::splat(lobe_cutoff(vpl_exponent));
-            let vpl_exponent = F32x8::splat(vpl_exponent);
+        let roulette_d_min2 = F32x8::splat(roulette.d_min2);
+        let zero = F32x8::ZERO;
+        // The roulette's second threshold is a share of each point's light from all the VPLs
+        // before visibility: summed first, without rays.
+        self.unshadowed_total.clear();
+        self.unshadowed_total.resize(self.chunks.len(), zero);
+        if roulette.below > 0.0 {
+            for vpl in vpls.clone() {
+                let emitter = VplEmitter::new(vpl, weight);
+                for (chunk, total) in self.chunks.iter().zip(&mut self.unshadowed_total) {
+                    if let Some(light) = emitter.unshadowed(chunk, d_min2) {
+                        let strength = light.roulette_strength(roulette_d_min2);
+                        *total = *total + F32x8::select(light.valid, strength, zero);
+                    }
+                }
+            }
+        }
+        // Systematic sampling of the roulette (ARCHITECTURE.md, "Shadow rays by Russian
+        // roulette"): each lane walks its VPLs' survival probabilities with one running sum that
+        // starts at a uniform number of its own, and a VPL's ray is traced where the sum crosses
+        // an integer. Each ray is still traced with its own probability, but a point traces
+        // (almost) exactly the expected number of rays, spread over its VPLs.
+        self.roulette_sum.clear();
+        self.roulette_sum.extend(self.chunks.iter().map(roulette_start));
+        for vpl in vpls {
+            let emitter = VplEmitter::new(vpl, weight);
             let mut cache = ShadowCache::default();
-            for (chunk, (acc, (acc_glossy, acc_schlick))) in self.chunks_and_sums() {
-                let origin = load(&chunk.origin);
-                let d = y - origin;
-                let dist2 = d.dot(d);
-                let dist = dist2.sqrt();
-                let wi = d * (F32x8::splat(1.0) / dist);
-                let cos_x = load(&chunk.ns).dot(wi);
-                let cos_y = -ny.dot(wi);
-                let zero = F32x8::ZERO;
-                let valid = M32x8::from_bitmask(chunk.bits)
-                    & cos_x.gt(zero)
-                    & cos_y.gt(zero)
-                    & load(&chunk.ng).dot(wi).gt(zero);
-                if valid.none() {
-                    continue;
-                }
-                let g = cos_x * cos_y / dist2.max(d_min2);
-                // D = E/π from the VPL's diffuse part and, for a glossy VPL, its lobe toward x,
-                // before visibility (every term is a multiple of g).
-                let mut e = Vec3x8::splat(colour.to_array()) * g;
-                match vpl_lobe {
-                    None => {}
-                    Some(GlossyLobe::Phong { .. }) => {
-                        let cos_alpha = -vpl_axis.dot(wi);
-                        let inside = cos_alpha.gt(vpl_cos_min);
-                        if inside.any() {
-                            let lobe_y = F32x8::select(inside, phong_lobe8(vpl_exponent, cos_alpha), zero);
-                            e = e + Vec3x8::splat(glossy_colour.to_array()) * (g * lobe_y);
-                        }
-                    }
-                    Some(GlossyLobe::Ggx { fixed, alpha }) => {
-                        // The VPL's BRDF between the light's direction and x: its diffuse part
-                        // weighted by 1 − s, its specular part by F₀(1 − s) + s.
-                        let fixed = Vec3x8::splat(fixed.to_array());
-                        let (s, dv) = ggx_terms(
-                            F32x8::splat(alpha),
-                            <[F32x8; 3]>::from(ny),
-                            fixed.into(),
-                            (-wi).into(),
-                        );
-                        let one = F32x8::splat(1.0);
-                        let (s, dv) = (F32x8::select(valid, s, zero), F32x8::select(valid, dv, zero));
-                        e = e * (one - s)
-                            + Vec3x8::splat(glossy_colour.to_array()) * (g * (one - s) * dv)
-                            + Vec3x8::splat(schlick_colour.to_array()) * (g * s * dv);
-                    }
-                }
-                let (mut valid, mut g, mut e) = (valid, g, e);
-                // The receivers' weights of this light, before visibility (the roulette needs
-                // them); none where a Lambertian VPL lights matte points only.
-                let weights = (vpl_lobe.is_some() || chunk.glossy_bits != 0).then(|| chunk.weights(wi));
-                if roulette_below > 0.0 {
-                    // Russian roulette on the shadow ray (ARCHITECTURE.md, "Shadow rays by
-                    // Russian roulette"): a lane whose unoccluded light is below the threshold
-                    // traces its ray with probability p and, if it survives, counts 1/p times.
-                    let strength = (e.x + e.y + e.z)
-                        * weights.as_ref().map_or(F32x8::splat(1.0), ReceiverWeights::total);
-                    let p =
-                        (strength * F32x8::splat(1.0 / (roulette_below * colour_sum))).min(F32x8::splat(1.0));
-                    valid = valid & roulette_uniforms(chunk, index).lt(p);
+            let chunks =
+                self.chunks.iter().zip(self.unshadowed_total.iter().zip(&mut self.roulette_sum)).zip(
+                    self.diffuse_radiance
+                        .iter_mut()
+                        .zip(self.glossy_radiance.iter_mut().zip(self.schlick_radiance.iter_mut())),
+                );
+            for ((chunk, (total, sum)), (acc, (acc_glossy, acc_schlick))) in chunks {
+                let Some(light) = emitter.unshadowed(chunk, d_min2) else { continue };
+                let strength = light.roulette_strength(roulette_d_min2);
+                let Unshadowed { mut valid, dist, wi, mut g, mut e, weights, .. } = light;
+                if roulette.below > 0.0 {
+                    // Russian roulette on the shadow ray: a lane whose unoccluded light is
+                    // below the threshold traces its ray with probability p and, if it
+                    // survives, counts 1/p times.
+                    let threshold = F32x8::splat(roulette.below * emitter.colour_sum)
+                        .max(*total * F32x8::splat(SHADOW_ROULETTE_SHARE));
+                    let p = F32x8::select(valid, (strength / threshold).min(F32x8::splat(1.0)), zero);
+                    let next = *sum + p;
+                    valid = valid & next.floor().gt(sum.floor());
+                    *sum = next;
                     // Lanes the roulette drops may have p = 0: they scale by 0, not by 1/0.
                     let scale = F32x8::select(valid, F32x8::splat(1.0) / p, zero);
                     (g, e) = (g * scale, e * scale);
                 }
-                let packet =
-                    RayPacket8 { origin, dir: wi, tnear: zero, tfar: dist * F32x8::splat(SHADOW_SHORTEN) };
+                let packet = RayPacket8 {
+                    origin: load(&chunk.origin),
+                    dir: wi,
+                    tnear: zero,
+                    tfar: dist * F32x8::splat(SHADOW_SHORTEN),
+                };
                 let lit = unoccluded(accel, &packet, valid, &mut cache, counts);
                 match &weights {
-                    None => accumulate(acc, F32x8::select(lit, g, zero), colour),
+                    None => accumulate(acc, F32x8::select(lit, g, zero), emitter.colour),
                     Some(weights) => {
                         let e = Vec3x8::new(
                             F32x8::select(lit, e.x, zero),
@@ -573,21 +670,47 @@ impl Receivers {
 
 /// Shadow rays by Russian roulette (Arvo & Kirk 1990; ARCHITECTURE.md, "Shadow rays by
 /// Russian roulette"), as Ward's adaptive shadow testing skips the tests that cannot matter:
-/// where a VPL's unoccluded light at a point is that of a geometry term below
-/// [`SHADOW_ROULETTE`]/diagonal² (about a point a diagonal away, at a grazing angle), its
-/// shadow ray is traced with probability (light / threshold) and counts 1/probability times
-/// if it is. The estimate stays unbiased, and a skipped ray's error is below the threshold.
-/// The threshold depends on the scene alone, not on the clamp, so a clamped image stays
-/// darker than the unclamped one pixel by pixel.
-pub fn shadow_roulette_below(diagonal: f32) -> f32 {
-    if diagonal.is_finite() && diagonal > 0.0 { SHADOW_ROULETTE / (diagonal * diagonal) } else { 0.0 }
+/// where a VPL's unoccluded light at a point is below a threshold, its shadow ray is traced
+/// with probability (light / threshold) and counts 1/probability times if it is. The threshold
+/// is the larger of the light of a geometry term [`SHADOW_ROULETTE`]/diagonal² (about a point a
+/// diagonal away, at a grazing angle) and [`SHADOW_ROULETTE_SHARE`] of the light of all the
+/// VPLs lighting the point. The estimate stays unbiased, and a skipped ray's error is below
+/// the threshold. The probabilities do not depend on the frame's clamp (the roulette sees the
+/// geometry terms clamped at the scene's default d_min, whatever the frame's), so a clamped
+/// image traces the same rays as the unclamped one and stays darker pixel by pixel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadowRoulette {
+    /// The geometry term below which a ray goes by roulette.
+    below: f32,
+    /// The squared distance at which the roulette clamps the geometry terms.
+    d_min2: f32,
 }
 
-/// See [`shadow_roulette_below`]. 2 measured (2026-11-28, ARCHITECTURE.md): all rays per
-/// pixel 13.1 -> 11.1 on the conference room, 12.5 -> 10.9 on `sponza-roof-light`, 12.4 -> 9.8
-/// on the Cornell box, mean FLIP of one and of 16 frames within 1.3 % of tracing every ray;
-/// 5 was 1-12 % worse.
+impl ShadowRoulette {
+    /// Traces every shadow ray.
+    pub const OFF: Self = Self { below: 0.0, d_min2: 0.0 };
+
+    /// The roulette of a scene of bounding-box `diagonal`.
+    pub fn for_scene(diagonal: f32) -> Self {
+        if !(diagonal.is_finite() && diagonal > 0.0) {
+            return Self::OFF;
+        }
+        let d_min = FrameSettings::clamp_for(diagonal);
+        Self { below: SHADOW_ROULETTE / (diagonal * diagonal), d_min2: d_min * d_min }
+    }
+}
+
+/// See [`ShadowRoulette`]. 2 measured (2026-11-28, ARCHITECTURE.md): all rays per pixel
+/// 13.1 -> 11.1 on the conference room, 12.5 -> 10.9 on `sponza-roof-light`, 12.4 -> 9.8 on
+/// the Cornell box, mean FLIP of one and of 16 frames within 1.3 % of tracing every ray; 5 was
+/// 1-12 % worse.
 const SHADOW_ROULETTE: f32 = 2.0;
+
+/// See [`ShadowRoulette`]: a point traces at most about 1/share rays for its small lights. 0.2
+/// measured (2026-11-28, ARCHITECTURE.md): all rays per pixel on the conference room
+/// 11.1 -> 8.5, mean FLIP of one and of 16 frames within 2 %; 0.3 traced 7.9 but was up to
+/// 4 % worse.
+const SHADOW_ROULETTE_SHARE: f32 = 0.2;
 
 /// Fraction of a glossy lobe's peak below which its value is dropped: cosⁿα < 10⁻⁶ changes the
 /// light a lobe reflects by far less than a VPL's own noise.
@@ -618,13 +741,13 @@ fn accumulate(acc: &mut Vec3x8, g: F32x8, colour: Vec3) {
     );
 }
 
-/// One uniform number in [0, 1) per lane for the shadow-ray roulette toward the `index`-th
-/// VPL lighting the points, hashed from the lanes' seeds ([`Receivers::push`]), so it does not
-/// depend on the tile, thread or node that lights a point.
+/// Where the running sums of the shadow rays' systematic roulette start: one uniform number in
+/// [0, 1) per lane hashed from the lanes' seeds ([`Receivers::push`]), so it does not depend on
+/// the tile, thread or node that lights a point.
 #[inline]
-fn roulette_uniforms(chunk: &Chunk, index: u32) -> F32x8 {
+fn roulette_start(chunk: &Chunk) -> F32x8 {
     F32x8::from_array(std::array::from_fn(|l| {
-        (hash_combine(chunk.seed[l], index) >> 8) as f32 * (1.0 / 16_777_216.0)
+        (hash_combine(chunk.seed[l], 0x9e37_79b9) >> 8) as f32 * (1.0 / 16_777_216.0)
     }))
 }
 
@@ -672,7 +795,8 @@ mod tests {
                 receivers.push((p, k as u32 + 1000 * trial), Vec3::Y, Vec3::Y, None);
             }
             let mut counts = RayCounts::default();
-            receivers.add_vpls(&accel, std::iter::once(&vpl), 1.0, (1.0, 0.005), &mut counts);
+            let roulette = ShadowRoulette { below: 0.005, d_min2: 1.0 };
+            receivers.add_vpls(&accel, std::iter::once(&vpl), 1.0, 1.0, roulette, &mut counts);
             rays += counts.shadow;
             lanes += points.len() as u64;
             for (k, &p) in points.iter().enumerate() {
@@ -684,5 +808,43 @@ mod tests {
         }
         assert!(rays * 2 < lanes, "{rays} shadow rays for {lanes} point-VPL pairs");
         assert!((estimated / exact - 1.0).abs() < 0.03, "estimated {estimated}, exact {exact}");
+    }
+
+    /// Twelve VPLs of equal light around a point, each 1/12 of its light, below the roulette's
+    /// share: each would be traced with probability (1/12)/share; systematic sampling traces
+    /// exactly that expected number of them at every point (independent draws would trace
+    /// anywhere from 0 to 12), and since they are equal, every estimate is exact.
+    #[test]
+    fn shadow_roulette_share_traces_the_expected_number_of_rays_per_point() {
+        let (accel, _) = Accel::build(vec![TriangleMesh::default()], &[]);
+        let vpls: Vec<Vpl> = (0..12)
+            .map(|k| {
+                let angle = k as f32 * std::f32::consts::TAU / 12.0;
+                let y = Vec3::new(angle.cos(), 1.0, angle.sin());
+                Vpl::diffuse(y, -y.normalize(), Vec3::splat(1.0))
+            })
+            .collect();
+        let share = 1.0 / 12.0 / SHADOW_ROULETTE_SHARE;
+        let expected = (12.0 * share).round() as u64;
+        assert!((12.0 * share - expected as f32).abs() < 1e-4, "the test wants a whole expected count");
+        let roulette = ShadowRoulette { below: 1e-9, d_min2: 0.0 };
+        let mut receivers = Receivers::default();
+        let mut exact = Receivers::default();
+        for trial in 0..100u32 {
+            receivers.clear();
+            exact.clear();
+            for lane in 0..8 {
+                receivers.push((Vec3::ZERO, trial * 8 + lane), Vec3::Y, Vec3::Y, None);
+                exact.push((Vec3::ZERO, 0), Vec3::Y, Vec3::Y, None);
+            }
+            let mut counts = RayCounts::default();
+            receivers.add_vpls(&accel, vpls.iter(), 1.0, 0.0, roulette, &mut counts);
+            assert_eq!(counts.shadow, 8 * expected, "trial {trial}");
+            exact.add_vpls(&accel, vpls.iter(), 1.0, 0.0, ShadowRoulette::OFF, &mut RayCounts::default());
+            for lane in 0..8 {
+                let (d, e) = (receivers.radiance(lane).0.x, exact.radiance(lane).0.x);
+                assert!((d / e - 1.0).abs() < 1e-4, "trial {trial}: {d} for {e}");
+            }
+        }
     }
 }

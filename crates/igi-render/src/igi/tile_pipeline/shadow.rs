@@ -54,7 +54,7 @@ impl TilePipeline<'_> {
             let sky = self.vpls.sky(set).iter().skip(skip).step_by(step);
             receivers.add_lights(accel, sky, weight, rays);
             let vpls = self.vpls.set(set).iter().skip(skip).step_by(step);
-            receivers.add_vpls(accel, vpls, weight, (self.d_min2, self.roulette_below), rays);
+            receivers.add_vpls(accel, vpls, weight, self.d_min2, self.roulette, rays);
             for (k, &(_, i)) in run.iter().enumerate() {
                 let p = &mut points[i as usize];
                 let (d, g, schlick) = receivers.radiance(k);
