@@ -170,13 +170,18 @@ impl DiscontinuityBuffer {
         let glossy = !out.glossy_radiance.is_empty();
         let aa = aa as usize;
         let (([left, right], [up, down]), (sx, sy)) = (level.window, level.stride);
-        // The weight of a tap i taps from the centre along one axis, looked up: computing the
-        // tent per tap (two divisions, and two more for the tap numbers) was a fifth of the
-        // filter's time. The product below is `coarse_weight`'s, so the bits are the same.
-        let tent: Vec<f32> = match level.tent {
-            Some(il) => (0..=left.max(right).max(up).max(down)).map(|i| il.coarse_tent(i)).collect(),
-            None => Vec::new(),
+        // The weights of the taps along each axis, from the first tap before the centre to the
+        // last after it, looked up: computing the tent per tap (two divisions, and two more for
+        // the tap numbers) was a fifth of the filter's time. Their product is `coarse_weight`'s,
+        // so the bits are the same.
+        let weights = |before: u32, after: u32| -> Vec<f32> {
+            (0..=before + after)
+                .map(|t| level.tent.map_or(1.0, |il| il.coarse_tent(before.abs_diff(t))))
+                .collect()
         };
+        let (wx, wy) = (weights(left, right), weights(up, down));
+        let width = region.width() as usize;
+        let (sx, sy) = (sx as usize, sy as usize);
         for (i, p) in points.iter().enumerate() {
             let (x, y) = region.pixel(p.pixel);
             if !rect.contains(x, y) {
@@ -185,21 +190,19 @@ impl DiscontinuityBuffer {
             let grid = &self.grids[self.layers[i] as usize];
             let glossy_grid = &self.glossy_grids[self.layers[i] as usize];
             // The taps at stride (sx, sy) that lie in the region, as tap numbers from the centre.
-            let (tx0, tx1) = (left.min((x - region.x0) / sx), right.min((region.x1 - 1 - x) / sx));
-            let (ty0, ty1) = (up.min((y - region.y0) / sy), down.min((region.y1 - 1 - y) / sy));
+            let (tx0, tx1) =
+                (left.min((x - region.x0) / sx as u32), right.min((region.x1 - 1 - x) / sx as u32));
+            let (ty0, ty1) = (up.min((y - region.y0) / sy as u32), down.min((region.y1 - 1 - y) / sy as u32));
+            let centre = p.pixel as usize;
+            let first = centre - ty0 as usize * sy * width - tx0 as usize * sx;
+            let (wx, wy) = (&wx[(left - tx0) as usize..], &wy[(up - ty0) as usize..]);
             let mut sum = [Vec3::ZERO; 3];
             let mut count = 0.0f32;
-            for ty in 0..=ty0 + ty1 {
-                let (qy, dy) =
-                    if ty < ty0 { (y - sy * (ty0 - ty), ty0 - ty) } else { (y + sy * (ty - ty0), ty - ty0) };
-                for tx in 0..=tx0 + tx1 {
-                    let (qx, dx) = if tx < tx0 {
-                        (x - sx * (tx0 - tx), tx0 - tx)
-                    } else {
-                        (x + sx * (tx - tx0), tx - tx0)
-                    };
-                    let w = if tent.is_empty() { 1.0 } else { tent[dx as usize] * tent[dy as usize] };
-                    let index = region.index(qx, qy);
+            for (ty, &w_y) in wy.iter().enumerate().take((ty0 + ty1 + 1) as usize) {
+                let row = first + ty * sy * width;
+                for (tx, &w_x) in wx.iter().enumerate().take((tx0 + tx1 + 1) as usize) {
+                    let w = w_x * w_y;
+                    let index = row + tx * sx;
                     let cell = &grid[index];
                     // A neighbour with a point per sample shows this point's sample.
                     let (q, edge) = match cell.material {
@@ -211,7 +214,7 @@ impl DiscontinuityBuffer {
                     };
                     // The centre always counts (a normal's dot product with itself can round
                     // below a threshold of 1), so count > 0.
-                    if (qx == x && qy == y) || similar(p, q, settings) {
+                    if index == centre || similar(p, q, settings) {
                         sum[0] += w * q.diffuse_radiance;
                         if glossy {
                             let [g, s] = edge.map_or(glossy_grid[index], |at| self.edge_glossy[at]);
