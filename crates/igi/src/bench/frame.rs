@@ -68,6 +68,10 @@ struct Report {
     phases_ms: BTreeMap<&'static str, f64>,
     mrays_per_s: f64,
     rays_per_pixel: f64,
+    /// Camera rays per pixel (the tiles' aprons included).
+    primary_rays_per_pixel: f64,
+    /// Shadow rays per pixel (the tiles' aprons included).
+    shadow_rays_per_pixel: f64,
     primary_rays: u64,
     shadow_rays: u64,
     specular_rays: u64,
@@ -145,6 +149,7 @@ pub fn run(args: &FrameBenchArgs) -> Result<()> {
             (p.name(), per_frame_ms(times.get(p)) * scale)
         })
         .collect();
+    let pixels = n * f64::from(s.width) * f64::from(s.height);
     let report = Report {
         scene: args.timed.scene.clone(),
         width: s.width,
@@ -164,7 +169,9 @@ pub fn run(args: &FrameBenchArgs) -> Result<()> {
         min_frame_ms: fastest.as_secs_f64() * 1e3,
         phases_ms,
         mrays_per_s: rays.total() as f64 * 1e-6 / total.as_secs_f64().max(1e-12),
-        rays_per_pixel: rays.total() as f64 / (n * f64::from(s.width) * f64::from(s.height)),
+        rays_per_pixel: rays.total() as f64 / pixels,
+        primary_rays_per_pixel: rays.primary as f64 / pixels,
+        shadow_rays_per_pixel: rays.shadow as f64 / pixels,
         primary_rays: rays.primary,
         shadow_rays: rays.shadow,
         specular_rays: rays.specular,
@@ -215,12 +222,14 @@ fn print_report(r: &Report) {
         r.threads
     );
     outln!(
-        "  {:.2} fps ({:.2} ms/frame, fastest {:.2} ms), {:.1} Mrays/s, {:.1} rays/pixel",
+        "  {:.2} fps ({:.2} ms/frame, fastest {:.2} ms), {:.1} Mrays/s, {:.1} rays/pixel ({:.1} primary, {:.1} shadow)",
         r.fps,
         r.frame_ms,
         r.min_frame_ms,
         r.mrays_per_s,
-        r.rays_per_pixel
+        r.rays_per_pixel,
+        r.primary_rays_per_pixel,
+        r.shadow_rays_per_pixel,
     );
     let phases: Vec<String> =
         Phase::ALL.iter().map(|p| format!("{} {:.2}", p.name(), r.phases_ms[p.name()])).collect();
