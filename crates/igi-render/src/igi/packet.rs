@@ -1,6 +1,7 @@
 //! [`Packet8`]: up to eight rays of a stream gathered lane by lane and traced as one 8-ray
-//! packet, closest hit, as the tile pipeline traces its camera, specular and bias-compensation
-//! rays (paper 3.1.2: rays travel in packets of eight).
+//! packet, as the tile pipeline traces its camera, specular and bias-compensation rays (closest
+//! hit) and the shadow rays the roulette leaves ([`crate::igi::vpl_lighting`], any hit; paper
+//! 3.1.2: rays travel in packets of eight).
 
 use glam::Vec3;
 use igi_bvh::{Accel, Hit, HitPacket8, Ray, RayPacket8};
@@ -48,15 +49,12 @@ impl Packet8 {
         self.bits.count_ones()
     }
 
-    /// The closest hits of the rays (all misses for an empty packet). Unoccupied lanes (a full
-    /// packet, the common case, has none) repeat the first ray, so that every lane of the packet
-    /// holds a valid ray: the packet kernel decides the traversal order from all lanes' signs.
+    /// The rays as one 8-ray packet, and its occupied lanes. Unoccupied lanes (a full packet,
+    /// the common case, has none) repeat the first ray, so that every lane of the packet holds
+    /// a valid ray: the packet kernels decide the traversal order from all lanes' signs.
     #[inline]
-    pub fn intersect(&mut self, accel: &Accel) -> PacketHits {
-        if self.bits == 0 {
-            return PacketHits { hits: [Hit::miss(f32::INFINITY); 8], bits: 0 };
-        }
-        if self.bits != 0xff {
+    pub fn packet(&mut self) -> (RayPacket8, M32x8) {
+        if self.bits != 0 && self.bits != 0xff {
             let first = self.rays[self.bits.trailing_zeros() as usize];
             for lane in 0..8 {
                 if self.bits & (1 << lane) == 0 {
@@ -64,7 +62,17 @@ impl Packet8 {
                 }
             }
         }
-        let hits = accel.intersect8(&RayPacket8::from_rays(&self.rays), M32x8::from_bitmask(self.bits));
+        (RayPacket8::from_rays(&self.rays), M32x8::from_bitmask(self.bits))
+    }
+
+    /// The closest hits of the rays (all misses for an empty packet).
+    #[inline]
+    pub fn intersect(&mut self, accel: &Accel) -> PacketHits {
+        if self.bits == 0 {
+            return PacketHits { hits: [Hit::miss(f32::INFINITY); 8], bits: 0 };
+        }
+        let (rays, active) = self.packet();
+        let hits = accel.intersect8(&rays, active);
         PacketHits { hits: unpack_hits(&hits), bits: self.bits & hits.hit_mask().bitmask() }
     }
 }

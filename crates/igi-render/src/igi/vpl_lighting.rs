@@ -1,6 +1,7 @@
 //! The inner loop of instant radiosity: for each VPL of a set, the shadow rays of all shading
-//! points of the set as 8-ray packets (any hit), and the accumulation of the contributions
-//! (paper 3.1.2), eight points at a time.
+//! points of the set (those the shadow-ray roulette keeps, [`ShadowRoulette`]) gathered into
+//! 8-ray packets (any hit), and the accumulation of the contributions (paper 3.1.2), eight
+//! points at a time.
 //!
 //! What is accumulated per point is the irradiance divided by π, D = E/π (the *diffuse
 //! radiance*: what a white Lambertian surface reflects), so that a Lambertian lobe of
@@ -40,6 +41,7 @@
 //! so they are neither clamped nor weighted.
 
 use crate::frame::FrameSettings;
+use crate::igi::packet::Packet8;
 use crate::igi::vpl::Vpl;
 use crate::image::stats::RayCounts;
 use crate::prepared::lights::{SHADOW_SHORTEN, SpotCone};
@@ -433,29 +435,26 @@ struct PendingLight {
 /// with three lanes as with eight. The rays come in pixel order and all end at the VPL, so a
 /// gathered packet stays coherent.
 struct ShadowQueue {
-    rays: [Ray; 8],
+    rays: Packet8,
+    /// Per lane, the pending light and its lane the ray answers for.
     owners: [(u32, u32); 8],
-    len: usize,
 }
 
 impl ShadowQueue {
-    const EMPTY: Self = Self {
-        rays: [Ray { origin: Vec3::ZERO, dir: Vec3::X, tnear: 0.0, tfar: 0.0 }; 8],
-        owners: [(0, 0); 8],
-        len: 0,
-    };
+    fn new() -> Self {
+        Self { rays: Packet8::new(), owners: [(0, 0); 8] }
+    }
 
     /// Adds `ray` answering for `owner` (pending light, lane); true when the queue is full.
     #[inline(always)]
     fn push(&mut self, ray: Ray, owner: (u32, u32)) -> bool {
-        self.rays[self.len] = ray;
-        self.owners[self.len] = owner;
-        self.len += 1;
-        self.len == 8
+        let lane = self.rays.len() as usize;
+        self.rays.set(lane, ray);
+        self.owners[lane] = owner;
+        lane + 1 == 8
     }
 
-    /// Traces the queued rays (the empty lanes repeat the first ray, so every lane holds a
-    /// valid ray) and marks the lanes of `pending` whose ray reached its end.
+    /// Traces the queued rays and marks the lanes of `pending` whose ray reached its end.
     fn trace(
         &mut self,
         accel: &Accel,
@@ -463,18 +462,16 @@ impl ShadowQueue {
         pending: &mut [PendingLight],
         counts: &mut RayCounts,
     ) {
-        if self.len == 0 {
+        let len = self.rays.len() as usize;
+        if len == 0 {
             return;
         }
-        for i in self.len..8 {
-            self.rays[i] = self.rays[0];
-        }
-        let valid = M32x8::from_bitmask((1u32 << self.len) - 1);
-        let lit = unoccluded(accel, &RayPacket8::from_rays(&self.rays), valid, cache, counts).bitmask();
-        for (i, &(slot, lane)) in self.owners[..self.len].iter().enumerate() {
+        let (packet, valid) = self.rays.packet();
+        let lit = unoccluded(accel, &packet, valid, cache, counts).bitmask();
+        for (i, &(slot, lane)) in self.owners[..len].iter().enumerate() {
             pending[slot as usize].lit |= (lit >> i & 1) << lane;
         }
-        self.len = 0;
+        self.rays = Packet8::new();
     }
 }
 
@@ -496,7 +493,7 @@ pub struct Receivers {
     glossy_radiance: Vec<Vec3x8>,
     schlick_radiance: Vec<Vec3x8>,
     /// Per chunk, the light of all the VPLs being added before visibility
-    /// ([`Unshadowed::strength`]): the roulette's relative threshold.
+    /// ([`Unshadowed::roulette_strength`]): the roulette's relative threshold.
     unshadowed_total: Vec<F32x8>,
     /// Per chunk, the running sums of the roulette's systematic sampling.
     roulette_sum: Vec<F32x8>,
@@ -600,7 +597,9 @@ impl Receivers {
         let roulette_d_min2 = F32x8::splat(roulette.d_min2);
         let zero = F32x8::ZERO;
         // The roulette's second threshold is a share of each point's light from all the VPLs
-        // before visibility: summed first, without rays.
+        // before visibility: summed first, without rays. The second pass computes each light
+        // again: keeping it from this pass cost as many instructions (callgrind, Cornell box)
+        // as it saved.
         self.unshadowed_total.clear();
         self.unshadowed_total.resize(self.chunks.len(), zero);
         if roulette.below > 0.0 {
@@ -634,7 +633,7 @@ impl Receivers {
         for vpl in vpls {
             let emitter = VplEmitter::new(vpl, weight);
             let mut cache = ShadowCache::default();
-            let mut queue = ShadowQueue::EMPTY;
+            let mut queue = ShadowQueue::new();
             pending.clear();
             for (k, (chunk, (total, sum))) in
                 chunks.iter().zip(unshadowed_total.iter().zip(roulette_sum.iter_mut())).enumerate()
@@ -666,12 +665,9 @@ impl Receivers {
                 while bits != 0 {
                     let lane = bits.trailing_zeros() as usize;
                     bits &= bits - 1;
-                    let ray = Ray {
-                        origin: Vec3::from(load(&chunk.origin).lane(lane)),
-                        dir: Vec3::from(wi.lane(lane)),
-                        tnear: 0.0,
-                        tfar: tfar.lane(lane),
-                    };
+                    let origin = Vec3::from(chunk.origin.map(|axis| axis[lane]));
+                    let ray =
+                        Ray { origin, dir: Vec3::from(wi.lane(lane)), tnear: 0.0, tfar: tfar.lane(lane) };
                     if queue.push(ray, (slot, lane as u32)) {
                         queue.trace(accel, &mut cache, pending, counts);
                     }
