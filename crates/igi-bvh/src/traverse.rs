@@ -28,37 +28,55 @@ pub const TRAVERSAL_STACK_SIZE: usize = 64;
 /// 1 + 2γ₃ with γₙ = nε/(1 - nε), ε = 2⁻²⁴ (pbrt, section 3.9).
 const EXIT_SCALE: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
 
-/// Reciprocal of a direction component, kept finite: components closer to zero than 1e-30 are
-/// replaced by ±1e-30 so that (b - o)·(1/d) can never be 0·∞.
+/// Reciprocal of a direction component for slab tests. A component smaller than 1e-30 in
+/// magnitude makes the ray parallel to its axis, and its reciprocal ±∞: the slab is then the
+/// whole line where the origin lies strictly between the box's planes (distances ∓∞), none
+/// where it lies outside (both ±∞ of one sign), and 0·∞ = NaN for a plane through the origin.
+/// The overlap tests fold each axis's distance into their running interval as the first
+/// operand of `max`/`min`, whose result is the second operand when one is NaN, so a NaN
+/// plane does not clip the interval: a ray lying in a box's face enters the box, as the
+/// watertight triangle test can hit the triangles in that face ("Rays in a box face",
+/// ARCHITECTURE.md). A finite stand-in for the reciprocal (±1e30 before) gave that plane the
+/// distance 0, and refused such rays with `tnear > 0`.
 #[inline(always)]
-pub(crate) fn safe_rcp(d: f32) -> f32 {
-    1.0 / if d.abs() < SAFE_RCP_TINY { SAFE_RCP_TINY.copysign(d) } else { d }
+pub(crate) fn slab_rcp(d: f32) -> f32 {
+    if d.abs() < PARALLEL { f32::INFINITY.copysign(d) } else { 1.0 / d }
 }
 
-/// Smallest direction component magnitude the box tests use.
-const SAFE_RCP_TINY: f32 = 1e-30;
+/// Direction components smaller than this in magnitude make a ray parallel to their axis.
+const PARALLEL: f32 = 1e-30;
 
 /// A single ray prepared for box tests.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct BoxRay1 {
-    pub org: Vec3,
-    pub inv: Vec3,
-    pub tnear: f32,
+    org: [f32; 3],
+    inv: [f32; 3],
+    tnear: f32,
+    /// Per axis: index into [`Node::coords`] of the near plane (0..3 = min, 4..7 = max).
+    near: [usize; 3],
 }
 
 impl BoxRay1 {
     pub(crate) fn new(org: Vec3, dir: Vec3, tnear: f32) -> Self {
-        Self { org, inv: Vec3::new(safe_rcp(dir.x), safe_rcp(dir.y), safe_rcp(dir.z)), tnear }
+        let inv = [slab_rcp(dir.x), slab_rcp(dir.y), slab_rcp(dir.z)];
+        let near = [0, 1, 2].map(|a| if inv[a] < 0.0 { a + 4 } else { a });
+        Self { org: org.to_array(), inv, tnear, near }
     }
 }
 
 impl BoxTest<f32> for BoxRay1 {
     #[inline(always)]
     fn enter(&self, n: &Node, tfar: f32) -> (bool, f32) {
-        let t0 = (Vec3::from(n.min) - self.org) * self.inv;
-        let t1 = (Vec3::from(n.max) - self.org) * self.inv;
-        let tmin = t0.min(t1).max_element().max(self.tnear);
-        let tmax = t0.max(t1).min_element().min(tfar) * EXIT_SCALE;
+        let c = n.coords();
+        let dist = |i: usize, a: usize| (c[i] - self.org[a]) * self.inv[a];
+        // Each axis's distance first, the running interval second: a NaN distance (a plane
+        // through the origin of a parallel ray, `slab_rcp`) leaves the interval as it was.
+        let (mut tmin, mut tmax) = (self.tnear, tfar);
+        for a in 0..3 {
+            tmin = dist(self.near[a], a).max(tmin);
+            tmax = dist(self.near[a] ^ 4, a).min(tmax);
+        }
+        let tmax = tmax * EXIT_SCALE;
         (tmin <= tmax, tmin)
     }
 }
@@ -106,9 +124,10 @@ pub(crate) enum BoxRay8 {
 
 impl BoxRay8 {
     pub(crate) fn new(org: &Vec3x8, dir: &Vec3x8, tnear: F32x8, active: M32x8) -> Self {
-        // `safe_rcp` lane by lane, in SIMD.
-        let tiny = F32x8::splat(SAFE_RCP_TINY);
-        let rcp = |d: F32x8| F32x8::splat(1.0) / F32x8::select(d.abs().lt(tiny), tiny.xor_sign(d), d);
+        // `slab_rcp` lane by lane, in SIMD.
+        let parallel = F32x8::splat(PARALLEL);
+        let infinity = F32x8::splat(f32::INFINITY);
+        let rcp = |d: F32x8| F32x8::select(d.abs().lt(parallel), infinity.xor_sign(d), F32x8::splat(1.0) / d);
         let inv = [rcp(dir.x), rcp(dir.y), rcp(dir.z)];
         let s = Slabs8 { org: (*org).into(), inv, tnear };
         let neg = inv.map(|i| i.lt(F32x8::ZERO));
@@ -128,11 +147,12 @@ impl BoxRay8 {
 }
 
 impl Slabs8 {
-    /// The overlap test from per-axis entry and exit distances.
+    /// The overlap test from per-axis entry and exit distances, each folded into the running
+    /// interval as the first operand, so that a NaN distance leaves it as it was (`slab_rcp`).
     #[inline(always)]
     fn overlap(&self, near: [F32x8; 3], far: [F32x8; 3], tfar: F32x8) -> (M32x8, F32x8) {
-        let tmin = near[0].max(near[1]).max(near[2].max(self.tnear));
-        let tmax = far[0].min(far[1]).min(far[2].min(tfar)) * F32x8::splat(EXIT_SCALE);
+        let tmin = near[0].max(near[1].max(near[2].max(self.tnear)));
+        let tmax = far[0].min(far[1].min(far[2].min(tfar))) * F32x8::splat(EXIT_SCALE);
         (tmin.le(tmax), tmin)
     }
 

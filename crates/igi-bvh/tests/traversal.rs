@@ -279,6 +279,60 @@ fn instanced_hits_equal_baked_geometry() {
 
 /// A closed UV sphere: rays aimed exactly at its shared vertices and edge midpoints, from inside
 /// and outside, must all hit.
+/// Axis-aligned boxes on a grid of whole coordinates, two triangles per face: their BVH boxes
+/// share planes with the triangles.
+fn grid_boxes(rng: &mut Rng, n: usize) -> TriangleMesh {
+    let mut m = TriangleMesh::default();
+    for _ in 0..n {
+        let lo = Vec3::new(rng.range(-6.0, 5.0), rng.range(-6.0, 5.0), rng.range(-6.0, 5.0)).floor();
+        let hi = lo + Vec3::new(rng.range(1.0, 3.0), rng.range(1.0, 3.0), rng.range(1.0, 3.0)).floor();
+        let b = m.positions.len() as u32;
+        for i in 0..8 {
+            let pick = |bit: usize, a: f32, b: f32| if i & bit == 0 { a } else { b };
+            m.positions.push(Vec3::new(pick(1, lo.x, hi.x), pick(2, lo.y, hi.y), pick(4, lo.z, hi.z)));
+        }
+        for [p, q, r, s] in
+            [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]]
+        {
+            m.indices.push([b + p, b + q, b + r]);
+            m.indices.push([b + p, b + r, b + s]);
+        }
+    }
+    m
+}
+
+/// A ray parallel to two axes (directions with exact zeros) whose origin lies on whole
+/// coordinates, so in the planes of box faces and of the BVH's boxes.
+fn grid_ray(rng: &mut Rng) -> Ray {
+    let whole = |rng: &mut Rng| rng.range(-7.0, 7.0).floor();
+    let origin = Vec3::new(whole(rng), whole(rng), whole(rng));
+    let axis = (rng.0.next_u64() % 3) as usize;
+    let mut dir = Vec3::ZERO;
+    dir[axis] = if rng.f() < 0.5 { 1.0 } else { -1.0 };
+    Ray { origin, dir, tnear: 1e-3, tfar: 20.0 }
+}
+
+/// A ray whose direction has an exact zero component and whose origin lies in the plane of a
+/// BVH box's face on that axis is inside the box's slab on that axis: the box test must enter
+/// the box, or the walk misses what brute force hits (ARCHITECTURE.md, "Rays in a box face").
+#[test]
+fn rays_in_box_faces_equal_brute_force() {
+    let mut rng = Rng(SplitMix64::seed_from_u64(7));
+    let (accel, mesh) = single(grid_boxes(&mut rng, 40));
+    let mut hits = 0;
+    for round in 0..2000 {
+        let rays: [Ray; 8] = std::array::from_fn(|_| grid_ray(&mut rng));
+        let want = brute_closest(&mesh, &rays[0]);
+        assert_eq!(accel.intersect(&rays[0]), want, "closest hit, ray {:?}", rays[0]);
+        assert_eq!(accel.occluded(&rays[0]), want.is_hit(), "any hit, ray {:?}", rays[0]);
+        hits += want.is_hit() as u32;
+        // The same rays in packets: mixed, and eight copies of one ray (one octant).
+        check_packet(&accel, &rays, M32x8::ALL);
+        check_packet(&accel, &[rays[round % 8]; 8], M32x8::ALL);
+    }
+    assert!(hits > 400, "the test must exercise hits ({hits})");
+}
+
 #[test]
 fn no_ray_leaks_through_shared_edges() {
     let (rings, segments) = (48u32, 96u32);
