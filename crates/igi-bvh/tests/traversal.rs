@@ -333,6 +333,29 @@ fn rays_in_box_faces_equal_brute_force() {
     assert!(hits > 400, "the test must exercise hits ({hits})");
 }
 
+/// Rays with NaN in their origin or direction hit nothing, alone and as lanes of packets (their
+/// plane distances are all NaN, which the box tests fold into no interval, `slab_rcp`).
+#[test]
+fn rays_with_nan_hit_nothing() {
+    let mut rng = Rng(SplitMix64::seed_from_u64(11));
+    let (accel, mesh) = single(soup(&mut rng, 3000, 0.8));
+    let nan = f32::NAN;
+    let odd = [
+        Ray::new(Vec3::new(nan, 0.0, 0.0), Vec3::X),
+        Ray::new(Vec3::ZERO, Vec3::new(0.0, nan, 1.0)),
+        Ray::new(Vec3::splat(nan), Vec3::splat(nan)),
+    ];
+    for ray in odd {
+        assert!(!accel.intersect(&ray).is_hit(), "{ray:?}");
+        assert!(!accel.occluded(&ray), "{ray:?}");
+    }
+    for round in 0..200 {
+        let mut rays = packet_rays(&mut rng, &mesh, round);
+        rays[round as usize % 8] = odd[round as usize % 3];
+        check_packet(&accel, &rays, M32x8::ALL);
+    }
+}
+
 #[test]
 fn no_ray_leaks_through_shared_edges() {
     let (rings, segments) = (48u32, 96u32);
