@@ -46,6 +46,13 @@ pub(crate) fn slab_rcp(d: f32) -> f32 {
 /// Direction components smaller than this in magnitude make a ray parallel to their axis.
 const PARALLEL: f32 = 1e-30;
 
+/// Per axis, the index into [`Node::coords`] of the near plane of rays whose direction on that
+/// axis is `negative` or not (0..3 = min, 4..7 = max); the far plane's is the index ^ 4.
+#[inline(always)]
+fn near_coords(negative: [bool; 3]) -> [usize; 3] {
+    [0, 1, 2].map(|a| if negative[a] { a + 4 } else { a })
+}
+
 /// A single ray prepared for box tests.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct BoxRay1 {
@@ -59,8 +66,7 @@ pub(crate) struct BoxRay1 {
 impl BoxRay1 {
     pub(crate) fn new(org: Vec3, dir: Vec3, tnear: f32) -> Self {
         let inv = [slab_rcp(dir.x), slab_rcp(dir.y), slab_rcp(dir.z)];
-        let near = [0, 1, 2].map(|a| if inv[a] < 0.0 { a + 4 } else { a });
-        Self { org: org.to_array(), inv, tnear, near }
+        Self { org: org.to_array(), inv, tnear, near: near_coords(inv.map(|i| i < 0.0)) }
     }
 }
 
@@ -137,10 +143,7 @@ impl BoxRay8 {
             (bits == 0 || bits == active_bits).then_some(bits != 0)
         });
         match octant {
-            [Some(x), Some(y), Some(z)] => {
-                let near = [x, y, z].map(|negative| if negative { 4 } else { 0 });
-                BoxRay8::Octant(OctantBoxes8 { s, near: [near[0], near[1] + 1, near[2] + 2] })
-            }
+            [Some(x), Some(y), Some(z)] => BoxRay8::Octant(OctantBoxes8 { s, near: near_coords([x, y, z]) }),
             _ => BoxRay8::Mixed(MixedBoxes8 { s, neg }),
         }
     }

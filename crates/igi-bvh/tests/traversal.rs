@@ -277,8 +277,6 @@ fn instanced_hits_equal_baked_geometry() {
     assert!(checked > 1500, "only {checked} rays checked");
 }
 
-/// A closed UV sphere: rays aimed exactly at its shared vertices and edge midpoints, from inside
-/// and outside, must all hit.
 /// Axis-aligned boxes on a grid of whole coordinates, two triangles per face: their BVH boxes
 /// share planes with the triangles.
 fn grid_boxes(rng: &mut Rng, n: usize) -> TriangleMesh {
@@ -356,6 +354,8 @@ fn rays_with_nan_hit_nothing() {
     }
 }
 
+/// A closed UV sphere: rays aimed exactly at its shared vertices and edge midpoints, from inside
+/// and outside, must all hit.
 #[test]
 fn no_ray_leaks_through_shared_edges() {
     let (rings, segments) = (48u32, 96u32);
