@@ -1,5 +1,6 @@
-//! The two-level acceleration structure: one BVH per mesh (bottom level) and one BVH over the
-//! placed instances (top level), with the single-ray and 8-ray packet queries on top.
+//! The two-level acceleration structure: one 8-wide BVH per mesh (bottom level, collapsed
+//! from a binned-SAH binary tree) and one binary BVH over the placed instances (top level),
+//! with the single-ray and 8-ray packet queries on top.
 //!
 //! Bottom-level BVHs are built once per mesh; the top level is rebuilt whenever instances move
 //! ([`Accel::set_transforms`]), which costs microseconds for the few instances a scene has.
@@ -16,6 +17,7 @@
 use crate::aabb::Aabb;
 use crate::build::{BuildParams, build_binned_sah, build_binned_sah_by};
 use crate::bvh::Bvh;
+use crate::bvh8::{Boxes8, Bvh8, PacketBoxes, walk8, walk8_packet};
 use crate::node::Node;
 use crate::ray::{Hit, HitPacket8, INVALID_ID, Ray, RayPacket8};
 use crate::traverse::{BoxRay1, BoxRay8, BoxTest, Query, walk};
@@ -93,10 +95,14 @@ impl Placement {
 #[derive(Clone, Debug)]
 pub struct Accel {
     meshes: Vec<TriangleMesh>,
-    blas: Vec<Bvh>,
+    /// Per mesh, its 8-wide BVH (ARCHITECTURE.md, "The wide BVH").
+    blas: Vec<Bvh8>,
     placements: Vec<Placement>,
     tlas: Bvh,
     params: BuildParams,
+    /// SAH cost of the binary trees the meshes' wide trees were collapsed from, weighted by
+    /// triangle count (a build quality figure for benchmarks).
+    sah_cost: f32,
     cutouts: Option<Cutouts>,
 }
 
@@ -105,32 +111,15 @@ fn triangle_bounds(mesh: &TriangleMesh, prim: u32) -> Aabb {
     Aabb::from_points(mesh.triangle(prim))
 }
 
-/// Levels of a mesh's BVH whose boxes, placed one by one, bound an instance: the union of up
-/// to 16 placed boxes hugs a rotated mesh far closer than its placed root box (27 % less
-/// surface on the armadillos of issue 17) at a cost per instance that does not grow with the
-/// mesh, so moving instances stay cheap.
-const INSTANCE_BOUNDS_DEPTH: u32 = 4;
-
-/// World bounds of an instance of the mesh whose BVH is `nodes`, under `m`: the union of its
-/// nodes' placed boxes [`INSTANCE_BOUNDS_DEPTH`] levels down (or of leaves above that).
-fn instance_bounds(nodes: &[Node], m: &Affine3A) -> Aabb {
-    fn visit(nodes: &[Node], index: usize, depth: u32, m: &Affine3A, bounds: &mut Aabb) {
-        let node = &nodes[index];
-        if node.is_leaf() || depth == INSTANCE_BOUNDS_DEPTH {
-            let placed = placed_bounds(node.bounds(), m);
-            if !placed.is_empty() {
-                *bounds = bounds.grow(placed.min).grow(placed.max);
-            }
-        } else {
-            visit(nodes, node.offset as usize, depth + 1, m, bounds);
-            visit(nodes, node.offset as usize + 1, depth + 1, m, bounds);
-        }
-    }
-    let mut bounds = Aabb::EMPTY;
-    if !nodes.is_empty() {
-        visit(nodes, 0, 0, m, &mut bounds);
-    }
-    bounds
+/// World bounds of an instance of the mesh whose BVH is `bvh`, under `m`: the union of the
+/// placed boxes of its hull ([`Bvh8::hull`]). Up to eight placed boxes hug a rotated mesh far closer
+/// than its placed root box (16 boxes of the binary tree gave 27 % less surface on the
+/// armadillos of issue 17) at a cost per instance that does not grow with the mesh, so moving
+/// instances stay cheap.
+fn instance_bounds(bvh: &Bvh8, m: &Affine3A) -> Aabb {
+    bvh.hull.iter().map(|&b| placed_bounds(b, m)).fold(Aabb::EMPTY, |bounds, placed| {
+        if placed.is_empty() { bounds } else { bounds.grow(placed.min).grow(placed.max) }
+    })
 }
 
 /// World bounds of a box under an affine transform (its transformed corners).
@@ -149,6 +138,7 @@ impl Accel {
         let params = BuildParams::default();
         let mut orders = Vec::with_capacity(meshes.len());
         let mut blas = Vec::with_capacity(meshes.len());
+        let mut sah_sum = 0.0;
         for mesh in &mut meshes {
             let Bvh { nodes, prim_order } =
                 build_binned_sah_by(mesh.indices.len(), |p| triangle_bounds(mesh, p as u32), &params);
@@ -156,8 +146,11 @@ impl Accel {
             // permutation of its own; the caller gets it to reorder its per-triangle data.
             mesh.indices = prim_order.iter().map(|&p| mesh.indices[p as usize]).collect();
             orders.push(prim_order);
-            blas.push(Bvh { nodes, prim_order: Vec::new() });
+            let binary = Bvh { nodes, prim_order: Vec::new() };
+            sah_sum += binary.sah_cost(&params) * mesh.indices.len() as f32;
+            blas.push(Bvh8::collapse(&binary));
         }
+        let triangles: usize = meshes.iter().map(|m| m.indices.len()).sum();
         let placements = instances.iter().map(|&(mesh, m)| Placement::new(mesh, m)).collect();
         let mut accel = Self {
             meshes,
@@ -165,6 +158,7 @@ impl Accel {
             placements,
             tlas: Bvh { nodes: Vec::new(), prim_order: Vec::new() },
             params,
+            sah_cost: if triangles == 0 { 0.0 } else { sah_sum / triangles as f32 },
             cutouts: None,
         };
         accel.build_tlas();
@@ -208,7 +202,7 @@ impl Accel {
         let bounds: Vec<Aabb> = self
             .placements
             .iter()
-            .map(|p| instance_bounds(&self.blas[p.mesh as usize].nodes, &p.object_to_world))
+            .map(|p| instance_bounds(&self.blas[p.mesh as usize], &p.object_to_world))
             .collect();
         self.tlas = build_binned_sah(&bounds, &BuildParams { max_leaf_size: 1, ..self.params });
     }
@@ -233,9 +227,9 @@ impl Accel {
         self.placements[i as usize].object_to_world
     }
 
-    /// Object-space bounds of mesh `mesh` (the root of its BVH).
+    /// Object-space bounds of mesh `mesh` (the union of its hull's boxes).
     pub fn mesh_bounds(&self, mesh: u32) -> Aabb {
-        self.blas[mesh as usize].nodes.first().map_or(Aabb::EMPTY, Node::bounds)
+        instance_bounds(&self.blas[mesh as usize], &Affine3A::IDENTITY)
     }
 
     /// World bounds of the scene.
@@ -256,24 +250,15 @@ impl Accel {
     /// Bytes of the BVHs: every mesh's nodes and triangle order, the top level and the
     /// instance placements.
     pub fn bvh_bytes(&self) -> usize {
-        self.blas.iter().map(Bvh::bytes).sum::<usize>()
+        self.blas.iter().map(Bvh8::bytes).sum::<usize>()
             + self.tlas.bytes()
             + self.placements.len() * std::mem::size_of::<Placement>()
     }
 
-    /// SAH cost of the bottom-level BVHs, weighted by triangle count (a quality figure for
-    /// benchmarks).
+    /// SAH cost of the binary BVHs the meshes' wide BVHs were collapsed from, weighted by
+    /// triangle count (a quality figure for benchmarks, comparable with other binary builders).
     pub fn sah_cost(&self) -> f32 {
-        let n: usize = self.meshes.iter().map(|m| m.indices.len()).sum();
-        if n == 0 {
-            return 0.0;
-        }
-        self.blas
-            .iter()
-            .zip(&self.meshes)
-            .map(|(b, m)| b.sah_cost(&self.params) * m.indices.len() as f32)
-            .sum::<f32>()
-            / n as f32
+        self.sah_cost
     }
 
     /// Unit geometric normal of a hit in world space, following the triangle's winding
@@ -333,7 +318,7 @@ impl Accel {
         let world = Local1::new(ray.origin, ray.dir, ray.tnear);
         self.walk_instances(&world.boxes, q, |q, inst, p| {
             let local = if p.identity { world } else { world.transformed(ray, &p.world_to_object) };
-            self.walk_mesh(p.mesh, inst, &local.start, &local.shear, &local.boxes, q);
+            self.walk_mesh(p.mesh, inst, &local.start, &local.shear, &local.wide, q);
         });
     }
 
@@ -386,7 +371,7 @@ impl Accel {
     /// space, and tests the triangles of every leaf reached until the query has its answer;
     /// with the cut-out test only if the mesh has a triangle that may be cut.
     #[inline(always)]
-    fn walk_mesh<L: Lanes, Q: TriangleQuery<L>, S: Shear<L>, B: BoxTest<L>>(
+    fn walk_mesh<L: Lanes, Q: TriangleQuery<L>, S: Shear<L>, B: MeshWalk<L>>(
         &self,
         mesh: u32,
         inst: u32,
@@ -415,7 +400,7 @@ impl Accel {
     /// [`Accel::walk_mesh`] with the hits of each triangle test passed through `cut`.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
-    fn walk_triangles<L: Lanes, Q: TriangleQuery<L>, S: Shear<L>, B: BoxTest<L>, C: Cut<L>>(
+    fn walk_triangles<L: Lanes, Q: TriangleQuery<L>, S: Shear<L>, B: MeshWalk<L>, C: Cut<L>>(
         &self,
         mesh: u32,
         inst: u32,
@@ -426,8 +411,8 @@ impl Accel {
         cut: C,
     ) {
         let triangles = &self.meshes[mesh as usize];
-        walk(&self.blas[mesh as usize].nodes, boxes, q, |q, leaf| {
-            for prim in leaf.offset..leaf.offset + leaf.count {
+        boxes.walk_leaves(&self.blas[mesh as usize], q, |q, first, count| {
+            for prim in first..first + count {
                 let [a, b, c] = triangles.triangle(prim);
                 let hit = cut.keep(prim, intersect(start.org, shear, a, b, c, start.tnear, q.tfar()));
                 if !q.take(hit, inst, prim) {
@@ -435,6 +420,26 @@ impl Accel {
                 }
             }
         });
+    }
+}
+
+/// How a ray or a packet, prepared for box tests, walks a mesh's wide BVH: calls
+/// `leaf(q, first, count)` for the leaves it reaches until the query has its answer.
+trait MeshWalk<L: Lanes> {
+    fn walk_leaves<Q: Query<L>>(&self, bvh: &Bvh8, q: &mut Q, leaf: impl FnMut(&mut Q, u32, u32));
+}
+
+impl MeshWalk<f32> for Boxes8 {
+    #[inline(always)]
+    fn walk_leaves<Q: Query<f32>>(&self, bvh: &Bvh8, q: &mut Q, leaf: impl FnMut(&mut Q, u32, u32)) {
+        walk8(&bvh.nodes, self, q, leaf);
+    }
+}
+
+impl<B: PacketBoxes> MeshWalk<F32x8> for B {
+    #[inline(always)]
+    fn walk_leaves<Q: Query<F32x8>>(&self, bvh: &Bvh8, q: &mut Q, leaf: impl FnMut(&mut Q, u32, u32)) {
+        walk8_packet(&bvh.nodes, self, q, leaf);
     }
 }
 
@@ -516,7 +521,10 @@ struct RayStart<L> {
 struct Local1 {
     start: RayStart<f32>,
     shear: ShearUniform<f32>,
+    /// For the top level's binary tree.
     boxes: BoxRay1,
+    /// For the meshes' wide trees.
+    wide: Boxes8,
 }
 
 impl Local1 {
@@ -525,6 +533,7 @@ impl Local1 {
             start: RayStart { org: org.to_array(), tnear },
             shear: ShearUniform::new(dir),
             boxes: BoxRay1::new(org, dir, tnear),
+            wide: Boxes8::new(org, dir, tnear),
         }
     }
 

@@ -1,5 +1,6 @@
-//! Depth-first BVH traversal for one ray and for 8-ray packets: the walk over the node array,
-//! shared by the top level (instances) and the bottom level (triangles) of [`crate::Accel`].
+//! Depth-first traversal of the binary BVH for one ray and for 8-ray packets: the walk of the
+//! top level (instances) of [`crate::Accel`], and the box tests that the wide meshes' walks
+//! ([`crate::Bvh8`]) share.
 //!
 //! One walker, [`walk`], written over [`Lanes`] (as the triangle test is), serves both: a single
 //! ray is a packet of one lane. It visits the nearer child first (closest-hit queries; any-hit
@@ -16,6 +17,7 @@
 //! missed by a ray that hits a triangle inside it, which keeps the watertight triangle test
 //! watertight through the traversal.
 
+use crate::bvh8::{Bvh8Node, IntervalRay8, PacketBoxes};
 use crate::node::Node;
 use glam::Vec3;
 use igi_simd::{F32x8, LaneMask, Lanes, M32x8, Vec3x8};
@@ -26,7 +28,7 @@ use std::mem::MaybeUninit;
 pub const TRAVERSAL_STACK_SIZE: usize = 64;
 
 /// 1 + 2γ₃ with γₙ = nε/(1 - nε), ε = 2⁻²⁴ (pbrt, section 3.9).
-const EXIT_SCALE: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
+pub(crate) const EXIT_SCALE: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
 
 /// Reciprocal of a direction component for slab tests. A component smaller than 1e-30 in
 /// magnitude makes the ray parallel to its axis, and its reciprocal ±∞: the slab is then the
@@ -173,6 +175,37 @@ impl BoxTest<F32x8> for OctantBoxes8 {
         let near = std::array::from_fn(|a| self.s.dist(c[self.near[a]], a));
         let far = std::array::from_fn(|a| self.s.dist(c[self.near[a] ^ 4], a));
         self.s.overlap(near, far, tfar)
+    }
+}
+
+impl PacketBoxes for OctantBoxes8 {
+    #[inline(always)]
+    fn enter_slot(&self, node: &Bvh8Node, i: usize, tfar: F32x8) -> (M32x8, F32x8) {
+        let plane = |a: usize, near: bool| {
+            if (self.near[a] < 4) == near { node.lower[a][i] } else { node.upper[a][i] }
+        };
+        let near = std::array::from_fn(|a| self.s.dist(plane(a, true), a));
+        let far = std::array::from_fn(|a| self.s.dist(plane(a, false), a));
+        self.s.overlap(near, far, tfar)
+    }
+    #[inline(always)]
+    fn interval(&self, active: M32x8) -> Option<IntervalRay8> {
+        IntervalRay8::new(&self.s.org, &self.s.inv, self.s.tnear, self.near.map(|n| n < 4), active)
+    }
+}
+
+impl PacketBoxes for MixedBoxes8 {
+    #[inline(always)]
+    fn enter_slot(&self, node: &Bvh8Node, i: usize, tfar: F32x8) -> (M32x8, F32x8) {
+        let lo: [F32x8; 3] = std::array::from_fn(|a| self.s.dist(node.lower[a][i], a));
+        let hi: [F32x8; 3] = std::array::from_fn(|a| self.s.dist(node.upper[a][i], a));
+        let near = std::array::from_fn(|a| F32x8::select(self.neg[a], hi[a], lo[a]));
+        let far = std::array::from_fn(|a| F32x8::select(self.neg[a], lo[a], hi[a]));
+        self.s.overlap(near, far, tfar)
+    }
+    #[inline(always)]
+    fn interval(&self, _active: M32x8) -> Option<IntervalRay8> {
+        None
     }
 }
 

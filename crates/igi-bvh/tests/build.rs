@@ -6,7 +6,9 @@
 mod triangle_soup;
 
 use glam::Vec3;
-use igi_bvh::{Aabb, BuildParams, Bvh, TRAVERSAL_STACK_SIZE, build_binned_sah, build_sweep_sah};
+use igi_bvh::{
+    Aabb, BuildParams, Bvh, Bvh8, Bvh8Node, TRAVERSAL_STACK_SIZE, build_binned_sah, build_sweep_sah,
+};
 use triangle_soup::{Rng, SCENES, Triangle, load_scene, random_triangles, triangle_bounds};
 
 /// The smallest box containing both boxes.
@@ -207,6 +209,66 @@ fn invariants_hold_on_large_inputs() {
         &BuildParams::default(),
         "cluster",
     );
+}
+
+/// The wide tree's invariants (`Bvh8`'s documentation): every primitive in exactly one leaf
+/// and inside a box of the hull, each slot's box holding its primitives and, for an inner
+/// slot, its node's slots; used slots first and unused ones inverted; children after their
+/// parents; and a walk's stack bound.
+fn check_wide(bvh: &Bvh, prims: &[Aabb], context: &str) {
+    let wide = Bvh8::collapse(bvh);
+    assert_eq!(wide.nodes.is_empty(), bvh.nodes.is_empty(), "{context}");
+    let mut seen = vec![0u32; prims.len()];
+    // (node, depth) pairs still to check, and the deepest level reached.
+    let mut todo = if wide.nodes.is_empty() { vec![] } else { vec![(0usize, 1usize)] };
+    let mut depth = 0;
+    while let Some((n, d)) = todo.pop() {
+        depth = depth.max(d);
+        let node = &wide.nodes[n];
+        let used = node.used();
+        assert!(used >= 1, "{context}: node {n} is empty");
+        for i in 0..8 {
+            let (child, count, b) = (node.child[i], node.count[i], node.bounds(i));
+            if i >= used {
+                assert_eq!((child, count), (Bvh8Node::UNUSED, 0), "{context}: node {n} slot {i}");
+                assert!(b.min.cmpgt(b.max).all(), "{context}: unused slot {i} of node {n} must be inverted");
+                continue;
+            }
+            if count > 0 {
+                for leaf_slot in child..child + count {
+                    let p = bvh.prim_order[leaf_slot as usize] as usize;
+                    seen[p] += 1;
+                    assert!(prims[p].is_empty() || contains(&b, &prims[p]), "{context}: leaf box misses {p}");
+                }
+            } else {
+                assert!(child as usize > n, "{context}: child {child} of node {n} comes before it");
+                let inner = &wide.nodes[child as usize];
+                for j in 0..inner.used() {
+                    let ib = inner.bounds(j);
+                    assert!(
+                        ib.is_empty() || contains(&b, &ib),
+                        "{context}: slot {j} of node {child} leaves its box"
+                    );
+                }
+                todo.push((child as usize, d + 1));
+            }
+        }
+    }
+    assert!(seen.iter().all(|&k| k == 1), "{context}: every primitive must be in exactly one leaf");
+    assert!(wide.hull.len() <= 8, "{context}: a hull of {} boxes", wide.hull.len());
+    for (p, b) in prims.iter().enumerate() {
+        assert!(b.is_empty() || wide.hull.iter().any(|h| contains(h, b)), "{context}: the hull misses {p}");
+    }
+    assert!(depth <= bvh.depth().max(1), "{context}: wide depth {depth} beyond the binary {}", bvh.depth());
+}
+
+#[test]
+fn wide_trees_keep_their_invariants_on_all_distributions() {
+    for (name, prims) in distributions() {
+        for p in [BuildParams::default(), BuildParams { max_leaf_size: 1, ..Default::default() }] {
+            check_wide(&build_binned_sah(&prims, &p), &prims, name);
+        }
+    }
 }
 
 #[test]

@@ -331,8 +331,9 @@ fn rays_in_box_faces_equal_brute_force() {
     assert!(hits > 400, "the test must exercise hits ({hits})");
 }
 
-/// Rays with NaN in their origin or direction hit nothing, alone and as lanes of packets (their
-/// plane distances are all NaN, which the box tests fold into no interval, `slab_rcp`).
+/// Rays with NaN in their origin or direction hit nothing and do not upset the walks (their
+/// plane distances are all NaN, which the box tests fold into no interval: the walks must
+/// still enter only the nodes' used slots), alone and as lanes of packets.
 #[test]
 fn rays_with_nan_hit_nothing() {
     let mut rng = Rng(SplitMix64::seed_from_u64(11));
