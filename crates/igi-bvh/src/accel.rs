@@ -112,8 +112,8 @@ fn triangle_bounds(mesh: &TriangleMesh, prim: u32) -> Aabb {
 }
 
 /// World bounds of an instance of the mesh whose BVH is `bvh`, under `m`: the union of the
-/// placed boxes of its hull ([`Bvh8::hull`]). Up to eight placed boxes hug a rotated mesh far closer
-/// than its placed root box (16 boxes of the binary tree gave 27 % less surface on the
+/// placed boxes of its hull ([`Bvh8::hull`]). Up to eight placed boxes hug a rotated mesh far
+/// closer than its placed root box (16 boxes of the binary tree gave 27 % less surface on the
 /// armadillos of issue 17) at a cost per instance that does not grow with the mesh, so moving
 /// instances stay cheap.
 fn instance_bounds(bvh: &Bvh8, m: &Affine3A) -> Aabb {
@@ -318,7 +318,7 @@ impl Accel {
         let world = Local1::new(ray.origin, ray.dir, ray.tnear);
         self.walk_instances(&world.boxes, q, |q, inst, p| {
             let local = if p.identity { world } else { world.transformed(ray, &p.world_to_object) };
-            self.walk_mesh(p.mesh, inst, &local.start, &local.shear, &local.wide, q);
+            self.walk_mesh(p.mesh, inst, &local.start, &local.shear, &Boxes8::of(&local.boxes), q);
         });
     }
 
@@ -521,10 +521,9 @@ struct RayStart<L> {
 struct Local1 {
     start: RayStart<f32>,
     shear: ShearUniform<f32>,
-    /// For the top level's binary tree.
+    /// For the top level's binary tree, and in every lane for the meshes' wide trees
+    /// ([`Boxes8::of`]).
     boxes: BoxRay1,
-    /// For the meshes' wide trees.
-    wide: Boxes8,
 }
 
 impl Local1 {
@@ -533,7 +532,6 @@ impl Local1 {
             start: RayStart { org: org.to_array(), tnear },
             shear: ShearUniform::new(dir),
             boxes: BoxRay1::new(org, dir, tnear),
-            wide: Boxes8::new(org, dir, tnear),
         }
     }
 

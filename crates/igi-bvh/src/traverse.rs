@@ -58,9 +58,12 @@ fn near_coords(negative: [bool; 3]) -> [usize; 3] {
 /// A single ray prepared for box tests.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct BoxRay1 {
-    org: [f32; 3],
-    inv: [f32; 3],
-    tnear: f32,
+    /// Origin.
+    pub(crate) org: [f32; 3],
+    /// Reciprocal direction ([`slab_rcp`]).
+    pub(crate) inv: [f32; 3],
+    /// Start of the ray's interval.
+    pub(crate) tnear: f32,
     /// Per axis: index into [`Node::coords`] of the near plane (0..3 = min, 4..7 = max).
     near: [usize; 3],
 }
@@ -197,11 +200,7 @@ impl PacketBoxes for OctantBoxes8 {
 impl PacketBoxes for MixedBoxes8 {
     #[inline(always)]
     fn enter_slot(&self, node: &Bvh8Node, i: usize, tfar: F32x8) -> (M32x8, F32x8) {
-        let lo: [F32x8; 3] = std::array::from_fn(|a| self.s.dist(node.lower[a][i], a));
-        let hi: [F32x8; 3] = std::array::from_fn(|a| self.s.dist(node.upper[a][i], a));
-        let near = std::array::from_fn(|a| F32x8::select(self.neg[a], hi[a], lo[a]));
-        let far = std::array::from_fn(|a| F32x8::select(self.neg[a], lo[a], hi[a]));
-        self.s.overlap(near, far, tfar)
+        self.enter_box(|a| node.lower[a][i], |a| node.upper[a][i], tfar)
     }
     #[inline(always)]
     fn interval(&self, _active: M32x8) -> Option<IntervalRay8> {
@@ -209,14 +208,28 @@ impl PacketBoxes for MixedBoxes8 {
     }
 }
 
-impl BoxTest<F32x8> for MixedBoxes8 {
+impl MixedBoxes8 {
+    /// The overlap test of the box with lower planes `min` and upper planes `max`: each lane
+    /// takes its near and far plane by its own direction's signs.
     #[inline(always)]
-    fn enter(&self, n: &Node, tfar: F32x8) -> (M32x8, F32x8) {
-        let lo: [F32x8; 3] = std::array::from_fn(|a| self.s.dist(n.min[a], a));
-        let hi: [F32x8; 3] = std::array::from_fn(|a| self.s.dist(n.max[a], a));
+    fn enter_box(
+        &self,
+        min: impl Fn(usize) -> f32,
+        max: impl Fn(usize) -> f32,
+        tfar: F32x8,
+    ) -> (M32x8, F32x8) {
+        let lo: [F32x8; 3] = std::array::from_fn(|a| self.s.dist(min(a), a));
+        let hi: [F32x8; 3] = std::array::from_fn(|a| self.s.dist(max(a), a));
         let near = std::array::from_fn(|a| F32x8::select(self.neg[a], hi[a], lo[a]));
         let far = std::array::from_fn(|a| F32x8::select(self.neg[a], lo[a], hi[a]));
         self.s.overlap(near, far, tfar)
+    }
+}
+
+impl BoxTest<F32x8> for MixedBoxes8 {
+    #[inline(always)]
+    fn enter(&self, n: &Node, tfar: F32x8) -> (M32x8, F32x8) {
+        self.enter_box(|a| n.min[a], |a| n.max[a], tfar)
     }
 }
 

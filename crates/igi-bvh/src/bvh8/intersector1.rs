@@ -10,8 +10,7 @@
 //! that the inverted box of an unused slot is never entered.
 
 use super::{Bvh8Node, Entry, insert_sorted};
-use crate::traverse::{EXIT_SCALE, Query, TRAVERSAL_STACK_SIZE, slab_rcp};
-use glam::Vec3;
+use crate::traverse::{BoxRay1, EXIT_SCALE, Query, TRAVERSAL_STACK_SIZE};
 use igi_simd::{F32x8, LaneMask, M32x8};
 use std::mem::MaybeUninit;
 
@@ -30,13 +29,14 @@ pub(crate) struct Boxes8 {
 }
 
 impl Boxes8 {
-    pub(crate) fn new(org: Vec3, dir: Vec3, tnear: f32) -> Self {
-        let inv = [slab_rcp(dir.x), slab_rcp(dir.y), slab_rcp(dir.z)];
+    /// The ray `ray` as the binary walk prepared it, in every lane.
+    #[inline(always)]
+    pub(crate) fn of(ray: &BoxRay1) -> Self {
         Self {
-            org: [F32x8::splat(org.x), F32x8::splat(org.y), F32x8::splat(org.z)],
-            inv: inv.map(F32x8::splat),
-            tnear: F32x8::splat(tnear),
-            lower_is_near: inv.map(|i| i >= 0.0),
+            org: ray.org.map(F32x8::splat),
+            inv: ray.inv.map(F32x8::splat),
+            tnear: F32x8::splat(ray.tnear),
+            lower_is_near: ray.inv.map(|i| i >= 0.0),
         }
     }
 
