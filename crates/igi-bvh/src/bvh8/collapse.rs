@@ -42,6 +42,7 @@ impl Bvh8 {
         // its own, and appended in slot order with their node indices moved by where they
         // start: the same layout as one depth-first pass.
         let slots = plan.slots(bvh, 0);
+        let slots = slots.as_slice();
         let subtrees: Vec<Vec<Bvh8Node>> = slots
             .par_iter()
             .map(|&s| {
@@ -50,7 +51,6 @@ impl Bvh8 {
                 if !plan.leaf[s] {
                     emit(bvh, &plan, s, &mut subtree);
                 }
-                subtree.shrink_to_fit();
                 subtree
             })
             .collect();
@@ -150,13 +150,13 @@ impl Plan {
     }
 
     /// The binary nodes the slots of the wide node standing for inner node `n` stand for.
-    fn slots(&self, bvh: &Bvh, n: usize) -> Vec<u32> {
+    fn slots(&self, bvh: &Bvh, n: usize) -> Slots {
         let mut slots = Slots([0; 8], 0);
         let l = bvh.nodes[n].offset as usize;
         let (k, _) = self.split(l, l + 1, 8);
         self.fill(bvh, l, k, &mut slots);
         self.fill(bvh, l + 1, 8 - k, &mut slots);
-        slots.0[..slots.1].to_vec()
+        slots
     }
 
     /// Appends the binary nodes that fill at most `slots` slots for the subtree of `n`, left to
@@ -182,11 +182,17 @@ impl Plan {
 /// Appends the wide node that stands for binary inner node `n` (and, depth first, the nodes
 /// below it) and returns its index.
 fn emit(bvh: &Bvh, plan: &Plan, n: usize, nodes: &mut Vec<Bvh8Node>) -> u32 {
-    emit_slots(bvh, plan, &plan.slots(bvh, n), nodes)
+    emit_slots(bvh, plan, plan.slots(bvh, n).as_slice(), nodes)
 }
 
 /// The binary nodes a wide node's slots stand for, and how many there are.
 struct Slots([u32; 8], usize);
+
+impl Slots {
+    fn as_slice(&self) -> &[u32] {
+        &self.0[..self.1]
+    }
+}
 
 /// Appends the wide node whose slots stand for the binary nodes `slots` and returns its index.
 fn emit_slots(bvh: &Bvh, plan: &Plan, slots: &[u32], nodes: &mut Vec<Bvh8Node>) -> u32 {
