@@ -33,7 +33,7 @@ impl Bvh8 {
         }
         let hull = hull(bvh);
         let plan = Plan::of(bvh);
-        if plan.leaf[0] {
+        if plan.leaf(0) {
             // A tree that is one leaf: a root node with one slot.
             emit_slots(bvh, &plan, &[0], &mut nodes);
             return Self { nodes, hull };
@@ -47,8 +47,8 @@ impl Bvh8 {
             .par_iter()
             .map(|&s| {
                 let s = s as usize;
-                let mut subtree = Vec::with_capacity(plan.range[s].1 as usize / 4 + 1);
-                if !plan.leaf[s] {
+                let mut subtree = Vec::with_capacity(plan.range(s).1 as usize / 4 + 1);
+                if !plan.leaf(s) {
                     emit(bvh, &plan, s, &mut subtree);
                 }
                 subtree
@@ -59,7 +59,7 @@ impl Bvh8 {
         for (i, (&s, subtree)) in slots.iter().zip(subtrees).enumerate() {
             let s = s as usize;
             let start = nodes.len() as u32;
-            let (child, count) = if plan.leaf[s] { plan.range[s] } else { (start, 0) };
+            let (child, count) = if plan.leaf(s) { plan.range(s) } else { (start, 0) };
             nodes.extend(subtree.into_iter().map(|mut n| {
                 let used = n.used();
                 for (child, count) in n.child.iter_mut().zip(n.count).take(used) {
@@ -93,67 +93,56 @@ fn hull(bvh: &Bvh) -> Vec<Aabb> {
     cover.iter().map(|&n| bvh.nodes[n as usize].bounds()).collect()
 }
 
-/// The programme's result per binary node: the primitives of its subtree as one range of leaf
-/// order (`first`, `count`; a count of 0 where they are not contiguous), whether it becomes
-/// one leaf when it takes one slot, and `C(n, i)` for i = 1 ..= 8.
-struct Plan {
-    range: Vec<(u32, u32)>,
-    leaf: Vec<bool>,
-    cost: Vec<[f32; 8]>,
+/// The programme's decisions for one binary node, all the top-down pass needs (the costs live
+/// only while the bottom-up pass climbs past the node: on a 10-million-triangle mesh, storing
+/// them made this pass as slow as writing a gigabyte).
+#[derive(Clone, Copy, Debug, Default)]
+struct Choice {
+    /// Its subtree's primitives as one range of leaf order (`first`, `count`; a count of 0
+    /// where they are not contiguous).
+    range: (u32, u32),
+    /// Whether it becomes one leaf when it takes one slot.
+    leaf: bool,
+    /// Per slot budget i = 1 ..= 8 its subtree may take: 0 where it takes one slot, else the
+    /// slots of its left child (low four bits) and of its right child (high four bits); fewer
+    /// than i where more cost no less (`C(n, i)` never grows with i).
+    fill: [u8; 8],
+    /// Where it is a wide node of its own: the slots of its left child (the right one takes
+    /// the rest of the eight).
+    wide: u8,
 }
+
+/// Subtrees of at least this many nodes below their root plan their two children as parallel
+/// tasks.
+const PARALLEL_NODES_MIN: usize = 1 << 13;
+
+/// The programme's [`Choice`] per binary node, indexed like the binary tree's nodes.
+struct Plan(Vec<Choice>);
 
 impl Plan {
     fn of(bvh: &Bvh) -> Self {
-        let n = bvh.nodes.len();
-        let mut plan = Self { range: vec![(0, 0); n], leaf: vec![false; n], cost: vec![[0.0; 8]; n] };
-        // Children come after their parents: one backward sweep sees children first.
-        for (i, node) in bvh.nodes.iter().enumerate().rev() {
-            // An empty box (a subtree of empty primitives) is entered by no ray.
-            let area = node.bounds().half_area();
-            let area = if area.is_finite() { area.max(0.0) } else { 0.0 };
-            if node.is_leaf() {
-                plan.range[i] = (node.offset, node.count);
-                plan.leaf[i] = true;
-                plan.cost[i] = [area * TRIANGLE_COST * node.count as f32; 8];
-                continue;
-            }
-            let (l, r) = (node.offset as usize, node.offset as usize + 1);
-            let (lr, rr) = (plan.range[l], plan.range[r]);
-            let joined = lr.1 > 0 && rr.1 > 0 && lr.0 + lr.1 == rr.0;
-            plan.range[i] = (lr.0, if joined { lr.1 + rr.1 } else { 0 });
-            let distribute: [f32; 8] = std::array::from_fn(|j| plan.split(l, r, j + 1).1);
-            let internal = area * NODE_COST + distribute[7];
-            let count = plan.range[i].1;
-            let as_leaf = if count > 0 && count <= LEAF_PRIMITIVES {
-                area * TRIANGLE_COST * count as f32
-            } else {
-                f32::INFINITY
-            };
-            plan.leaf[i] = as_leaf <= internal;
-            let mut cost = [as_leaf.min(internal); 8];
-            for j in 1..8 {
-                cost[j] = cost[j - 1].min(distribute[j]);
-            }
-            plan.cost[i] = cost;
-        }
-        plan
+        let mut choices = vec![Choice::default(); bvh.nodes.len()];
+        let (root, below) = choices.split_first_mut().expect("a tree with nodes");
+        // The root's descendants are every node after it (the depth-first layout of [`Bvh`]).
+        *root = plan_subtree(bvh, 0, below).0;
+        Self(choices)
     }
 
-    /// The cheapest way to give `slots` slots to the children `l` and `r` of a binary node:
-    /// the slots of the left one (the fewest of equal costs), and the cost (infinite for fewer
-    /// than two slots).
-    fn split(&self, l: usize, r: usize, slots: usize) -> (usize, f32) {
-        (1..slots)
-            .map(|k| (k, self.cost[l][k - 1] + self.cost[r][slots - k - 1]))
-            .reduce(|best, c| if c.1 < best.1 { c } else { best })
-            .unwrap_or((0, f32::INFINITY))
+    /// [`Choice::range`] of binary node `n`.
+    fn range(&self, n: usize) -> (u32, u32) {
+        self.0[n].range
+    }
+
+    /// [`Choice::leaf`] of binary node `n`.
+    fn leaf(&self, n: usize) -> bool {
+        self.0[n].leaf
     }
 
     /// The binary nodes the slots of the wide node standing for inner node `n` stand for.
     fn slots(&self, bvh: &Bvh, n: usize) -> Slots {
         let mut slots = Slots([0; 8], 0);
         let l = bvh.nodes[n].offset as usize;
-        let (k, _) = self.split(l, l + 1, 8);
+        let k = usize::from(self.0[n].wide);
         self.fill(bvh, l, k, &mut slots);
         self.fill(bvh, l + 1, 8 - k, &mut slots);
         slots
@@ -162,21 +151,77 @@ impl Plan {
     /// Appends the binary nodes that fill at most `slots` slots for the subtree of `n`, left to
     /// right, as the programme chose.
     fn fill(&self, bvh: &Bvh, n: usize, slots: usize, out: &mut Slots) {
-        // Fewer slots where they cost no more (`C(n, i)` never grows with i).
-        let mut slots = slots;
-        while slots > 1 && self.cost[n][slots - 2] <= self.cost[n][slots - 1] {
-            slots -= 1;
-        }
-        if slots == 1 {
+        let split = self.0[n].fill[slots - 1];
+        if split == 0 {
             out.0[out.1] = n as u32;
             out.1 += 1;
             return;
         }
         let l = bvh.nodes[n].offset as usize;
-        let (k, _) = self.split(l, l + 1, slots);
-        self.fill(bvh, l, k, out);
-        self.fill(bvh, l + 1, slots - k, out);
+        self.fill(bvh, l, usize::from(split & 15), out);
+        self.fill(bvh, l + 1, usize::from(split >> 4), out);
     }
+}
+
+/// The choice for binary node `n` and its costs `C(n, i)` for i = 1 ..= 8, after planning its descendants, whose choices
+/// `below` holds in the depth-first layout of [`Bvh`]: the child pair, the left child's
+/// descendants, then the right child's. Large subtrees are planned as two parallel tasks.
+fn plan_subtree(bvh: &Bvh, n: usize, below: &mut [Choice]) -> (Choice, [f32; 8]) {
+    let node = &bvh.nodes[n];
+    // An empty box (a subtree of empty primitives) is entered by no ray.
+    let area = node.bounds().half_area();
+    let area = if area.is_finite() { area.max(0.0) } else { 0.0 };
+    if node.is_leaf() {
+        let choice = Choice { range: (node.offset, node.count), leaf: true, ..Choice::default() };
+        return (choice, [area * TRIANGLE_COST * node.count as f32; 8]);
+    }
+    let parallel = below.len() >= PARALLEL_NODES_MIN;
+    let (pair, descendants) = below.split_at_mut(2);
+    let (l, r) = (node.offset as usize, node.offset as usize + 1);
+    // The left child's descendants end where the right child's child pair starts.
+    let right = &bvh.nodes[r];
+    let left_len = if right.is_leaf() { descendants.len() } else { right.offset as usize - l - 2 };
+    let (left_below, right_below) = descendants.split_at_mut(left_len);
+    let ((lp, lc), (rp, rc)) = if parallel {
+        rayon::join(|| plan_subtree(bvh, l, left_below), || plan_subtree(bvh, r, right_below))
+    } else {
+        (plan_subtree(bvh, l, left_below), plan_subtree(bvh, r, right_below))
+    };
+    (pair[0], pair[1]) = (lp, rp);
+    let (lr, rr) = (lp.range, rp.range);
+    let joined = lr.1 > 0 && rr.1 > 0 && lr.0 + lr.1 == rr.0;
+    let range = (lr.0, if joined { lr.1 + rr.1 } else { 0 });
+    let distribute: [(usize, f32); 8] = std::array::from_fn(|j| split(&lc, &rc, j + 1));
+    let internal = area * NODE_COST + distribute[7].1;
+    let as_leaf = if range.1 > 0 && range.1 <= LEAF_PRIMITIVES {
+        area * TRIANGLE_COST * range.1 as f32
+    } else {
+        f32::INFINITY
+    };
+    let mut cost = [as_leaf.min(internal); 8];
+    for j in 1..8 {
+        cost[j] = cost[j - 1].min(distribute[j].1);
+    }
+    let fill = std::array::from_fn(|j| {
+        // Fewer slots where they cost no more.
+        let mut slots = j + 1;
+        while slots > 1 && cost[slots - 2] <= cost[slots - 1] {
+            slots -= 1;
+        }
+        let k = distribute[slots - 1].0;
+        if slots == 1 { 0 } else { (k | (slots - k) << 4) as u8 }
+    });
+    (Choice { range, leaf: as_leaf <= internal, fill, wide: distribute[7].0 as u8 }, cost)
+}
+
+/// The cheapest way to give `slots` slots to the two children of a binary node, whose costs
+/// `C(child, i)` are `left` and `right`: the slots of the left one (the fewest of equal costs),
+/// and the cost (infinite for fewer than two slots).
+fn split(left: &[f32; 8], right: &[f32; 8], slots: usize) -> (usize, f32) {
+    (1..slots)
+        .map(|k| (k, left[k - 1] + right[slots - k - 1]))
+        .reduce(|best, c| if c.1 < best.1 { c } else { best })
+        .unwrap_or((0, f32::INFINITY))
 }
 
 /// Appends the wide node that stands for binary inner node `n` (and, depth first, the nodes
@@ -200,7 +245,7 @@ fn emit_slots(bvh: &Bvh, plan: &Plan, slots: &[u32], nodes: &mut Vec<Bvh8Node>) 
     nodes.push(Bvh8Node::EMPTY);
     for (i, &s) in slots.iter().enumerate() {
         let s = s as usize;
-        let (child, count) = if plan.leaf[s] { plan.range[s] } else { (emit(bvh, plan, s, nodes), 0) };
+        let (child, count) = if plan.leaf(s) { plan.range(s) } else { (emit(bvh, plan, s, nodes), 0) };
         let node = &mut nodes[index];
         node.set_bounds(i, bvh.nodes[s].bounds());
         node.child[i] = child;
