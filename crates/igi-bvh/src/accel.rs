@@ -15,8 +15,8 @@
 //! test (chosen once per instance visit), so opaque geometry pays nothing.
 
 use crate::aabb::Aabb;
-use crate::build::{BuildParams, build_binned_sah, build_binned_sah_by};
-use crate::bvh::Bvh;
+use crate::build::{BuildParams, build_binned_sah, build_binned_sah_tree_by};
+use crate::bvh::{Bvh, sah_cost};
 use crate::bvh8::{Boxes8, Bvh8, PacketBoxes, walk8, walk8_packet};
 use crate::node::Node;
 use crate::ray::{Hit, HitPacket8, INVALID_ID, Ray, RayPacket8};
@@ -140,15 +140,20 @@ impl Accel {
         let mut blas = Vec::with_capacity(meshes.len());
         let mut sah_sum = 0.0;
         for mesh in &mut meshes {
-            let Bvh { nodes, prim_order } =
-                build_binned_sah_by(mesh.indices.len(), |p| triangle_bounds(mesh, p as u32), &params);
+            // The binary tree is collapsed as the builder left it, never compacted.
+            let Some((binary, prim_order)) =
+                build_binned_sah_tree_by(mesh.indices.len(), |p| triangle_bounds(mesh, p as u32), &params)
+            else {
+                orders.push(Vec::new());
+                blas.push(Bvh8::default());
+                continue;
+            };
             // The triangles themselves move into leaf order, so the bottom level needs no
             // permutation of its own; the caller gets it to reorder its per-triangle data.
             mesh.indices = prim_order.iter().map(|&p| mesh.indices[p as usize]).collect();
             orders.push(prim_order);
-            let binary = Bvh { nodes, prim_order: Vec::new() };
-            sah_sum += binary.sah_cost(&params) * mesh.indices.len() as f32;
-            blas.push(Bvh8::collapse(&binary));
+            sah_sum += sah_cost(&binary, &params) * mesh.indices.len() as f32;
+            blas.push(Bvh8::collapse_tree(&binary));
         }
         let triangles: usize = meshes.iter().map(|m| m.indices.len()).sum();
         let placements = instances.iter().map(|&(mesh, m)| Placement::new(mesh, m)).collect();

@@ -31,30 +31,57 @@ pub struct Bvh {
     pub prim_order: Vec<u32>,
 }
 
+/// Read access to a binary tree in [`Bvh`]'s depth-first layout whose array may leave unused
+/// slots between subtrees (a build before it is compacted); only slots the tree names are
+/// read.
+pub(crate) trait BinaryTree: Sync {
+    /// The node in slot `index`: 0 is the root, the others are named by an inner node's
+    /// `offset`.
+    fn node(&self, index: usize) -> Node;
+
+    /// The number of slots, 0 for an empty tree.
+    fn slots(&self) -> usize;
+}
+
+impl BinaryTree for Bvh {
+    fn node(&self, index: usize) -> Node {
+        self.nodes[index]
+    }
+
+    fn slots(&self) -> usize {
+        self.nodes.len()
+    }
+}
+
+/// [`Bvh::sah_cost`] of any [`BinaryTree`], summed from the root down.
+pub(crate) fn sah_cost(tree: &impl BinaryTree, params: &BuildParams) -> f32 {
+    if tree.slots() == 0 {
+        return 0.0;
+    }
+    let root_area = f64::from(tree.node(0).bounds().half_area());
+    let mut sum = 0.0f64;
+    let mut stack = vec![0usize];
+    while let Some(index) = stack.pop() {
+        let node = tree.node(index);
+        let cost = if node.is_leaf() {
+            params.intersection_cost * node.count as f32
+        } else {
+            stack.extend([node.offset as usize + 1, node.offset as usize]);
+            params.traversal_cost
+        };
+        let area = f64::from(node.bounds().half_area());
+        sum += f64::from(cost) * if root_area > 0.0 { area / root_area } else { 1.0 };
+    }
+    sum as f32
+}
+
 impl Bvh {
     /// The SAH cost of the tree (MacDonald & Booth 1990): the expected cost of a ray that hits
     /// the root box, `Σ_inner C_trav A(n)/A(root) + Σ_leaves C_isect count(n) A(n)/A(root)`
     /// with the costs of `params`. Zero for an empty BVH. If the root box has no area (all
     /// primitives on one axis-parallel line or point, or empty), every node is weighted by 1.
     pub fn sah_cost(&self, params: &BuildParams) -> f32 {
-        let Some(root) = self.nodes.first() else {
-            return 0.0;
-        };
-        let root_area = f64::from(root.bounds().half_area());
-        let sum: f64 = self
-            .nodes
-            .iter()
-            .map(|node| {
-                let cost = if node.is_leaf() {
-                    params.intersection_cost * node.count as f32
-                } else {
-                    params.traversal_cost
-                };
-                let area = f64::from(node.bounds().half_area());
-                f64::from(cost) * if root_area > 0.0 { area / root_area } else { 1.0 }
-            })
-            .sum();
-        sum as f32
+        sah_cost(self, params)
     }
 
     /// Number of nodes on the longest path from the root to a leaf (0 for an empty BVH, 1 for a

@@ -13,7 +13,7 @@ use rayon::prelude::*;
 
 use super::bins::{BinMapping, BinSplit, Bins};
 use super::box3a::Box3A;
-use super::node_region::{NodeRegion, SparseNodes, descendant_capacity};
+use super::node_region::{NodeRegion, SparseNodes, SparseTree, descendant_capacity};
 use super::partition::{partition_at_median, partition_at_plane};
 use super::prim_box::PrimBox;
 use super::small_subtree::{SMALL_NODE_MAX, build_small_subtree};
@@ -51,7 +51,23 @@ pub fn build_binned_sah(prim_bounds: &[Aabb], params: &BuildParams) -> Bvh {
 /// # Panics
 /// As [`build_binned_sah`].
 pub fn build_binned_sah_by(n: usize, bounds: impl Fn(usize) -> Aabb + Sync, params: &BuildParams) -> Bvh {
-    let Some(n) = prim_count(n, params) else { return Bvh::default() };
+    match build_binned_sah_tree_by(n, bounds, params) {
+        Some((tree, prim_order)) => Bvh { nodes: tree.into_compact(), prim_order },
+        None => Bvh::default(),
+    }
+}
+
+/// [`build_binned_sah_by`] before the tree is compacted: the tree as the builder left it, and
+/// the input index of each primitive in leaf order; `None` for an empty input.
+///
+/// # Panics
+/// As [`build_binned_sah`].
+pub(crate) fn build_binned_sah_tree_by(
+    n: usize,
+    bounds: impl Fn(usize) -> Aabb + Sync,
+    params: &BuildParams,
+) -> Option<(SparseTree, Vec<u32>)> {
+    let n = prim_count(n, params)?;
 
     let mut boxes = Vec::with_capacity(n);
     boxes.par_extend((0..n).into_par_iter().map(|i| PrimBox::from(&bounds(i))));
@@ -65,8 +81,7 @@ pub fn build_binned_sah_by(n: usize, bounds: impl Fn(usize) -> Aabb + Sync, para
     let root = Task { boxes: &mut boxes, ids: &mut ids, first: 0, depth: 1, bounds, centroid_bounds };
     let mut nodes = SparseNodes::new(n);
     let root = builder.subtree(root, &mut nodes.below_root(), &mut Bins::new());
-    drop(boxes);
-    Bvh { nodes: nodes.into_compact(root), prim_order: ids }
+    Some((nodes.with_root(root), ids))
 }
 
 /// The primitives of one node, contiguous in leaf order from `first`: their boxes and input

@@ -24,6 +24,7 @@ mod refit;
 mod small_subtree;
 mod sweep_sah;
 
+pub(crate) use binned_sah::build_binned_sah_tree_by;
 pub use binned_sah::{build_binned_sah, build_binned_sah_by};
 pub use sweep_sah::build_sweep_sah;
 

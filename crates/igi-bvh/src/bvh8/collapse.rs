@@ -10,7 +10,7 @@
 
 use super::{Bvh8, Bvh8Node};
 use crate::aabb::Aabb;
-use crate::bvh::Bvh;
+use crate::bvh::{BinaryTree, Bvh};
 use rayon::prelude::*;
 
 /// Subtrees of at most this many primitives may become one leaf of the wide tree.
@@ -27,21 +27,27 @@ const TRIANGLE_COST: f32 = 0.25;
 impl Bvh8 {
     /// The wide tree over the primitives of `bvh`, in the same primitive order.
     pub fn collapse(bvh: &Bvh) -> Self {
+        Self::collapse_tree(bvh)
+    }
+
+    /// [`Bvh8::collapse`] of any binary tree in [`Bvh`]'s depth-first layout, such as a build
+    /// not yet compacted.
+    pub(crate) fn collapse_tree(tree: &impl BinaryTree) -> Self {
         let mut nodes = Vec::new();
-        if bvh.nodes.is_empty() {
+        if tree.slots() == 0 {
             return Self { nodes, hull: Vec::new() };
         }
-        let hull = hull(bvh);
-        let plan = Plan::of(bvh);
+        let hull = hull(tree);
+        let plan = Plan::of(tree);
         if plan.leaf(0) {
             // A tree that is one leaf: a root node with one slot.
-            emit_slots(bvh, &plan, &[0], &mut nodes);
+            emit_slots(tree, &plan, &[0], &mut nodes);
             return Self { nodes, hull };
         }
         // The subtrees under the root's slots are emitted in parallel, each into an array of
         // its own, and appended in slot order with their node indices moved by where they
         // start: the same layout as one depth-first pass.
-        let slots = plan.slots(bvh, 0);
+        let slots = plan.slots(tree, 0);
         let slots = slots.as_slice();
         let subtrees: Vec<Vec<Bvh8Node>> = slots
             .par_iter()
@@ -49,7 +55,7 @@ impl Bvh8 {
                 let s = s as usize;
                 let mut subtree = Vec::with_capacity(plan.range(s).1 as usize / 4 + 1);
                 if !plan.leaf(s) {
-                    emit(bvh, &plan, s, &mut subtree);
+                    emit(tree, &plan, s, &mut subtree);
                 }
                 subtree
             })
@@ -69,7 +75,7 @@ impl Bvh8 {
                 }
                 n
             }));
-            nodes[0].set_bounds(i, bvh.nodes[s].bounds());
+            nodes[0].set_bounds(i, tree.node(s).bounds());
             nodes[0].child[i] = child;
             nodes[0].count[i] = count;
         }
@@ -79,18 +85,18 @@ impl Bvh8 {
 
 /// The boxes of [`Bvh8::hull`]: starting from the root, the inner node of largest area is
 /// replaced by its two children until there are eight boxes or only leaves.
-fn hull(bvh: &Bvh) -> Vec<Aabb> {
+fn hull(tree: &impl BinaryTree) -> Vec<Aabb> {
     let mut cover = vec![0u32];
     while cover.len() < 8 {
         let largest = (0..cover.len())
-            .filter(|&k| !bvh.nodes[cover[k] as usize].is_leaf())
-            .map(|k| (k, bvh.nodes[cover[k] as usize].bounds().half_area()))
+            .filter(|&k| !tree.node(cover[k] as usize).is_leaf())
+            .map(|k| (k, tree.node(cover[k] as usize).bounds().half_area()))
             .reduce(|a, b| if b.1 > a.1 { b } else { a });
         let Some((k, _)) = largest else { break };
-        let first = bvh.nodes[cover[k] as usize].offset;
+        let first = tree.node(cover[k] as usize).offset;
         cover.splice(k..=k, [first, first + 1]);
     }
-    cover.iter().map(|&n| bvh.nodes[n as usize].bounds()).collect()
+    cover.iter().map(|&n| tree.node(n as usize).bounds()).collect()
 }
 
 /// The programme's decisions for one binary node, all the top-down pass needs (the costs live
@@ -120,11 +126,11 @@ const PARALLEL_NODES_MIN: usize = 1 << 13;
 struct Plan(Vec<Choice>);
 
 impl Plan {
-    fn of(bvh: &Bvh) -> Self {
-        let mut choices = vec![Choice::default(); bvh.nodes.len()];
+    fn of(tree: &impl BinaryTree) -> Self {
+        let mut choices = vec![Choice::default(); tree.slots()];
         let (root, below) = choices.split_first_mut().expect("a tree with nodes");
         // The root's descendants are every node after it (the depth-first layout of [`Bvh`]).
-        *root = plan_subtree(bvh, 0, below).0;
+        *root = plan_subtree(tree, 0, below).0;
         Self(choices)
     }
 
@@ -139,35 +145,35 @@ impl Plan {
     }
 
     /// The binary nodes the slots of the wide node standing for inner node `n` stand for.
-    fn slots(&self, bvh: &Bvh, n: usize) -> Slots {
+    fn slots(&self, tree: &impl BinaryTree, n: usize) -> Slots {
         let mut slots = Slots([0; 8], 0);
-        let l = bvh.nodes[n].offset as usize;
+        let l = tree.node(n).offset as usize;
         let k = usize::from(self.0[n].wide);
-        self.fill(bvh, l, k, &mut slots);
-        self.fill(bvh, l + 1, 8 - k, &mut slots);
+        self.fill(tree, l, k, &mut slots);
+        self.fill(tree, l + 1, 8 - k, &mut slots);
         slots
     }
 
     /// Appends the binary nodes that fill at most `slots` slots for the subtree of `n`, left to
     /// right, as the programme chose.
-    fn fill(&self, bvh: &Bvh, n: usize, slots: usize, out: &mut Slots) {
+    fn fill(&self, tree: &impl BinaryTree, n: usize, slots: usize, out: &mut Slots) {
         let split = self.0[n].fill[slots - 1];
         if split == 0 {
             out.0[out.1] = n as u32;
             out.1 += 1;
             return;
         }
-        let l = bvh.nodes[n].offset as usize;
-        self.fill(bvh, l, usize::from(split & 15), out);
-        self.fill(bvh, l + 1, usize::from(split >> 4), out);
+        let l = tree.node(n).offset as usize;
+        self.fill(tree, l, usize::from(split & 15), out);
+        self.fill(tree, l + 1, usize::from(split >> 4), out);
     }
 }
 
 /// The choice for binary node `n` and its costs `C(n, i)` for i = 1 ..= 8, after planning its descendants, whose choices
 /// `below` holds in the depth-first layout of [`Bvh`]: the child pair, the left child's
 /// descendants, then the right child's. Large subtrees are planned as two parallel tasks.
-fn plan_subtree(bvh: &Bvh, n: usize, below: &mut [Choice]) -> (Choice, [f32; 8]) {
-    let node = &bvh.nodes[n];
+fn plan_subtree(tree: &impl BinaryTree, n: usize, below: &mut [Choice]) -> (Choice, [f32; 8]) {
+    let node = &tree.node(n);
     // An empty box (a subtree of empty primitives) is entered by no ray.
     let area = node.bounds().half_area();
     let area = if area.is_finite() { area.max(0.0) } else { 0.0 };
@@ -179,13 +185,13 @@ fn plan_subtree(bvh: &Bvh, n: usize, below: &mut [Choice]) -> (Choice, [f32; 8])
     let (pair, descendants) = below.split_at_mut(2);
     let (l, r) = (node.offset as usize, node.offset as usize + 1);
     // The left child's descendants end where the right child's child pair starts.
-    let right = &bvh.nodes[r];
+    let right = &tree.node(r);
     let left_len = if right.is_leaf() { descendants.len() } else { right.offset as usize - l - 2 };
     let (left_below, right_below) = descendants.split_at_mut(left_len);
     let ((lp, lc), (rp, rc)) = if parallel {
-        rayon::join(|| plan_subtree(bvh, l, left_below), || plan_subtree(bvh, r, right_below))
+        rayon::join(|| plan_subtree(tree, l, left_below), || plan_subtree(tree, r, right_below))
     } else {
-        (plan_subtree(bvh, l, left_below), plan_subtree(bvh, r, right_below))
+        (plan_subtree(tree, l, left_below), plan_subtree(tree, r, right_below))
     };
     (pair[0], pair[1]) = (lp, rp);
     let (lr, rr) = (lp.range, rp.range);
@@ -226,8 +232,8 @@ fn split(left: &[f32; 8], right: &[f32; 8], slots: usize) -> (usize, f32) {
 
 /// Appends the wide node that stands for binary inner node `n` (and, depth first, the nodes
 /// below it) and returns its index.
-fn emit(bvh: &Bvh, plan: &Plan, n: usize, nodes: &mut Vec<Bvh8Node>) -> u32 {
-    emit_slots(bvh, plan, plan.slots(bvh, n).as_slice(), nodes)
+fn emit(tree: &impl BinaryTree, plan: &Plan, n: usize, nodes: &mut Vec<Bvh8Node>) -> u32 {
+    emit_slots(tree, plan, plan.slots(tree, n).as_slice(), nodes)
 }
 
 /// The binary nodes a wide node's slots stand for, and how many there are.
@@ -240,16 +246,50 @@ impl Slots {
 }
 
 /// Appends the wide node whose slots stand for the binary nodes `slots` and returns its index.
-fn emit_slots(bvh: &Bvh, plan: &Plan, slots: &[u32], nodes: &mut Vec<Bvh8Node>) -> u32 {
+fn emit_slots(tree: &impl BinaryTree, plan: &Plan, slots: &[u32], nodes: &mut Vec<Bvh8Node>) -> u32 {
     let index = nodes.len();
     nodes.push(Bvh8Node::EMPTY);
     for (i, &s) in slots.iter().enumerate() {
         let s = s as usize;
-        let (child, count) = if plan.leaf(s) { plan.range(s) } else { (emit(bvh, plan, s, nodes), 0) };
+        let (child, count) = if plan.leaf(s) { plan.range(s) } else { (emit(tree, plan, s, nodes), 0) };
         let node = &mut nodes[index];
-        node.set_bounds(i, bvh.nodes[s].bounds());
+        node.set_bounds(i, tree.node(s).bounds());
         node.child[i] = child;
         node.count[i] = count;
     }
     index as u32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::build::{BuildParams, build_binned_sah_tree_by};
+    use crate::bvh::sah_cost;
+    use glam::Vec3;
+    use rand_core::{RngCore, SeedableRng};
+    use rand_xoshiro::Xoshiro256PlusPlus;
+
+    /// A mesh's tree is collapsed as the builder left it (ARCHITECTURE.md, "A wide BVH"): the
+    /// unused slots between the parallel tasks' subtrees must change neither the wide tree nor
+    /// the SAH cost reported for the binary one.
+    #[test]
+    fn the_uncompacted_build_collapses_as_the_compacted_one() {
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(9);
+        let mut unit = || (rng.next_u32() >> 8) as f32 / (1 << 24) as f32;
+        let boxes: Vec<Aabb> = (0..50_000)
+            .map(|_| {
+                let centre = Vec3::new(unit(), unit(), unit()) * 100.0;
+                let size = Vec3::new(unit(), unit(), unit()) * 2.0;
+                Aabb { min: centre - size, max: centre + size }
+            })
+            .collect();
+        let params = BuildParams::default();
+        let (tree, prim_order) = build_binned_sah_tree_by(boxes.len(), |i| boxes[i], &params).unwrap();
+        let (wide, sah) = (Bvh8::collapse_tree(&tree), sah_cost(&tree, &params));
+        let slots = tree.slots();
+        let bvh = Bvh { nodes: tree.into_compact(), prim_order };
+        assert!(slots > bvh.nodes.len(), "the build leaves unused slots ({slots} for {} nodes)", bvh.nodes.len());
+        assert!(wide == Bvh8::collapse(&bvh), "the wide trees differ");
+        assert_eq!(sah, bvh.sah_cost(&params));
+    }
 }

@@ -46,7 +46,7 @@ fn insert_sorted(stack: &mut [MaybeUninit<Entry>], base: usize, sp: usize, entry
     stack[j] = MaybeUninit::new(entry);
 }
 
-/// A BVH of nodes with up to eight children, over the leaves of a binary [`Bvh`].
+/// A BVH of nodes with up to eight children, over the leaves of a binary [`Bvh`](crate::Bvh).
 ///
 /// Invariants, relied on by the traversal kernels:
 /// - No primitives, no nodes; otherwise node 0 is the root (even over a single leaf).
