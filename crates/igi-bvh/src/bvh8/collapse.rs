@@ -288,7 +288,11 @@ mod tests {
         let (wide, sah) = (Bvh8::collapse_tree(&tree), sah_cost(&tree, &params));
         let slots = tree.slots();
         let bvh = Bvh { nodes: tree.into_compact(), prim_order };
-        assert!(slots > bvh.nodes.len(), "the build leaves unused slots ({slots} for {} nodes)", bvh.nodes.len());
+        assert!(
+            slots > bvh.nodes.len(),
+            "the build leaves unused slots ({slots} for {} nodes)",
+            bvh.nodes.len()
+        );
         assert!(wide == Bvh8::collapse(&bvh), "the wide trees differ");
         assert_eq!(sah, bvh.sah_cost(&params));
     }
