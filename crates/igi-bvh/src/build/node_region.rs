@@ -79,8 +79,8 @@ impl SparseNodes {
 /// A finished build as the builder left it: the root, and below it the nodes in their slots,
 /// with the unused slots of the parallel tasks' regions between subtrees. It is a
 /// [`BinaryTree`] as it stands: the collapse into a wide tree reads it without the copy into
-/// [`Bvh`](crate::bvh::Bvh)'s compact array (on a 10-million-triangle mesh that copy took 0.33-0.44 s, and the
-/// tree's size in memory again).
+/// [`Bvh`](crate::bvh::Bvh)'s compact array (on a 10-million-triangle mesh that copy took
+/// 0.33-0.44 s, and the tree's size in memory again).
 pub(crate) struct SparseTree {
     nodes: SparseNodes,
     root: Node,

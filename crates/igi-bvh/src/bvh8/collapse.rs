@@ -169,9 +169,10 @@ impl Plan {
     }
 }
 
-/// The choice for binary node `n` and its costs `C(n, i)` for i = 1 ..= 8, after planning its descendants, whose choices
-/// `below` holds in the depth-first layout of [`Bvh`]: the child pair, the left child's
-/// descendants, then the right child's. Large subtrees are planned as two parallel tasks.
+/// The choice for binary node `n` and its costs `C(n, i)` for i = 1 ..= 8, after planning its
+/// descendants, whose choices `below` holds in the depth-first layout of [`Bvh`]: the child
+/// pair, the left child's descendants, then the right child's. Large subtrees are planned as
+/// two parallel tasks.
 fn plan_subtree(tree: &impl BinaryTree, n: usize, below: &mut [Choice]) -> (Choice, [f32; 8]) {
     let node = &tree.node(n);
     // An empty box (a subtree of empty primitives) is entered by no ray.
