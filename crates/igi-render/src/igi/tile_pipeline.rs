@@ -191,8 +191,6 @@ pub struct TileScratch {
     split: Vec<WholePixel>,
     /// A fine set's shading points (set and lighting group, index) in the order they are lit.
     order: Vec<(u64, u32)>,
-    /// The camera paths' own points (not the compensation's), which the filter sees.
-    camera_points: Vec<u32>,
     filter_samples: Vec<FilterSample>,
     glossy_radiance: Vec<[Vec3; 2]>,
     filtered: Filtered,
@@ -294,44 +292,40 @@ impl<'a> TilePipeline<'a> {
         region: &PixelRect,
         s: &mut TileScratch,
     ) -> (Vec<Vec3>, Option<Vec<Vec3>>) {
-        let TileScratch {
-            points,
-            emitted,
-            camera_points,
-            filter_samples,
-            glossy_radiance,
-            filtered,
-            filter,
-            ..
-        } = s;
+        let TileScratch { points, emitted, filter_samples, glossy_radiance, filtered, filter, .. } = s;
         // The light each compensation point reflects toward its parent joins the D of its camera
         // path's point, and is filtered with it: one short ray per pixel is as noisy as one VPL
         // set (more, where it finds a sunlit surface), and left unfiltered it leaves single
-        // bright pixels near creases and contacts.
-        for i in 0..points.len() {
-            let p = points[i];
-            if p.state.path & COMPENSATION != 0 {
-                let [g, schlick] = p.glossy_radiance;
-                let reflected =
-                    p.albedo * p.diffuse_radiance + p.glossy * g + schlick + p.exact[0] + p.exact[1];
-                points[p.state.root as usize].compensation += p.state.throughput * reflected;
+        // bright pixels near creases and contacts. (Only a frame that compensates has such
+        // points: the others skip this pass over the tile's points.)
+        if self.compensate_clamp && self.d_min2 > 0.0 {
+            for i in 0..points.len() {
+                let p = &points[i];
+                if p.state.path & COMPENSATION != 0 {
+                    let [g, schlick] = p.glossy_radiance;
+                    let reflected =
+                        p.albedo * p.diffuse_radiance + p.glossy * g + schlick + p.exact[0] + p.exact[1];
+                    let (root, light) = (p.state.root as usize, p.state.throughput * reflected);
+                    points[root].compensation += light;
+                }
             }
         }
         // The compensation points' light is in their roots' D now: only the camera paths' own
         // points are filtered and composed.
-        camera_points.clear();
-        camera_points
-            .extend((0..points.len() as u32).filter(|&i| points[i as usize].state.path & COMPENSATION == 0));
-        let camera = || camera_points.iter().map(|&i| &points[i as usize]);
-        // Most tiles have no glossy point; their glossy term stays out of the filter.
+        let camera = || points.iter().filter(|p| p.state.path & COMPENSATION == 0);
+        // One pass gathers what the filter reads; the points are large and a tile's do not fit
+        // in the cache, so every pass over them costs. Most tiles have no glossy point; their
+        // glossy term stays out of the filter.
+        filter_samples.clear();
         glossy_radiance.clear();
-        if camera().any(|p| p.glossy_radiance != [Vec3::ZERO; 2]) {
-            glossy_radiance.extend(camera().map(|p| p.glossy_radiance));
-        }
-        match &self.filter {
-            Some(settings) => {
-                filter_samples.clear();
-                filter_samples.extend(camera().map(|p| FilterSample {
+        filtered.diffuse_radiance.clear();
+        let mut any_glossy = false;
+        for p in camera() {
+            any_glossy |= p.glossy_radiance != [Vec3::ZERO; 2];
+            glossy_radiance.push(p.glossy_radiance);
+            let diffuse_radiance = p.diffuse_radiance + p.compensation;
+            match self.filter {
+                Some(_) => filter_samples.push(FilterSample {
                     pixel: p.state.pixel,
                     sample: p.state.sample,
                     whole_pixel: p.state.coverage == self.interleave.aa,
@@ -339,14 +333,20 @@ impl<'a> TilePipeline<'a> {
                     normal: p.ns,
                     depth: p.depth,
                     material: p.material,
-                    diffuse_radiance: p.diffuse_radiance + p.compensation,
-                }));
+                    diffuse_radiance,
+                }),
+                None => filtered.diffuse_radiance.push(diffuse_radiance),
+            }
+        }
+        if !any_glossy {
+            glossy_radiance.clear();
+        }
+        match &self.filter {
+            Some(settings) => {
                 let input = (&filter_samples[..], &glossy_radiance[..]);
                 filter.filter(region, tile, &self.interleave, settings, input, filtered);
             }
             None => {
-                filtered.diffuse_radiance.clear();
-                filtered.diffuse_radiance.extend(camera().map(|p| p.diffuse_radiance + p.compensation));
                 filtered.glossy_radiance.clear();
                 filtered.glossy_radiance.extend_from_slice(glossy_radiance);
             }
