@@ -1,6 +1,7 @@
 //! Reproducibility of the IGI renderer (paper 3.4: any node renders any tile): a pixel depends only on the
 //! scene, the [`FrameState`] and the pixel, so the image is the same bit for bit at any thread
-//! count and tile size (the filter's apron is computed exactly as in the neighbouring tile),
+//! count and tile size (the filter reads the apron's points from the neighbouring tiles, and a
+//! render node's own apron computes them exactly as those tiles do),
 //! with the filter on or off and with one or several samples per pixel. The seed (and, with
 //! `reseed_per_frame`, the frame number) is the only source of sampling randomness.
 
@@ -70,6 +71,35 @@ fn same_image_at_any_thread_count_and_tile_size() {
                 let tiled = renderers[1].render(&mut scene, &f, &|_, _| {}).expect("valid settings");
                 assert!(reference == fingerprint(&tiled), "{what}: tile size {tile_size} differs from 16");
             }
+        }
+    }
+}
+
+/// A chunk of eight shading points lit together mixes matte and glossy points wherever a
+/// glossy object meets a matte one, and which points share a chunk depends on the tile. A matte
+/// point's light must be summed the same way whatever its chunk-mates (it was not: a chunk
+/// with a glossy point summed colour × g and then added, one without fused the two, and pixels
+/// near tile borders differed in their last bit). The animated room has a point light, matte
+/// walls and a glossy object.
+#[test]
+fn a_matte_points_light_does_not_depend_on_its_chunk_mates() {
+    let scene = igi_scene::builtin("animated-room").expect("built-in animated-room");
+    let camera = scene.camera.expect("the animated room has its camera");
+    let mut scene = igi_render::PreparedScene::new(scene);
+    let renderer = FrameRenderer::new(2);
+    for aa in [1, 4] {
+        let mut f = igi_frame(camera, 96, 72);
+        f.settings.aa = aa;
+        f.settings.seed = 3;
+        f.pixels = PixelFormat::Linear;
+        let mut image = |tile_size: u32| {
+            f.settings.tile_size = tile_size;
+            fingerprint(&renderer.render(&mut scene, &f, &|_, _| {}).expect("valid settings"))
+        };
+        // 96 × 72 is one tile of 96: untiled.
+        let untiled = image(96);
+        for tile_size in [16, 40] {
+            assert!(image(tile_size) == untiled, "aa {aa}: tile size {tile_size} differs from untiled");
         }
     }
 }

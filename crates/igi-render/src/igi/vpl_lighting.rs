@@ -324,8 +324,6 @@ struct Unshadowed {
     dist2: (F32x8, F32x8),
     /// Unit directions to the VPL.
     wi: Vec3x8,
-    /// Clamped geometry terms.
-    g: F32x8,
     /// D = E/π from the VPL's diffuse part and its glossy lobe toward the points.
     e: Vec3x8,
     /// The points' weights of this light; none where a Lambertian VPL lights matte points.
@@ -411,7 +409,7 @@ impl VplEmitter {
             }
         }
         let weights = (self.lobe.is_some() || chunk.glossy_bits != 0).then(|| chunk.weights(wi));
-        Some(Unshadowed { valid, dist, dist2: (dist2, clamped), wi, g, e, weights })
+        Some(Unshadowed { valid, dist, dist2: (dist2, clamped), wi, e, weights })
     }
 }
 
@@ -421,8 +419,7 @@ impl VplEmitter {
 struct PendingLight {
     /// Index of the chunk.
     chunk: u32,
-    /// Geometry terms and light, scaled by the roulette.
-    g: F32x8,
+    /// Light, scaled by the roulette.
     e: Vec3x8,
     weights: Option<ReceiverWeights>,
     /// Lanes whose shadow ray reached the VPL.
@@ -640,7 +637,7 @@ impl Receivers {
             {
                 let Some(light) = emitter.unshadowed(chunk, d_min2) else { continue };
                 let strength = light.roulette_strength(roulette_d_min2);
-                let Unshadowed { mut valid, dist, wi, mut g, mut e, weights, .. } = light;
+                let Unshadowed { mut valid, dist, wi, mut e, weights, .. } = light;
                 if roulette.below > 0.0 {
                     // Russian roulette on the shadow ray: a lane whose unoccluded light is
                     // below the threshold traces its ray with probability p and, if it
@@ -653,14 +650,14 @@ impl Receivers {
                     *sum = next;
                     // Lanes the roulette drops may have p = 0: they scale by 0, not by 1/0.
                     let scale = F32x8::select(valid, F32x8::splat(1.0) / p, zero);
-                    (g, e) = (g * scale, e * scale);
+                    e = e * scale;
                 }
                 let mut bits = valid.bitmask();
                 if bits == 0 {
                     continue;
                 }
                 let slot = pending.len() as u32;
-                pending.push(PendingLight { chunk: k as u32, g, e, weights, lit: 0 });
+                pending.push(PendingLight { chunk: k as u32, e, weights, lit: 0 });
                 let tfar = dist * F32x8::splat(SHADOW_SHORTEN);
                 while bits != 0 {
                     let lane = bits.trailing_zeros() as usize;
@@ -679,7 +676,9 @@ impl Receivers {
                 let (chunk, acc) = (&chunks[k], &mut diffuse_radiance[k]);
                 let lit = M32x8::from_bitmask(light.lit);
                 match &light.weights {
-                    None => accumulate(acc, F32x8::select(lit, light.g, zero), emitter.colour),
+                    // E as the weighted path forms it (colour × g, then the roulette's scale,
+                    // then added), so a lane's D does not depend on its chunk-mates.
+                    None => *acc = *acc + Vec3x8::select(lit, light.e, Vec3x8::splat([0.0; 3])),
                     Some(weights) => {
                         let e = Vec3x8::new(
                             F32x8::select(lit, light.e.x, zero),
@@ -755,9 +754,11 @@ impl Receivers {
                     chunk.add(Vec3x8::splat(colour.to_array()) * g, wi, acc, acc_glossy, acc_schlick);
                     continue;
                 }
-                accumulate(acc, g, colour);
+                // colour × g, then added, as `Chunk::add` forms it for a chunk with GGX lanes, so a
+                // lane's D does not depend on its chunk-mates.
+                let e = Vec3x8::splat(colour.to_array()) * g;
+                *acc = *acc + e;
                 if chunk.glossy_bits != 0 {
-                    let e = Vec3x8::splat(colour.to_array()) * g;
                     *acc_glossy = *acc_glossy + e * chunk.glossy_factor(wi);
                 }
             }
@@ -826,16 +827,6 @@ fn towards(origin: Vec3x8, p: Vec3) -> (Vec3x8, F32x8, F32x8) {
     let dist2 = d.dot(d);
     let dist = dist2.sqrt();
     (d * (F32x8::splat(1.0) / dist), dist, dist2)
-}
-
-/// `acc += g · colour` per lane.
-#[inline(always)]
-fn accumulate(acc: &mut Vec3x8, g: F32x8, colour: Vec3) {
-    *acc = Vec3x8::new(
-        g.mul_add(F32x8::splat(colour.x), acc.x),
-        g.mul_add(F32x8::splat(colour.y), acc.y),
-        g.mul_add(F32x8::splat(colour.z), acc.z),
-    );
 }
 
 /// Where the running sums of the shadow rays' systematic roulette start: one uniform number in
