@@ -90,7 +90,9 @@ fn sequence_matches_local(name: &str, nodes: usize, times: &[f32]) {
         assert!(remote.image.film().is_none(), "an 8-bit frame carries no film");
         assert!(remote.image.srgb8() == local.image.srgb8(), "{name} at t = {t}: 8-bit images differ");
         assert_eq!(remote.stats, local.stats, "{name} at t = {t}: statistics differ");
-        assert_eq!(remote.rays, local.rays);
+        // A render node traces its tiles' aprons for the filter, which the local renderer's two
+        // passes do not (ARCHITECTURE.md, "A frame in two passes"): more rays, the same image.
+        assert!(remote.rays.primary > local.rays.primary, "{name} at t = {t}: {:?}", remote.rays);
         assert_eq!(tiles_per_node.iter().sum::<u32>(), 30);
         let linear = master.render(job(&state, t, PixelFormat::Linear)).unwrap().output;
         assert!(

@@ -25,8 +25,11 @@
 //! point, spot and directional lights, which the filter leaves alone so their shadow edges stay
 //! sharp.
 //!
-//! Every value depends only on the scene, the [`FrameState`] and the pixel, and the apron
-//! pixels are computed exactly as in their own tile, so a tiled image equals an untiled one.
+//! Every value depends only on the scene, the [`FrameState`] and the pixel, so a tiled image
+//! equals an untiled one. A tile renders on its own with the apron it filters
+//! ([`TilePipeline::render_tile`], a render node's way), or on one machine in two passes over
+//! the frame ([`TilePipeline::light_tile`], then [`TilePipeline::compose_tile`] reading the
+//! apron from the neighbours; ARCHITECTURE.md, "A frame in two passes"): the same image.
 
 use crate::camera::PinholeCamera;
 use crate::frame::{FilterSettings, FrameState, SequenceSpan};
@@ -37,7 +40,7 @@ use crate::igi::vpl_lighting::{GlossyLobe, Receivers, ShadowRoulette};
 use crate::image::frame_image::{PixelFormat, TileOutput};
 use crate::image::pixel_rect::PixelRect;
 use crate::image::stats::{Phase, PhaseTimes, RayCounts};
-use crate::image::tile::Tile;
+use crate::image::tile::{Tile, TileGrid};
 use crate::image::tonemap::ToneMapper;
 use crate::prepared::{PreparedScene, SurfacePoint};
 use glam::Vec3;
@@ -197,6 +200,24 @@ pub struct TileScratch {
     filter: DiscontinuityBuffer,
 }
 
+/// A tile traced and lit but not filtered yet ([`TilePipeline::light_tile`]): what its own
+/// filter and its neighbours' read of it.
+#[derive(Debug)]
+pub struct LitTile {
+    tile: Tile,
+    /// The camera paths' shading points, lit, with the compensation's light folded in; their
+    /// pixels are indices in the tile.
+    points: Vec<ShadingPoint>,
+    /// Indices of `points` by pixel, stable, and where each pixel's run starts (one more entry
+    /// than pixels).
+    by_pixel: Vec<u32>,
+    pixel_start: Vec<u32>,
+    /// Emission and sky seen, per pixel of the tile and sample.
+    emitted: Vec<Vec3>,
+    rays: RayCounts,
+    times: PhaseTimes,
+}
+
 /// Renders tiles of one frame: the scene, the frame's VPLs and settings.
 #[derive(Debug)]
 pub struct TilePipeline<'a> {
@@ -248,71 +269,156 @@ impl<'a> TilePipeline<'a> {
         }
     }
 
-    /// Renders `tile` (of an image of the frame's size).
+    /// Renders `tile` (of an image of the frame's size) on its own: its pixels and the apron
+    /// the filter reads around them are traced and lit here. A render node of a cluster renders
+    /// its tiles so; on one machine [`TilePipeline::light_tile`] and
+    /// [`TilePipeline::compose_tile`] render the same image without tracing any pixel twice.
     pub fn render_tile(&self, tile: Tile, scratch: &mut TileScratch) -> TileOutput {
+        let region = self.interleave.region(&tile, self.size.0, self.size.1);
+        let (rays, mut times) = self.light_region(&region, scratch);
+        let mut clock = Instant::now();
+        self.fold_compensation(&mut scratch.points);
+        let points = std::mem::take(&mut scratch.points);
+        let emitted = std::mem::take(&mut scratch.emitted);
+        let view: Vec<_> = points.iter().map(|p| (p.state.pixel, p)).collect();
+        let radiance = self.compose(&tile, &region, &view, (&region, &emitted), scratch);
+        (scratch.points, scratch.emitted) = (points, emitted);
+        times.lap(Phase::Filter, &mut clock);
+        TileOutput::encode(tile, radiance, self.pixels, &self.tone_map, rays, times)
+    }
+
+    /// The first pass of a frame on one machine: traces and lights the pixels of `tile` only,
+    /// for [`TilePipeline::compose_tile`] to filter once its neighbours are lit too
+    /// (ARCHITECTURE.md, "A frame in two passes").
+    pub fn light_tile(&self, tile: Tile, scratch: &mut TileScratch) -> LitTile {
+        let (rays, times) = self.light_region(&tile.rect, scratch);
+        self.fold_compensation(&mut scratch.points);
+        let points: Vec<ShadingPoint> =
+            scratch.points.iter().filter(|p| p.state.path & COMPENSATION == 0).copied().collect();
+        // The points by pixel (a counting sort, stable, so each pixel keeps the order of its
+        // points, which its sum in `compose` follows): a neighbour's filter takes the rows of
+        // its apron as runs.
+        let pixels = tile.rect.pixel_count();
+        let mut pixel_start = vec![0u32; pixels + 1];
+        for p in &points {
+            pixel_start[p.state.pixel as usize + 1] += 1;
+        }
+        for i in 0..pixels {
+            pixel_start[i + 1] += pixel_start[i];
+        }
+        let mut next = pixel_start.clone();
+        let mut by_pixel = vec![0u32; points.len()];
+        for (i, p) in points.iter().enumerate() {
+            let at = &mut next[p.state.pixel as usize];
+            by_pixel[*at as usize] = i as u32;
+            *at += 1;
+        }
+        let emitted = std::mem::take(&mut scratch.emitted);
+        LitTile { tile, points, by_pixel, pixel_start, emitted, rays, times }
+    }
+
+    /// The second pass of a frame on one machine: filters and composes `tile` from the lit
+    /// tiles of the frame, `lit[i]` the tile `i` of `grid`, reading the neighbours' points in
+    /// its apron. The image equals [`TilePipeline::render_tile`]'s.
+    pub fn compose_tile(
+        &self,
+        tile: Tile,
+        grid: &TileGrid,
+        lit: &[LitTile],
+        scratch: &mut TileScratch,
+    ) -> TileOutput {
+        let mut clock = Instant::now();
+        let region = self.interleave.region(&tile, self.size.0, self.size.1);
+        let mut view = Vec::new();
+        for neighbour in grid.tiles_overlapping(&region) {
+            let lit = &lit[neighbour.index as usize];
+            let rect = &lit.tile.rect;
+            let (x0, x1) = (region.x0.max(rect.x0), region.x1.min(rect.x1));
+            for y in region.y0.max(rect.y0)..region.y1.min(rect.y1) {
+                let (first, last) = (rect.index(x0, y), rect.index(x1 - 1, y) + 1);
+                let run = lit.pixel_start[first] as usize..lit.pixel_start[last] as usize;
+                view.extend(lit.by_pixel[run].iter().map(|&i| {
+                    let p = &lit.points[i as usize];
+                    let (x, y) = rect.pixel(p.state.pixel);
+                    (region.index(x, y) as u32, p)
+                }));
+            }
+        }
+        let own = &lit[tile.index as usize];
+        let radiance = self.compose(&tile, &region, &view, (&tile.rect, &own.emitted), scratch);
+        let mut times = own.times;
+        times.lap(Phase::Filter, &mut clock);
+        TileOutput::encode(tile, radiance, self.pixels, &self.tone_map, own.rays, times)
+    }
+
+    /// Steps 1 to 4 for the pixels of `region`: their shading points, lit, in `scratch.points`,
+    /// and the emission and sky their samples see in `scratch.emitted`.
+    fn light_region(&self, region: &PixelRect, scratch: &mut TileScratch) -> (RayCounts, PhaseTimes) {
         let il = self.interleave;
-        let region = il.region(&tile, self.size.0, self.size.1);
-        let aa = il.aa;
         scratch.emitted.clear();
-        scratch.emitted.resize(region.pixel_count() * aa as usize, Vec3::ZERO);
+        scratch.emitted.resize(region.pixel_count() * il.aa as usize, Vec3::ZERO);
         scratch.points.clear();
         scratch.sample_origins.clear();
         let mut rays = RayCounts::default();
         let mut times = PhaseTimes::default();
         let mut clock = Instant::now();
-
         for fine in 0..il.fine_sets() {
             let first = scratch.points.len();
-            self.trace_primary(&region, fine, scratch, &mut rays);
+            self.trace_primary(region, fine, scratch, &mut rays);
             times.lap(Phase::Primary, &mut clock);
             self.shade_primary(scratch);
             times.lap(Phase::Shading, &mut clock);
             self.trace_specular(scratch, &mut rays);
             times.lap(Phase::Specular, &mut clock);
             if self.compensate_clamp && self.d_min2 > 0.0 {
-                self.compensate(&region, first, scratch, &mut rays);
+                self.compensate(region, first, scratch, &mut rays);
                 times.lap(Phase::Compensation, &mut clock);
             }
-            self.light(&region, fine, first, scratch, &mut rays);
+            self.light(region, fine, first, scratch, &mut rays);
             times.lap(Phase::Shadow, &mut clock);
         }
+        (rays, times)
+    }
 
-        let radiance = self.compose(&tile, &region, scratch);
-        times.lap(Phase::Filter, &mut clock);
-        TileOutput::encode(tile, radiance, self.pixels, &self.tone_map, rays, times)
+    /// The light each compensation point reflects toward its parent joins the D of its camera
+    /// path's point, and is filtered with it: one short ray per pixel is as noisy as one VPL
+    /// set (more, where it finds a sunlit surface), and left unfiltered it leaves single
+    /// bright pixels near creases and contacts. (Only a frame that compensates has such
+    /// points: the others skip this pass over the points.)
+    fn fold_compensation(&self, points: &mut [ShadingPoint]) {
+        if !(self.compensate_clamp && self.d_min2 > 0.0) {
+            return;
+        }
+        for i in 0..points.len() {
+            let p = &points[i];
+            if p.state.path & COMPENSATION != 0 {
+                let [g, schlick] = p.glossy_radiance;
+                let reflected =
+                    p.albedo * p.diffuse_radiance + p.glossy * g + schlick + p.exact[0] + p.exact[1];
+                let (root, light) = (p.state.root as usize, p.state.throughput * reflected);
+                points[root].compensation += light;
+            }
+        }
     }
 
     /// Filters the diffuse and glossy radiance and composes the tile's pixels, and for a
     /// layered frame their [`DiffuseLayer`](crate::image::frame_image::DiffuseLayer) part: the
     /// diffuse reflection (ρ_d·D and the exact lights' diffuse term) of the camera rays' own
-    /// hits.
+    /// hits. `points` are the region's points with their pixels' indices in `region` (the
+    /// compensation's already folded in: [`TilePipeline::fold_compensation`]), `emitted` the
+    /// emission and sky seen per pixel and sample of a rectangle holding the tile.
     fn compose(
         &self,
         tile: &Tile,
         region: &PixelRect,
+        points: &[(u32, &ShadingPoint)],
+        (emitted_rect, emitted): (&PixelRect, &[Vec3]),
         s: &mut TileScratch,
     ) -> (Vec<Vec3>, Option<Vec<Vec3>>) {
-        let TileScratch { points, emitted, filter_samples, glossy_radiance, filtered, filter, .. } = s;
-        // The light each compensation point reflects toward its parent joins the D of its camera
-        // path's point, and is filtered with it: one short ray per pixel is as noisy as one VPL
-        // set (more, where it finds a sunlit surface), and left unfiltered it leaves single
-        // bright pixels near creases and contacts. (Only a frame that compensates has such
-        // points: the others skip this pass over the tile's points.)
-        if self.compensate_clamp && self.d_min2 > 0.0 {
-            for i in 0..points.len() {
-                let p = &points[i];
-                if p.state.path & COMPENSATION != 0 {
-                    let [g, schlick] = p.glossy_radiance;
-                    let reflected =
-                        p.albedo * p.diffuse_radiance + p.glossy * g + schlick + p.exact[0] + p.exact[1];
-                    let (root, light) = (p.state.root as usize, p.state.throughput * reflected);
-                    points[root].compensation += light;
-                }
-            }
-        }
+        let TileScratch { filter_samples, glossy_radiance, filtered, filter, .. } = s;
         // The compensation points' light is in their roots' D now: only the camera paths' own
         // points are filtered and composed.
-        let camera = || points.iter().filter(|p| p.state.path & COMPENSATION == 0);
+        let camera = || points.iter().filter(|(_, p)| p.state.path & COMPENSATION == 0);
         // One pass gathers what the filter reads; the points are large and a tile's do not fit
         // in the cache, so every pass over them costs. Most tiles have no glossy point; their
         // glossy term stays out of the filter.
@@ -320,13 +426,13 @@ impl<'a> TilePipeline<'a> {
         glossy_radiance.clear();
         filtered.diffuse_radiance.clear();
         let mut any_glossy = false;
-        for p in camera() {
+        for &(pixel, p) in camera() {
             any_glossy |= p.glossy_radiance != [Vec3::ZERO; 2];
             glossy_radiance.push(p.glossy_radiance);
             let diffuse_radiance = p.diffuse_radiance + p.compensation;
             match self.filter {
                 Some(_) => filter_samples.push(FilterSample {
-                    pixel: p.state.pixel,
+                    pixel,
                     sample: p.state.sample,
                     whole_pixel: p.state.coverage == self.interleave.aa,
                     path: p.state.path,
@@ -359,8 +465,8 @@ impl<'a> TilePipeline<'a> {
             let (x, y) = region.pixel(pixel);
             tile.rect.contains(x, y).then(|| tile.rect.index(x, y))
         };
-        for (i, (p, d)) in camera().zip(&filtered.diffuse_radiance).enumerate() {
-            if let Some(pixel) = tile_index(p.state.pixel) {
+        for (i, (&(pixel, p), d)) in camera().zip(&filtered.diffuse_radiance).enumerate() {
+            if let Some(pixel) = tile_index(pixel) {
                 let g = filtered.glossy_radiance.get(i).map_or(Vec3::ZERO, |[g, s]| p.glossy * *g + *s);
                 let (coverage, [exact_diffuse, exact_glossy]) = (p.state.coverage as f32, p.exact);
                 let diffuse = p.albedo * *d + exact_diffuse;
@@ -374,7 +480,7 @@ impl<'a> TilePipeline<'a> {
         let scale = 1.0 / aa as f32;
         for y in tile.rect.y0..tile.rect.y1 {
             for x in tile.rect.x0..tile.rect.x1 {
-                let r = region.index(x, y);
+                let r = emitted_rect.index(x, y);
                 let e: Vec3 = emitted[r * aa..(r + 1) * aa].iter().sum();
                 let i = tile.rect.index(x, y);
                 pixels[i] = (pixels[i] + e) * scale;

@@ -56,6 +56,15 @@ impl TileGrid {
         Tile { index, rect }
     }
 
+    /// The tiles that share a pixel with `rect` (a rectangle inside the image), in index order.
+    pub fn tiles_overlapping(&self, rect: &PixelRect) -> impl Iterator<Item = Tile> + '_ {
+        let (columns, rows) = (
+            rect.x0 / self.size..rect.x1.div_ceil(self.size),
+            rect.y0 / self.size..rect.y1.div_ceil(self.size),
+        );
+        rows.flat_map(move |cy| columns.clone().map(move |cx| self.tile(cy * self.columns + cx)))
+    }
+
     /// All tiles in index order.
     pub fn tiles(&self) -> impl Iterator<Item = Tile> + '_ {
         (0..self.len()).map(|i| self.tile(i))

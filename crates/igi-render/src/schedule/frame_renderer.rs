@@ -1,7 +1,9 @@
 //! [`FrameRenderer`]: a scene and a [`FrameState`] in, a frame out, on this machine's threads.
 //! It poses the scene as the frame says, prepares the frame's estimator ([`FramePlan`]: the
 //! VPLs of instant global illumination, or the path tracer), hands the tiles on demand to its
-//! persistent worker threads ([`TileScheduler`]) and combines the finished tiles and their
+//! persistent worker threads ([`TileScheduler`]; instant global illumination in two passes,
+//! every tile lit and then every tile filtered, so no pixel is traced twice for the filter's
+//! apron) and combines the finished tiles and their
 //! luminance statistics in tile order (paper 3.4), so the result is the same at any thread
 //! count. [`FrameRenderer::render_cancellable`] stops between tiles when its [`CancelToken`]
 //! says so and then returns no image at all. A render node of a cluster plans a frame the same
@@ -100,14 +102,35 @@ impl FrameRenderer {
     ) -> Result<FrameOutput, FrameError> {
         let start = Instant::now();
         let plan = self.plan(scene, frame)?;
-        let tiles = plan.tiles();
-        let tiles = self.scheduler.run(
-            &plan.grid,
-            cancel,
-            TileScratch::default,
-            |scratch, tile| tiles.render(tile, scratch),
-            progress,
-        )?;
+        let tiles = match plan.tiles() {
+            // Two passes (ARCHITECTURE.md, "A frame in two passes"): every tile's own pixels
+            // traced and lit, then every tile filtered from its neighbours' points, so no pixel
+            // is traced twice for the filter's apron.
+            FrameTiles::Igi(pipeline) => {
+                let total = plan.grid.len();
+                let lit = self.scheduler.run(
+                    &plan.grid,
+                    cancel,
+                    TileScratch::default,
+                    |scratch, tile| pipeline.light_tile(tile, scratch),
+                    &|done, _| progress(done, 2 * total),
+                )?;
+                self.scheduler.run(
+                    &plan.grid,
+                    cancel,
+                    TileScratch::default,
+                    |scratch, tile| pipeline.compose_tile(tile, &plan.grid, &lit, scratch),
+                    &|done, _| progress(total + done, 2 * total),
+                )?
+            }
+            tiles => self.scheduler.run(
+                &plan.grid,
+                cancel,
+                TileScratch::default,
+                |scratch, tile| tiles.render(tile, scratch),
+                progress,
+            )?,
+        };
         let mut stats = LuminanceStats::default();
         let mut rays = RayCounts::default();
         let mut times = plan.times;
