@@ -200,6 +200,12 @@ pub struct TileScratch {
     filter: DiscontinuityBuffer,
 }
 
+/// The camera paths' own points of `points`: the compensation's points only carry light to
+/// them ([`TilePipeline::fold_compensation`]) and are neither filtered nor composed.
+fn camera_points(points: &[ShadingPoint]) -> impl Iterator<Item = &ShadingPoint> {
+    points.iter().filter(|p| p.state.path & COMPENSATION == 0)
+}
+
 /// A tile traced and lit but not filtered yet ([`TilePipeline::light_tile`]): what its own
 /// filter and its neighbours' read of it.
 #[derive(Debug)]
@@ -280,7 +286,7 @@ impl<'a> TilePipeline<'a> {
         self.fold_compensation(&mut scratch.points);
         let points = std::mem::take(&mut scratch.points);
         let emitted = std::mem::take(&mut scratch.emitted);
-        let view: Vec<_> = points.iter().map(|p| (p.state.pixel, p)).collect();
+        let view: Vec<_> = camera_points(&points).map(|p| (p.state.pixel, p)).collect();
         let radiance = self.compose(&tile, &region, &view, (&region, &emitted), scratch);
         (scratch.points, scratch.emitted) = (points, emitted);
         times.lap(Phase::Filter, &mut clock);
@@ -293,8 +299,7 @@ impl<'a> TilePipeline<'a> {
     pub fn light_tile(&self, tile: Tile, scratch: &mut TileScratch) -> LitTile {
         let (rays, times) = self.light_region(&tile.rect, scratch);
         self.fold_compensation(&mut scratch.points);
-        let points: Vec<ShadingPoint> =
-            scratch.points.iter().filter(|p| p.state.path & COMPENSATION == 0).copied().collect();
+        let points: Vec<ShadingPoint> = camera_points(&scratch.points).copied().collect();
         // The points by pixel (a counting sort, stable, so each pixel keeps the order of its
         // points, which its sum in `compose` follows): a neighbour's filter takes the rows of
         // its apron as runs.
@@ -335,12 +340,13 @@ impl<'a> TilePipeline<'a> {
             let rect = &lit.tile.rect;
             let (x0, x1) = (region.x0.max(rect.x0), region.x1.min(rect.x1));
             for y in region.y0.max(rect.y0)..region.y1.min(rect.y1) {
+                // The row's pixels are consecutive in the tile and in the region.
                 let (first, last) = (rect.index(x0, y), rect.index(x1 - 1, y) + 1);
+                let shift = region.index(x0, y) as u32;
                 let run = lit.pixel_start[first] as usize..lit.pixel_start[last] as usize;
                 view.extend(lit.by_pixel[run].iter().map(|&i| {
                     let p = &lit.points[i as usize];
-                    let (x, y) = rect.pixel(p.state.pixel);
-                    (region.index(x, y) as u32, p)
+                    (p.state.pixel - first as u32 + shift, p)
                 }));
             }
         }
@@ -349,6 +355,11 @@ impl<'a> TilePipeline<'a> {
         let mut times = own.times;
         times.lap(Phase::Filter, &mut clock);
         TileOutput::encode(tile, radiance, self.pixels, &self.tone_map, own.rays, times)
+    }
+
+    /// Whether the frame compensates the clamp's bias (a clamped still image).
+    fn compensates(&self) -> bool {
+        self.compensate_clamp && self.d_min2 > 0.0
     }
 
     /// Steps 1 to 4 for the pixels of `region`: their shading points, lit, in `scratch.points`,
@@ -370,7 +381,7 @@ impl<'a> TilePipeline<'a> {
             times.lap(Phase::Shading, &mut clock);
             self.trace_specular(scratch, &mut rays);
             times.lap(Phase::Specular, &mut clock);
-            if self.compensate_clamp && self.d_min2 > 0.0 {
+            if self.compensates() {
                 self.compensate(region, first, scratch, &mut rays);
                 times.lap(Phase::Compensation, &mut clock);
             }
@@ -386,7 +397,7 @@ impl<'a> TilePipeline<'a> {
     /// bright pixels near creases and contacts. (Only a frame that compensates has such
     /// points: the others skip this pass over the points.)
     fn fold_compensation(&self, points: &mut [ShadingPoint]) {
-        if !(self.compensate_clamp && self.d_min2 > 0.0) {
+        if !self.compensates() {
             return;
         }
         for i in 0..points.len() {
@@ -404,8 +415,9 @@ impl<'a> TilePipeline<'a> {
     /// Filters the diffuse and glossy radiance and composes the tile's pixels, and for a
     /// layered frame their [`DiffuseLayer`](crate::image::frame_image::DiffuseLayer) part: the
     /// diffuse reflection (ρ_d·D and the exact lights' diffuse term) of the camera rays' own
-    /// hits. `points` are the region's points with their pixels' indices in `region` (the
-    /// compensation's already folded in: [`TilePipeline::fold_compensation`]), `emitted` the
+    /// hits. `points` are the region's camera paths' points with their pixels' indices in
+    /// `region` (the compensation's light folded in: [`TilePipeline::fold_compensation`]),
+    /// `emitted` the
     /// emission and sky seen per pixel and sample of a rectangle holding the tile.
     fn compose(
         &self,
@@ -416,9 +428,6 @@ impl<'a> TilePipeline<'a> {
         s: &mut TileScratch,
     ) -> (Vec<Vec3>, Option<Vec<Vec3>>) {
         let TileScratch { filter_samples, glossy_radiance, filtered, filter, .. } = s;
-        // The compensation points' light is in their roots' D now: only the camera paths' own
-        // points are filtered and composed.
-        let camera = || points.iter().filter(|(_, p)| p.state.path & COMPENSATION == 0);
         // One pass gathers what the filter reads; the points are large and a tile's do not fit
         // in the cache, so every pass over them costs. Most tiles have no glossy point; their
         // glossy term stays out of the filter.
@@ -426,7 +435,7 @@ impl<'a> TilePipeline<'a> {
         glossy_radiance.clear();
         filtered.diffuse_radiance.clear();
         let mut any_glossy = false;
-        for &(pixel, p) in camera() {
+        for &(pixel, p) in points {
             any_glossy |= p.glossy_radiance != [Vec3::ZERO; 2];
             glossy_radiance.push(p.glossy_radiance);
             let diffuse_radiance = p.diffuse_radiance + p.compensation;
@@ -465,7 +474,7 @@ impl<'a> TilePipeline<'a> {
             let (x, y) = region.pixel(pixel);
             tile.rect.contains(x, y).then(|| tile.rect.index(x, y))
         };
-        for (i, (&(pixel, p), d)) in camera().zip(&filtered.diffuse_radiance).enumerate() {
+        for (i, (&(pixel, p), d)) in points.iter().zip(&filtered.diffuse_radiance).enumerate() {
             if let Some(pixel) = tile_index(pixel) {
                 let g = filtered.glossy_radiance.get(i).map_or(Vec3::ZERO, |[g, s]| p.glossy * *g + *s);
                 let (coverage, [exact_diffuse, exact_glossy]) = (p.state.coverage as f32, p.exact);
