@@ -12,7 +12,6 @@
 use crate::error::ClusterError;
 use crate::protocol::{FrameJob, Message, PROTOCOL_VERSION, Ready, Setup, TileResult};
 use crate::transport::Transport;
-use igi_render::igi::tile_pipeline::TileScratch;
 use igi_render::image::frame_image::TileOutput;
 use igi_render::{CancelToken, FrameRenderer, PreparedScene, add_default_light};
 use igi_scene::Scene;
@@ -223,7 +222,7 @@ fn render_job<T: Transport>(
         threads.spawn(move || {
             renderer.scheduler().run_queue(
                 || queue.pop().map(|index| grid.tile(index)),
-                TileScratch::default,
+                || renderer.lend_scratch(),
                 |scratch, tile| frame_tiles.render(tile, scratch),
                 |_, out| {
                     // The receiver is gone only once the job is over (and cancelled).

@@ -75,6 +75,22 @@ fn same_image_at_any_thread_count_and_tile_size() {
     }
 }
 
+/// A renderer keeps its threads' scratch memory and its lit tiles from frame to frame: what an
+/// earlier, larger frame left in them must not reach the next one.
+#[test]
+fn a_frame_does_not_depend_on_the_frames_before_it() {
+    let mut scene = every_path_room();
+    let mut next = frame(7);
+    next.settings.tile_size = 16;
+    let fresh = FrameRenderer::new(2).render(&mut scene, &next, &|_, _| {}).expect("valid settings");
+    let used = FrameRenderer::new(2);
+    let mut before = igi_frame(camera(Vec3::new(0.5, 1.2, 2.5), Vec3::new(0.0, 0.4, 0.0), 60.0), 61, 53);
+    (before.settings.aa, before.settings.compensate_clamp, before.settings.tile_size) = (4, true, 24);
+    used.render(&mut scene, &before, &|_, _| {}).expect("valid settings");
+    let after = used.render(&mut scene, &next, &|_, _| {}).expect("valid settings");
+    assert!(fingerprint(&fresh) == fingerprint(&after), "the frame differs after another one");
+}
+
 /// A chunk of eight shading points lit together mixes matte and glossy points wherever a
 /// glossy object meets a matte one, and which points share a chunk depends on the tile. A matte
 /// point's light must be summed the same way whatever its chunk-mates (it was not: a chunk

@@ -208,7 +208,7 @@ fn camera_points(points: &[ShadingPoint]) -> impl Iterator<Item = &ShadingPoint>
 
 /// A tile traced and lit but not filtered yet ([`TilePipeline::light_tile`]): what its own
 /// filter and its neighbours' read of it.
-#[derive(Debug)]
+#[derive(Debug, Default)]
 pub struct LitTile {
     tile: Tile,
     /// The camera paths' shading points, lit, with the compensation's light folded in; their
@@ -294,32 +294,41 @@ impl<'a> TilePipeline<'a> {
     }
 
     /// The first pass of a frame on one machine: traces and lights the pixels of `tile` only,
-    /// for [`TilePipeline::compose_tile`] to filter once its neighbours are lit too
-    /// (ARCHITECTURE.md, "A frame in two passes").
-    pub fn light_tile(&self, tile: Tile, scratch: &mut TileScratch) -> LitTile {
-        let (rays, times) = self.light_region(&tile.rect, scratch);
+    /// into `lit` (whose memory it reuses), for [`TilePipeline::compose_tile`] to filter once
+    /// its neighbours are lit too (ARCHITECTURE.md, "A frame in two passes").
+    pub fn light_tile(&self, tile: Tile, scratch: &mut TileScratch, lit: &mut LitTile) {
+        (lit.rays, lit.times) = self.light_region(&tile.rect, scratch);
+        lit.tile = tile;
         self.fold_compensation(&mut scratch.points);
-        let points: Vec<ShadingPoint> = camera_points(&scratch.points).copied().collect();
+        // The camera paths' points and the emission move to the lit tile, and its old buffers
+        // become the scratch's.
+        scratch.points.retain(|p| p.state.path & COMPENSATION == 0);
+        std::mem::swap(&mut scratch.points, &mut lit.points);
+        std::mem::swap(&mut scratch.emitted, &mut lit.emitted);
         // The points by pixel (a counting sort, stable, so each pixel keeps the order of its
         // points, which its sum in `compose` follows): a neighbour's filter takes the rows of
-        // its apron as runs.
+        // its apron as runs. `pixel_start[p + 1]` counts pixel p's points; summed, `pixel_start[p]`
+        // is where p's run starts and, as the points are placed, its end; shifted up one, the
+        // runs' ends are their successors' starts.
+        let (points, pixel_start, by_pixel) = (&lit.points, &mut lit.pixel_start, &mut lit.by_pixel);
         let pixels = tile.rect.pixel_count();
-        let mut pixel_start = vec![0u32; pixels + 1];
-        for p in &points {
+        pixel_start.clear();
+        pixel_start.resize(pixels + 1, 0);
+        for p in points {
             pixel_start[p.state.pixel as usize + 1] += 1;
         }
         for i in 0..pixels {
             pixel_start[i + 1] += pixel_start[i];
         }
-        let mut next = pixel_start.clone();
-        let mut by_pixel = vec![0u32; points.len()];
+        by_pixel.clear();
+        by_pixel.resize(points.len(), 0);
         for (i, p) in points.iter().enumerate() {
-            let at = &mut next[p.state.pixel as usize];
+            let at = &mut pixel_start[p.state.pixel as usize];
             by_pixel[*at as usize] = i as u32;
             *at += 1;
         }
-        let emitted = std::mem::take(&mut scratch.emitted);
-        LitTile { tile, points, by_pixel, pixel_start, emitted, rays, times }
+        pixel_start.copy_within(0..pixels, 1);
+        pixel_start[0] = 0;
     }
 
     /// The second pass of a frame on one machine: filters and composes `tile` from the lit

@@ -2,7 +2,7 @@
 //! filter's apron (paper 3.4), with the row-major indexing of the buffers that cover it.
 
 /// A rectangle of pixels `[x0, x1) × [y0, y1)` of an image.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct PixelRect {
     /// First column.
     pub x0: u32,

@@ -6,7 +6,7 @@
 use crate::image::pixel_rect::PixelRect;
 
 /// One tile: its index in the grid and its rectangle of pixels.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Tile {
     /// Row-major index of the tile in its grid.
     pub index: u32,

@@ -10,7 +10,7 @@
 //! way and renders the tiles rank 0 hands it ([`FramePlan::tiles`]).
 
 use crate::frame::{Estimator, FrameState, SettingsError};
-use crate::igi::tile_pipeline::{TilePipeline, TileScratch};
+use crate::igi::tile_pipeline::{LitTile, TilePipeline, TileScratch};
 use crate::igi::vpl::VplSets;
 use crate::image::frame_image::{FrameImage, TileOutput};
 use crate::image::stats::{Phase, PhaseTimes, RayCounts};
@@ -19,6 +19,7 @@ use crate::image::tonemap::LuminanceStats;
 use crate::path_tracer::PathTracer;
 use crate::prepared::PreparedScene;
 use crate::schedule::cancel::{CancelToken, Cancelled};
+use crate::schedule::pool::{Lent, Pool};
 use crate::schedule::scheduler::TileScheduler;
 use std::time::{Duration, Instant};
 
@@ -58,12 +59,15 @@ pub enum FrameError {
 #[derive(Debug)]
 pub struct FrameRenderer {
     scheduler: TileScheduler,
+    /// The threads' scratch memory and the lit tiles of the last frame, kept for the next.
+    scratch: Pool<TileScratch>,
+    lit: Pool<LitTile>,
 }
 
 impl FrameRenderer {
     /// A renderer with `threads` workers (0: one per core).
     pub fn new(threads: usize) -> Self {
-        Self { scheduler: TileScheduler::new(threads) }
+        Self { scheduler: TileScheduler::new(threads), scratch: Pool::default(), lit: Pool::default() }
     }
 
     /// Number of worker threads.
@@ -74,6 +78,12 @@ impl FrameRenderer {
     /// The tile scheduler (for other renderers sharing the threads, such as the path tracer).
     pub fn scheduler(&self) -> &TileScheduler {
         &self.scheduler
+    }
+
+    /// Scratch memory for a render thread, given back to the renderer's pool when the guard
+    /// drops (a render node's threads render their tiles with it).
+    pub fn lend_scratch(&self) -> Lent<'_, TileScratch> {
+        self.scratch.lend()
     }
 
     /// Poses `scene` as `frame` says and renders the frame; `progress(done, total)` is called
@@ -111,22 +121,30 @@ impl FrameRenderer {
                 let lit = self.scheduler.run(
                     &plan.grid,
                     cancel,
-                    TileScratch::default,
-                    |scratch, tile| pipeline.light_tile(tile, scratch),
+                    || self.lend_scratch(),
+                    |scratch, tile| {
+                        let mut lit = self.lit.take();
+                        pipeline.light_tile(tile, scratch, &mut lit);
+                        lit
+                    },
                     &|done, _| progress(done, 2 * total),
-                )?;
-                self.scheduler.run(
-                    &plan.grid,
-                    cancel,
-                    TileScratch::default,
-                    |scratch, tile| pipeline.compose_tile(tile, &plan.grid, &lit, scratch),
-                    &|done, _| progress(total + done, 2 * total),
-                )?
+                );
+                let composed = lit.as_ref().map_err(|&e| e).and_then(|lit| {
+                    self.scheduler.run(
+                        &plan.grid,
+                        cancel,
+                        || self.lend_scratch(),
+                        |scratch, tile| pipeline.compose_tile(tile, &plan.grid, lit, scratch),
+                        &|done, _| progress(total + done, 2 * total),
+                    )
+                });
+                self.lit.give(lit.into_iter().flatten());
+                composed?
             }
             tiles => self.scheduler.run(
                 &plan.grid,
                 cancel,
-                TileScratch::default,
+                || self.lend_scratch(),
                 |scratch, tile| tiles.render(tile, scratch),
                 progress,
             )?,
