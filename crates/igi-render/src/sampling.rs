@@ -55,6 +55,43 @@ pub fn sobol4(index: u32, set: u32, seed: u32) -> [f32; 4] {
     owen_scramble_int4_rev(sobol, hash_int4(scramble)).reverse_bits().to_f32_norm()
 }
 
+/// Dimensions 0 and 1 of [`sobol4`]'s set 0 under one seed, for many sample indices: the
+/// seed's two Owen scrambles are hashed once, and the unscrambled Sobol point of an index,
+/// the same for every seed, comes from [`Sobol2::unscrambled`] once for many seeds. A pixel's
+/// anti-aliasing samples come so, eight pixels of a packet sharing each index; the bits are
+/// [`sobol4`]'s.
+#[derive(Clone, Copy, Debug)]
+pub struct Sobol2 {
+    scramble: [u32; 2],
+}
+
+impl Sobol2 {
+    /// The scrambles of `seed` (the lanes 0 and 1 of [`sobol4`]'s).
+    #[inline]
+    pub fn new(seed: u32) -> Self {
+        use sobol_burley::parts::hash;
+        let s = seed.wrapping_mul(0x9c8f_2d3b);
+        Self { scramble: [hash(s ^ 0x912f_69ba), hash(s ^ 0x174f_18ab)] }
+    }
+
+    /// The unscrambled point `index` (bit-reversed), for [`Sobol2::point`].
+    #[inline]
+    pub fn unscrambled(index: u32) -> [u32; 2] {
+        debug_assert!(index < MAX_SAMPLES);
+        let reversed = index.reverse_bits();
+        [sobol_burley::parts::sobol_rev(reversed, 0), sobol_burley::parts::sobol_rev(reversed, 1)]
+    }
+
+    /// The point whose unscrambled form is `unscrambled`, scrambled by this seed, in [0, 1)².
+    #[inline]
+    pub fn point(&self, unscrambled: [u32; 2]) -> [f32; 2] {
+        use sobol_burley::parts::{owen_scramble_rev, u32_to_f32_norm};
+        std::array::from_fn(|d| {
+            u32_to_f32_norm(owen_scramble_rev(unscrambled[d], self.scramble[d]).reverse_bits())
+        })
+    }
+}
+
 /// The largest f32 below 1: where numbers meant to lie in [0, 1) are clamped.
 pub const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
 

@@ -1,7 +1,7 @@
 //! The small pieces: light-selection CDF, triangle sampling, tile grid, texture filtering.
 
 use glam::Vec2;
-use igi_render::sampling::{Cdf, hash_combine, pixel_seed, sobol4, uniform_triangle};
+use igi_render::sampling::{Cdf, Sobol2, hash_combine, pixel_seed, sobol4, uniform_triangle};
 use igi_render::{PixelRect, Tile, TileGrid};
 
 #[test]
@@ -14,6 +14,20 @@ fn cdf_picks_in_proportion_and_skips_zero_weights() {
     assert_eq!(cdf.sample(0.999_999_9), (2, 0.75));
     assert_eq!(cdf.pmf(1), 0.0);
     assert!(Cdf::new([0.0, -1.0, f32::NAN]).is_empty());
+}
+
+/// The anti-aliasing samples' shortcut (a seed's scrambles hashed once, an index's Sobol
+/// point computed once for many seeds) gives the bits of the general sequence.
+#[test]
+fn sobol2_is_the_first_two_dimensions_of_sobol4() {
+    for seed in [0, 1, 12345, 0x9e37_79b9, u32::MAX] {
+        let sequence = Sobol2::new(seed);
+        for index in (0..300).chain([4095, 65535]) {
+            let [u, v, _, _] = sobol4(index, 0, seed);
+            let [a, b] = sequence.point(Sobol2::unscrambled(index));
+            assert_eq!((a.to_bits(), b.to_bits()), (u.to_bits(), v.to_bits()), "seed {seed}, index {index}");
+        }
+    }
 }
 
 #[test]

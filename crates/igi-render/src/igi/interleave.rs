@@ -24,7 +24,7 @@
 use crate::frame::FrameSettings;
 use crate::image::pixel_rect::PixelRect;
 use crate::image::tile::Tile;
-use crate::sampling::sobol4;
+use crate::sampling::Sobol2;
 
 /// The interleaving pattern of a frame: n×m fine sets in K² coarse groups, and N samples per
 /// pixel.
@@ -118,18 +118,21 @@ impl Interleave {
         }
     }
 
-    /// Where sample `index` of a pixel lies in it, as offsets in [0, 1)² from its top-left
-    /// corner: the centre if `centre` (one sample per pixel in a still frame), else point
-    /// `index` of the Owen-scrambled Sobol sequence of the pixel's sequence seed
-    /// `pixel_seed` ([`crate::sampling::pixel_seed`]: stratified within the pixel; see
-    /// [`crate::frame::FrameState::sequence`] for the index).
+    /// Where sample `index` of eight pixels lies in each, as offsets in [0, 1)² from its
+    /// top-left corner: the centre if `centre` (one sample per pixel in a still frame), else
+    /// point `index` of the Owen-scrambled Sobol sequence of each pixel's sequence seed
+    /// ([`crate::sampling::pixel_seed`], given as its [`Sobol2`]: stratified within the pixel;
+    /// see [`crate::frame::FrameState::sequence`] for the index).
     #[inline]
-    pub fn sample_offset(&self, index: u32, pixel_seed: u32, centre: bool) -> (f32, f32) {
+    pub fn sample_offsets(&self, index: u32, pixels: &[Sobol2; 8], centre: bool) -> [(f32, f32); 8] {
         if centre {
-            return (0.5, 0.5);
+            return [(0.5, 0.5); 8];
         }
-        let [u, v, _, _] = sobol4(index, 0, pixel_seed);
-        (u, v)
+        let unscrambled = Sobol2::unscrambled(index);
+        pixels.map(|pixel| {
+            let [u, v] = pixel.point(unscrambled);
+            (u, v)
+        })
     }
 
     /// The pixels of fine set `fine` inside `region`, grouped into packets of 4×2 pixels of the

@@ -7,7 +7,7 @@ use crate::igi::packet::unpack_hits;
 use crate::image::pixel_rect::PixelRect;
 use crate::image::stats::RayCounts;
 use crate::prepared::SurfacePoint;
-use crate::sampling::{hash_combine, pixel_seed};
+use crate::sampling::{Sobol2, hash_combine, pixel_seed};
 use glam::Vec3;
 use igi_bvh::RayPacket8;
 use igi_simd::{F32x8, M32x8, Vec3x8};
@@ -35,11 +35,11 @@ impl TilePipeline<'_> {
             let (x, y) = (std::array::from_fn(|i| lane(i).0), std::array::from_fn(|i| lane(i).1));
             let pixels = std::array::from_fn(|i| region.index(lane(i).0, lane(i).1) as u32);
             let seeds: [u32; 8] = std::array::from_fn(|i| pixel_seed(x[i], y[i], self.sequence.seed));
+            let sequences = seeds.map(Sobol2::new);
             let occupied = (1u32 << lanes.len()) - 1;
             for sample in 0..aa {
-                let offsets: [(f32, f32); 8] = std::array::from_fn(|i| {
-                    self.interleave.sample_offset(self.sequence.first + sample, seeds[i], self.pixel_centres)
-                });
+                let index = self.sequence.first + sample;
+                let offsets = self.interleave.sample_offsets(index, &sequences, self.pixel_centres);
                 let dir = self.camera.directions_at8(x, y, offsets.map(|o| o.0), offsets.map(|o| o.1));
                 let packet =
                     RayPacket8 { origin, dir, tnear: F32x8::ZERO, tfar: F32x8::splat(f32::INFINITY) };
