@@ -163,6 +163,36 @@ impl F32x8 {
         unsafe { I32x8(_mm256_castps_si256(self.0)) }
     }
 
+    /// The eight records `rows` as eight vectors of their fields: lane k of vector j is
+    /// `rows[k][j]` (an 8×8 transpose). Each half of a record is loaded beside the same half of
+    /// the record four lanes on, so two 4×4 transposes within the 128-bit halves do it: 16
+    /// shuffles instead of the 24 of a transpose of whole registers.
+    #[inline(always)]
+    pub fn transpose(rows: [&[f32; 8]; 8]) -> [Self; 8] {
+        // SAFETY: each load reads four floats of an eight-float array.
+        unsafe {
+            let half = |k: usize, at: usize| {
+                _mm256_insertf128_ps::<1>(
+                    _mm256_castps128_ps256(_mm_loadu_ps(rows[k].as_ptr().add(at))),
+                    _mm_loadu_ps(rows[k + 4].as_ptr().add(at)),
+                )
+            };
+            let transpose4 = |r: [__m256; 4]| {
+                let (t0, t1) = (_mm256_unpacklo_ps(r[0], r[1]), _mm256_unpackhi_ps(r[0], r[1]));
+                let (t2, t3) = (_mm256_unpacklo_ps(r[2], r[3]), _mm256_unpackhi_ps(r[2], r[3]));
+                [
+                    _mm256_shuffle_ps::<0x44>(t0, t2),
+                    _mm256_shuffle_ps::<0xee>(t0, t2),
+                    _mm256_shuffle_ps::<0x44>(t1, t3),
+                    _mm256_shuffle_ps::<0xee>(t1, t3),
+                ]
+            };
+            let low = transpose4([half(0, 0), half(1, 0), half(2, 0), half(3, 0)]);
+            let high = transpose4([half(0, 4), half(1, 4), half(2, 4), half(3, 4)]);
+            [low[0], low[1], low[2], low[3], high[0], high[1], high[2], high[3]].map(Self)
+        }
+    }
+
     /// Per lane `table[idx & 15]`: a lookup in a 16-entry table held in two registers (two
     /// `vpermps` and a blend on bit 3 of the index), far cheaper than a gather.
     #[inline(always)]

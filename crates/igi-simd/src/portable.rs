@@ -158,6 +158,13 @@ impl F32x8 {
         I32x8(self.0.map(|v| v.to_bits() as i32))
     }
 
+    /// The eight records `rows` as eight vectors of their fields: lane k of vector j is
+    /// `rows[k][j]` (an 8×8 transpose).
+    #[inline(always)]
+    pub fn transpose(rows: [&[f32; 8]; 8]) -> [Self; 8] {
+        from_fn(|j| Self(from_fn(|k| rows[k][j])))
+    }
+
     /// Per lane `table[idx & 15]`.
     #[inline(always)]
     pub fn lookup16(table: &[f32; 16], idx: I32x8) -> Self {

@@ -266,3 +266,12 @@ fn powf_accuracy_sweep() {
     assert_eq!(r[4], 0.0);
     assert!(rel(r[5], 1024.0) < 1e-6 && rel(r[6], 0.7) < 1e-6 && rel(r[7], 2.0) < 1e-6);
 }
+
+#[test]
+fn transpose_turns_records_into_fields() {
+    let records: [[f32; 8]; 8] = std::array::from_fn(|k| std::array::from_fn(|j| (10 * k + j) as f32));
+    let fields = F32x8::transpose(std::array::from_fn(|k| &records[k]));
+    for (j, field) in fields.iter().enumerate() {
+        assert_eq!(field.to_array(), std::array::from_fn(|k| records[k][j]), "field {j}");
+    }
+}

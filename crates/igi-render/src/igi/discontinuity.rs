@@ -12,12 +12,19 @@
 //! seen through the same chain of reflections and refractions. A point that stands for all
 //! samples of its pixel (they saw one surface) counts as every sample's neighbour. A pixel
 //! without a similar neighbour keeps its own value, so a constant irradiance stays constant.
+//!
+//! The whole pixels are filtered eight neighbours of a row at a time (SIMD lanes: eight cells
+//! of 32 bytes turned into vectors of their fields by one transpose), the points of pixels
+//! with a point per sample one at a time; both add the same taps in the same order, so the
+//! values are the definition's bit for bit (tested against it; ARCHITECTURE.md, "Eight whole
+//! pixels at a time in the discontinuity filter").
 
 use crate::frame::FilterSettings;
 use crate::igi::interleave::{Interleave, Window};
 use crate::image::pixel_rect::PixelRect;
 use crate::image::tile::Tile;
 use glam::Vec3;
+use igi_simd::{F32x8, I32x8, M32x8};
 
 /// A shading point as the filter sees it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -54,16 +61,66 @@ pub struct Filtered {
 }
 
 /// What the filter reads of a shading point, stored in a pixel grid per camera path so that
-/// the neighbours of a pixel lie next to each other in memory.
+/// the neighbours of a pixel lie next to each other in memory: eight lanes, the unit normal,
+/// the depth, D and the material index's bits, so that eight neighbouring cells turn into
+/// eight vectors of one field each with one transpose ([`DiscontinuityBuffer::whole_pixels`]).
+/// The material is [`EMPTY`] if the layer has no point at this pixel; for a pixel whose samples
+/// have points of their own, [`EDGE`] plus the slot of its N cells in
+/// [`DiscontinuityBuffer::edge_cells`].
 #[derive(Clone, Copy, Debug)]
-struct Cell {
-    normal: Vec3,
-    depth: f32,
-    diffuse_radiance: Vec3,
-    /// Material index; [`EMPTY`] if the layer has no point at this pixel; for a pixel whose
-    /// samples have points of their own, [`EDGE`] plus the slot of its N cells in
-    /// [`DiscontinuityBuffer::edge_cells`].
-    material: u32,
+struct Cell([f32; 8]);
+
+/// Lanes of a [`Cell`].
+const NORMAL: usize = 0;
+const DEPTH: usize = 3;
+const DIFFUSE: usize = 4;
+const MATERIAL: usize = 7;
+
+impl Cell {
+    fn new(normal: Vec3, depth: f32, diffuse_radiance: Vec3, material: u32) -> Self {
+        let (n, d) = (normal, diffuse_radiance);
+        Self([n.x, n.y, n.z, depth, d.x, d.y, d.z, f32::from_bits(material)])
+    }
+
+    fn normal(&self) -> Vec3 {
+        Vec3::from_slice(&self.0[NORMAL..NORMAL + 3])
+    }
+
+    fn depth(&self) -> f32 {
+        self.0[DEPTH]
+    }
+
+    fn diffuse_radiance(&self) -> Vec3 {
+        Vec3::from_slice(&self.0[DIFFUSE..DIFFUSE + 3])
+    }
+
+    fn set_diffuse_radiance(&mut self, d: Vec3) {
+        d.write_to_slice(&mut self.0[DIFFUSE..DIFFUSE + 3]);
+    }
+
+    fn material(&self) -> u32 {
+        self.0[MATERIAL].to_bits()
+    }
+
+    fn set_material(&mut self, material: u32) {
+        self.0[MATERIAL] = f32::from_bits(material);
+    }
+}
+
+/// The glossy terms G and S of a cell, in eight lanes (two unused) like [`Cell`].
+#[derive(Clone, Copy, Debug)]
+struct GlossyCell([f32; 8]);
+
+impl GlossyCell {
+    const ZERO: Self = Self([0.0; 8]);
+
+    fn new([g, s]: [Vec3; 2]) -> Self {
+        Self([g.x, g.y, g.z, s.x, s.y, s.z, 0.0, 0.0])
+    }
+
+    fn get(&self) -> [Vec3; 2] {
+        [Vec3::from_slice(&self.0[0..3]), Vec3::from_slice(&self.0[3..6])]
+    }
 }
 
 /// No shading point at this pixel in this layer.
@@ -72,8 +129,32 @@ const EMPTY: u32 = u32::MAX;
 /// Marks a cell whose pixel has a point per sample (the low bits hold the slot of its cells).
 const EDGE: u32 = 1 << 31;
 
-const EMPTY_CELL: Cell =
-    Cell { normal: Vec3::ZERO, depth: 0.0, diffuse_radiance: Vec3::ZERO, material: EMPTY };
+const EMPTY_CELL: Cell = Cell([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, f32::from_bits(EMPTY)]);
+
+/// A bit per pixel of a layer's grid (with a spare word, so any eight bits can be read).
+#[derive(Clone, Debug, Default)]
+struct EdgeBits(Vec<u64>);
+
+impl EdgeBits {
+    fn reset(&mut self, pixels: usize) {
+        self.0.clear();
+        self.0.resize(pixels / 64 + 2, 0);
+    }
+
+    fn set(&mut self, pixel: usize) {
+        self.0[pixel / 64] |= 1 << (pixel % 64);
+    }
+
+    /// The bits of pixels `first .. first + 8`.
+    fn eight(&self, first: usize) -> u32 {
+        let (word, shift) = (first / 64, first % 64);
+        let bits = match shift {
+            0 => self.0[word],
+            _ => self.0[word] >> shift | self.0[word + 1] << (64 - shift),
+        };
+        (bits & 0xff) as u32
+    }
+}
 
 /// Scratch space of the filter, reused across tiles: one pixel grid per camera path (layer)
 /// holding the whole pixels' points, and beside it the cells of the pixels that have a point
@@ -85,10 +166,16 @@ pub struct DiscontinuityBuffer {
     grids: Vec<Vec<Cell>>,
     /// The glossy terms G and S per layer, beside the grids (filled only for tiles with a
     /// glossy point, which keeps the cells small for the rest).
-    glossy_grids: Vec<Vec<[Vec3; 2]>>,
+    glossy_grids: Vec<Vec<GlossyCell>>,
+    /// Per layer and pixel, the index of the whole pixel's point (where the cell holds one).
+    whole_points: Vec<Vec<u32>>,
+    /// Per layer, a bit per pixel: the cell marks a pixel with a point per sample ([`EDGE`]),
+    /// so eight neighbouring cells say at once whether one of them must be looked up
+    /// elsewhere.
+    edge_bits: Vec<EdgeBits>,
     /// The cells of pixels with a point per sample, N per slot, and their G and S.
     edge_cells: Vec<Cell>,
-    edge_glossy: Vec<[Vec3; 2]>,
+    edge_glossy: Vec<GlossyCell>,
     /// Layer of each point.
     layers: Vec<u32>,
 }
@@ -101,6 +188,31 @@ struct Level {
     stride: (u32, u32),
     /// The coarse level's tent ([`Interleave::coarse_weight`]), else every tap weighs one.
     tent: Option<Interleave>,
+}
+
+impl Level {
+    /// The weights of the taps along each axis, from the first tap before the centre to the
+    /// last after it, looked up: computing the tent per tap (two divisions, and two more for
+    /// the tap numbers) was a fifth of the filter's time. Their product is `coarse_weight`'s,
+    /// so the bits are the same.
+    fn weights(&self) -> (Vec<f32>, Vec<f32>) {
+        let axis = |before: u32, after: u32| -> Vec<f32> {
+            (0..=before + after)
+                .map(|t| self.tent.map_or(1.0, |il| il.coarse_tent(before.abs_diff(t))))
+                .collect()
+        };
+        let ([left, right], [up, down]) = self.window;
+        (axis(left, right), axis(up, down))
+    }
+}
+
+/// What one level reads and writes: the region's grids, the filter's settings, the points and
+/// their values.
+struct LevelInput<'a> {
+    region: &'a PixelRect,
+    settings: &'a FilterSettings,
+    points: &'a [FilterSample],
+    aa: usize,
 }
 
 impl DiscontinuityBuffer {
@@ -126,14 +238,16 @@ impl DiscontinuityBuffer {
         (points, glossy_in): (&[FilterSample], &[[Vec3; 2]]),
         out: &mut Filtered,
     ) {
-        self.index(region, interleave.aa as usize, points, glossy_in);
+        let aa = interleave.aa as usize;
+        self.index(region, aa, points, glossy_in);
         out.diffuse_radiance.clear();
         out.diffuse_radiance.extend(points.iter().map(|p| p.diffuse_radiance));
         out.glossy_radiance.clear();
         out.glossy_radiance.extend_from_slice(glossy_in);
+        let input = LevelInput { region, settings, points, aa };
         let fine = Level { window: interleave.window(), stride: (1, 1), tent: None };
         if interleave.coarse == 1 {
-            self.level(region, &tile.rect, fine, settings, points, interleave.aa, out);
+            self.level(&input, &tile.rect, fine, out);
             return;
         }
         let coarse = Level {
@@ -148,43 +262,188 @@ impl DiscontinuityBuffer {
             x1: (tile.rect.x1 + r * interleave.n).min(region.x1),
             y1: (tile.rect.y1 + d * interleave.m).min(region.y1),
         };
-        self.level(region, &read, fine, settings, points, interleave.aa, out);
-        self.store(region, &read, interleave.aa as usize, points, out);
-        self.level(region, &tile.rect, coarse, settings, points, interleave.aa, out);
+        self.level(&input, &read, fine, out);
+        self.store(region, &read, aa, points, out);
+        self.level(&input, &tile.rect, coarse, out);
     }
 
     /// One filter level: for each point inside `rect`, the weighted mean of the values in the
-    /// cells of `level`'s taps around its pixel (inside `region`) whose points are [`similar`]
-    /// to it.
-    #[allow(clippy::too_many_arguments)]
-    fn level(
+    /// cells of `level`'s taps around its pixel (inside the region) whose points are
+    /// [`similar`] to it. The whole pixels go eight at a time, the other points one by one;
+    /// both sum the same taps in the same order, so a point's value does not depend on which.
+    fn level(&self, input: &LevelInput, rect: &PixelRect, level: Level, out: &mut Filtered) {
+        if out.glossy_radiance.is_empty() {
+            self.whole_pixels::<false>(input, rect, level, out);
+        } else {
+            self.whole_pixels::<true>(input, rect, level, out);
+        }
+        self.sample_points(input, rect, level, out);
+    }
+
+    /// [`DiscontinuityBuffer::level`] for the points that stand for their whole pixel, eight
+    /// neighbouring pixels of a row of a layer at a time: a tap of the eight is eight
+    /// neighbouring cells, turned into vectors of their fields by one transpose, so the
+    /// similarity tests and the sums run on eight points at once (with G and S if `GLOSSY`).
+    fn whole_pixels<const GLOSSY: bool>(
         &self,
-        region: &PixelRect,
+        input: &LevelInput,
         rect: &PixelRect,
         level: Level,
-        settings: &FilterSettings,
-        points: &[FilterSample],
-        aa: u32,
         out: &mut Filtered,
     ) {
+        let LevelInput { region, settings, points, aa } = *input;
+        let (([left, _], [up, _]), (sx, sy)) = (level.window, level.stride);
+        let (wx, wy) = level.weights();
+        let width = region.width() as i64;
+        let lane_offsets = I32x8::from_array(std::array::from_fn(|k| k as i32));
+        let (min_cos, max_ratio) =
+            (F32x8::splat(settings.min_normal_cos), F32x8::splat(settings.max_depth_ratio));
+        for layer in 0..self.paths.len() {
+            let (grid, glossy_grid) = (&self.grids[layer], &self.glossy_grids[layer]);
+            let (whole, edge_map) = (&self.whole_points[layer], &self.edge_bits[layer]);
+            for y in rect.y0..rect.y1 {
+                for x in (rect.x0..rect.x1).step_by(8) {
+                    // The centres: the row's whole pixels from x on, inside `rect`.
+                    let centre = region.index(x, y);
+                    let lanes = (rect.x1 - x).min(8) as usize;
+                    let mut active = 0u32;
+                    for k in 0..lanes {
+                        let m = grid[centre + k].material();
+                        active |= u32::from(m & EDGE == 0) << k;
+                    }
+                    if active == 0 {
+                        continue;
+                    }
+                    let c =
+                        F32x8::transpose(std::array::from_fn(|k| &grid[(centre + k).min(grid.len() - 1)].0));
+                    let (cn, cdepth, cmaterial) = ([c[0], c[1], c[2]], c[DEPTH], c[MATERIAL].to_bits());
+                    let max_step = max_ratio * cdepth;
+                    let active_mask = M32x8::from_bitmask(active);
+                    let mut sum = [F32x8::ZERO; 3];
+                    let mut glossy_sum = [F32x8::ZERO; 6];
+                    let mut count = F32x8::ZERO;
+                    let xs = I32x8::splat(x as i32) + lane_offsets;
+                    for (ty, &w_y) in wy.iter().enumerate() {
+                        let dy = ty as i64 - i64::from(up);
+                        let row = i64::from(y) + dy * i64::from(sy);
+                        if row < i64::from(region.y0) || row >= i64::from(region.y1) {
+                            continue;
+                        }
+                        for (tx, &w_x) in wx.iter().enumerate() {
+                            let dx = (tx as i64 - i64::from(left)) * i64::from(sx);
+                            // Lanes whose tap lies outside the region's columns take no part
+                            // (and read some cell of the grid).
+                            let (tap_x0, tap_x7) = (i64::from(x) + dx, i64::from(x) + dx + 7);
+                            let inside = if tap_x0 >= i64::from(region.x0) && tap_x7 < i64::from(region.x1) {
+                                M32x8::from_bitmask(0xff)
+                            } else {
+                                let tap_x = xs + I32x8::splat(dx as i32);
+                                tap_x.gt(I32x8::splat(region.x0 as i32 - 1))
+                                    & tap_x.lt(I32x8::splat(region.x1 as i32))
+                            };
+                            let first =
+                                (row - i64::from(region.y0)) * width + (tap_x0 - i64::from(region.x0));
+                            let last = grid.len() as i64 - 8;
+                            let block = first.clamp(0, last.max(0)) as usize;
+                            let at = |k: usize| match first >= 0 && first <= last {
+                                true => block + k,
+                                false => (first + k as i64).clamp(0, grid.len() as i64 - 1) as usize,
+                            };
+                            // A neighbour with a point per sample shows each centre's sample.
+                            let edge_bits = match first >= 0 && first <= last {
+                                true => edge_map.eight(block) & inside.bitmask() & active,
+                                false => {
+                                    (0..8)
+                                        .filter(|&k| {
+                                            grid[at(k)].material() != EMPTY
+                                                && grid[at(k)].material() & EDGE != 0
+                                        })
+                                        .fold(0, |bits, k| bits | 1 << k)
+                                        & inside.bitmask()
+                                        & active
+                                }
+                            };
+                            let edge_slot = |k: usize| {
+                                let slot = (grid[at(k)].material() & !EDGE) as usize;
+                                slot * aa + points[whole[centre + k] as usize].sample as usize
+                            };
+                            let contiguous = first >= 0 && first <= last && edge_bits == 0;
+                            let q = if contiguous {
+                                let cells = &grid[block..block + 8];
+                                F32x8::transpose(std::array::from_fn(|k| &cells[k].0))
+                            } else {
+                                let rows: [&[f32; 8]; 8] =
+                                    std::array::from_fn(|k| match edge_bits >> k & 1 {
+                                        1 => &self.edge_cells[edge_slot(k)].0,
+                                        _ => &grid[at(k)].0,
+                                    });
+                                F32x8::transpose(rows)
+                            };
+                            let similar = if dx == 0 && dy == 0 {
+                                // The centre always counts (a normal's dot product with itself
+                                // can round below a threshold of 1), so count > 0.
+                                active_mask
+                            } else {
+                                let dot = cn[0] * q[0] + cn[1] * q[1] + cn[2] * q[2];
+                                q[MATERIAL].to_bits().eq(cmaterial)
+                                    & dot.ge(min_cos)
+                                    & (cdepth - q[DEPTH]).abs().le(max_step)
+                                    & inside
+                                    & active_mask
+                            };
+                            if similar.none() {
+                                continue;
+                            }
+                            let w = F32x8::splat(w_x * w_y);
+                            for (axis, s) in sum.iter_mut().enumerate() {
+                                *s = F32x8::select(similar, *s + w * q[DIFFUSE + axis], *s);
+                            }
+                            count = F32x8::select(similar, count + w, count);
+                            if GLOSSY {
+                                let g = if contiguous {
+                                    let cells = &glossy_grid[block..block + 8];
+                                    F32x8::transpose(std::array::from_fn(|k| &cells[k].0))
+                                } else {
+                                    let rows: [&[f32; 8]; 8] =
+                                        std::array::from_fn(|k| match edge_bits >> k & 1 {
+                                            1 => &self.edge_glossy[edge_slot(k)].0,
+                                            _ => &glossy_grid[at(k)].0,
+                                        });
+                                    F32x8::transpose(rows)
+                                };
+                                for (axis, s) in glossy_sum.iter_mut().enumerate() {
+                                    *s = F32x8::select(similar, *s + w * g[axis], *s);
+                                }
+                            }
+                        }
+                    }
+                    let d = sum.map(|s| (s / count).to_array());
+                    let g = glossy_sum.map(|s| (s / count).to_array());
+                    for k in (0..lanes).filter(|k| active >> k & 1 != 0) {
+                        let i = whole[centre + k] as usize;
+                        out.diffuse_radiance[i] = Vec3::new(d[0][k], d[1][k], d[2][k]);
+                        if GLOSSY {
+                            out.glossy_radiance[i] =
+                                [Vec3::new(g[0][k], g[1][k], g[2][k]), Vec3::new(g[3][k], g[4][k], g[5][k])];
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// [`DiscontinuityBuffer::level`] for the points of pixels whose samples have points of
+    /// their own, one at a time.
+    fn sample_points(&self, input: &LevelInput, rect: &PixelRect, level: Level, out: &mut Filtered) {
+        let LevelInput { region, settings, points, aa } = *input;
         let glossy = !out.glossy_radiance.is_empty();
-        let aa = aa as usize;
         let (([left, right], [up, down]), (sx, sy)) = (level.window, level.stride);
-        // The weights of the taps along each axis, from the first tap before the centre to the
-        // last after it, looked up: computing the tent per tap (two divisions, and two more for
-        // the tap numbers) was a fifth of the filter's time. Their product is `coarse_weight`'s,
-        // so the bits are the same.
-        let weights = |before: u32, after: u32| -> Vec<f32> {
-            (0..=before + after)
-                .map(|t| level.tent.map_or(1.0, |il| il.coarse_tent(before.abs_diff(t))))
-                .collect()
-        };
-        let (wx, wy) = (weights(left, right), weights(up, down));
+        let (wx, wy) = level.weights();
         let width = region.width() as usize;
         let (sx, sy) = (sx as usize, sy as usize);
         for (i, p) in points.iter().enumerate() {
             let (x, y) = region.pixel(p.pixel);
-            if !rect.contains(x, y) {
+            if p.whole_pixel || !rect.contains(x, y) {
                 continue;
             }
             let grid = &self.grids[self.layers[i] as usize];
@@ -205,19 +464,19 @@ impl DiscontinuityBuffer {
                     let index = row + tx * sx;
                     let cell = &grid[index];
                     // A neighbour with a point per sample shows this point's sample.
-                    let (q, edge) = match cell.material {
+                    let (q, edge) = match cell.material() {
                         m if m != EMPTY && m & EDGE != 0 => {
                             let at = (m & !EDGE) as usize * aa + p.sample as usize;
                             (&self.edge_cells[at], Some(at))
                         }
                         _ => (cell, None),
                     };
-                    // The centre always counts (a normal's dot product with itself can round
-                    // below a threshold of 1), so count > 0.
+                    // The centre is the point's own pixel, whose cell marks its slot of sample
+                    // cells: its own sample's cell, which always counts (see `whole_pixels`).
                     if index == centre || similar(p, q, settings) {
-                        sum[0] += w * q.diffuse_radiance;
+                        sum[0] += w * q.diffuse_radiance();
                         if glossy {
-                            let [g, s] = edge.map_or(glossy_grid[index], |at| self.edge_glossy[at]);
+                            let [g, s] = edge.map_or(glossy_grid[index], |at| self.edge_glossy[at]).get();
                             sum[1] += w * g;
                             sum[2] += w * s;
                         }
@@ -251,17 +510,17 @@ impl DiscontinuityBuffer {
             let layer = self.layers[i] as usize;
             let d = values.diffuse_radiance[i];
             if p.whole_pixel {
-                self.grids[layer][p.pixel as usize].diffuse_radiance = d;
+                self.grids[layer][p.pixel as usize].set_diffuse_radiance(d);
                 if glossy {
-                    self.glossy_grids[layer][p.pixel as usize] = values.glossy_radiance[i];
+                    self.glossy_grids[layer][p.pixel as usize] = GlossyCell::new(values.glossy_radiance[i]);
                 }
             } else {
                 // The pixel's slot of N cells ([`DiscontinuityBuffer::index`]).
-                let slot = self.grids[layer][p.pixel as usize].material & !EDGE;
+                let slot = self.grids[layer][p.pixel as usize].material() & !EDGE;
                 let at = slot as usize * aa + p.sample as usize;
-                self.edge_cells[at].diffuse_radiance = d;
+                self.edge_cells[at].set_diffuse_radiance(d);
                 if glossy {
-                    self.edge_glossy[at] = values.glossy_radiance[i];
+                    self.edge_glossy[at] = GlossyCell::new(values.glossy_radiance[i]);
                 }
             }
         }
@@ -283,28 +542,25 @@ impl DiscontinuityBuffer {
             };
             last = Some((p.path, layer));
             self.layers.push(layer);
-            let cell = Cell {
-                normal: p.normal,
-                depth: p.depth,
-                diffuse_radiance: p.diffuse_radiance,
-                material: p.material,
-            };
-            let g = glossy.get(i).copied();
+            let cell = Cell::new(p.normal, p.depth, p.diffuse_radiance, p.material);
+            let g = glossy.get(i).copied().map(GlossyCell::new);
             let slot = &mut self.grids[layer as usize][p.pixel as usize];
             if p.whole_pixel {
                 *slot = cell;
+                self.whole_points[layer as usize][p.pixel as usize] = i as u32;
                 if let Some(g) = g {
                     self.glossy_grids[layer as usize][p.pixel as usize] = g;
                 }
                 continue;
             }
-            if slot.material == EMPTY || slot.material & EDGE == 0 {
+            if slot.material() == EMPTY || slot.material() & EDGE == 0 {
                 // The pixel's first sample point in this layer opens its slot.
-                slot.material = EDGE | (self.edge_cells.len() / aa) as u32;
+                slot.set_material(EDGE | (self.edge_cells.len() / aa) as u32);
+                self.edge_bits[layer as usize].set(p.pixel as usize);
                 self.edge_cells.resize(self.edge_cells.len() + aa, EMPTY_CELL);
-                self.edge_glossy.resize(self.edge_glossy.len() + aa, [Vec3::ZERO; 2]);
+                self.edge_glossy.resize(self.edge_glossy.len() + aa, GlossyCell::ZERO);
             }
-            let at = (slot.material & !EDGE) as usize * aa + p.sample as usize;
+            let at = (slot.material() & !EDGE) as usize * aa + p.sample as usize;
             self.edge_cells[at] = cell;
             if let Some(g) = g {
                 self.edge_glossy[at] = g;
@@ -321,16 +577,21 @@ impl DiscontinuityBuffer {
         if self.grids.len() < self.paths.len() {
             self.grids.push(Vec::new());
             self.glossy_grids.push(Vec::new());
+            self.whole_points.push(Vec::new());
+            self.edge_bits.push(EdgeBits::default());
         }
-        let grid = &mut self.grids[self.paths.len() - 1];
+        let layer = self.paths.len() - 1;
+        let grid = &mut self.grids[layer];
         grid.clear();
         grid.resize(region.pixel_count(), EMPTY_CELL);
-        let glossy_grid = &mut self.glossy_grids[self.paths.len() - 1];
+        self.whole_points[layer].resize(region.pixel_count(), 0);
+        self.edge_bits[layer].reset(region.pixel_count());
+        let glossy_grid = &mut self.glossy_grids[layer];
         glossy_grid.clear();
         if glossy {
-            glossy_grid.resize(region.pixel_count(), [Vec3::ZERO; 2]);
+            glossy_grid.resize(region.pixel_count(), GlossyCell::ZERO);
         }
-        (self.paths.len() - 1) as u32
+        layer as u32
     }
 }
 
@@ -338,9 +599,9 @@ impl DiscontinuityBuffer {
 /// distances close enough.
 #[inline]
 fn similar(a: &FilterSample, b: &Cell, settings: &FilterSettings) -> bool {
-    a.material == b.material
-        && a.normal.dot(b.normal) >= settings.min_normal_cos
-        && (a.depth - b.depth).abs() <= settings.max_depth_ratio * a.depth
+    a.material == b.material()
+        && a.normal.dot(b.normal()) >= settings.min_normal_cos
+        && (a.depth - b.depth()).abs() <= settings.max_depth_ratio * a.depth
 }
 
 #[cfg(test)]
@@ -383,6 +644,142 @@ mod tests {
 
     fn run(points: &[FilterSample], region: &PixelRect, tile: &Tile) -> Vec<Vec3> {
         filter(points, region, tile, &Interleave { n: 3, m: 3, coarse: 1, aa: 1 }).diffuse_radiance
+    }
+
+    /// The filter from its definition, one point and one tap at a time: for each point of
+    /// the rectangle, the weighted mean over the level's taps inside the region, in row-major
+    /// order, of the point of the tap's pixel on the same camera path that stands for the
+    /// point's sample (its whole pixel's, or its own sample's), where it is similar or is the
+    /// point itself; the first level's results replace the values the second level reads.
+    fn reference(
+        points: &[FilterSample],
+        glossy: &[[Vec3; 2]],
+        region: &PixelRect,
+        tile: &Tile,
+        il: &Interleave,
+    ) -> (Vec<Vec3>, Vec<[Vec3; 2]>) {
+        let settings = FilterSettings::default();
+        let values: Vec<(Vec3, [Vec3; 2])> = (0..points.len())
+            .map(|i| (points[i].diffuse_radiance, glossy.get(i).copied().unwrap_or_default()))
+            .collect();
+        let tap_point = |p: &FilterSample, x: u32, y: u32| {
+            points.iter().position(|q| {
+                q.path == p.path
+                    && q.pixel == region.index(x, y) as u32
+                    && (q.whole_pixel || q.sample == p.sample)
+            })
+        };
+        let level = |values: &[(Vec3, [Vec3; 2])],
+                     rect: &PixelRect,
+                     window: Window,
+                     stride: (u32, u32),
+                     tent: bool| {
+            let mut out = values.to_vec();
+            let (([l, r], [u, d]), (sx, sy)) = (window, stride);
+            for (i, p) in points.iter().enumerate() {
+                let (x, y) = region.pixel(p.pixel);
+                if !rect.contains(x, y) {
+                    continue;
+                }
+                let (mut sum, mut count) = ((Vec3::ZERO, [Vec3::ZERO; 2]), 0.0f32);
+                for ty in -(u as i64)..=d as i64 {
+                    for tx in -(l as i64)..=r as i64 {
+                        let (qx, qy) = (x as i64 + tx * sx as i64, y as i64 + ty * sy as i64);
+                        if !region.contains(qx.max(0) as u32, qy.max(0) as u32) || qx < 0 || qy < 0 {
+                            continue;
+                        }
+                        let Some(j) = tap_point(p, qx as u32, qy as u32) else { continue };
+                        let q = &points[j];
+                        let cell = Cell::new(q.normal, q.depth, q.diffuse_radiance, q.material);
+                        if j == i || similar(p, &cell, &settings) {
+                            let weight =
+                                |t: i64| if tent { il.coarse_tent(t.unsigned_abs() as u32) } else { 1.0 };
+                            let w = weight(tx) * weight(ty);
+                            let (dq, [gq, sq]) = values[j];
+                            sum = (sum.0 + w * dq, [sum.1[0] + w * gq, sum.1[1] + w * sq]);
+                            count += w;
+                        }
+                    }
+                }
+                out[i] = (sum.0 / count, [sum.1[0] / count, sum.1[1] / count]);
+            }
+            out
+        };
+        let values = if il.coarse == 1 {
+            level(&values, &tile.rect, il.window(), (1, 1), false)
+        } else {
+            let fine = level(&values, region, il.window(), (1, 1), false);
+            level(&fine, &tile.rect, il.coarse_window(), (il.n, il.m), true)
+        };
+        (values.iter().map(|v| v.0).collect(), values.iter().map(|v| v.1).collect())
+    }
+
+    /// Eight whole pixels at a time and the sample points one at a time give the definition's
+    /// values bit for bit: random surfaces with edges, two camera paths, pixels with a point
+    /// per sample among whole ones, glossy terms, a tile on the region's border (the image's).
+    #[test]
+    fn the_filter_is_its_definition() {
+        let mut state = 0x2545_f491u32;
+        let mut random = move || {
+            state = crate::sampling::hash32(state.wrapping_add(0x9e37_79b9));
+            state as f32 / u32::MAX as f32
+        };
+        for (aa, coarse) in [(1, 1), (4, 1), (1, 3), (4, 3)] {
+            let il = Interleave { n: 3, m: 3, coarse, aa };
+            let region = PixelRect { x0: 3, y0: 2, x1: 3 + 37, y1: 2 + 29 };
+            let tile = Tile { index: 0, rect: PixelRect { x0: 3, y0: 2, x1: 30, y1: 23 } };
+            let mut points = Vec::new();
+            for path in [1, 2] {
+                for pixel in 0..region.pixel_count() as u32 {
+                    let (x, y) = region.pixel(pixel);
+                    if path == 2 && (x + y) % 3 != 0 {
+                        continue;
+                    }
+                    let whole = aa == 1 || random() < 0.8;
+                    for sample in 0..if whole { 1 } else { aa } {
+                        let side = (x * 7 + y * 3) % 11 < 5;
+                        let normal = Vec3::new(random() * 0.3, 1.0, random() * 0.3).normalize();
+                        points.push(FilterSample {
+                            pixel,
+                            sample: if whole { (random() * aa as f32) as u32 % aa } else { sample },
+                            whole_pixel: whole,
+                            path,
+                            normal: if side { normal } else { Vec3::new(normal.y, normal.x, normal.z) },
+                            depth: 1.0 + random() * if random() < 0.1 { 1.0 } else { 0.01 },
+                            material: u32::from(random() < 0.05),
+                            diffuse_radiance: Vec3::new(random(), random(), random()) * 10.0,
+                        });
+                    }
+                }
+            }
+            let glossy: Vec<[Vec3; 2]> = points
+                .iter()
+                .map(|_| [Vec3::new(random(), random(), random()), Vec3::splat(random())])
+                .collect();
+            for glossy in [&[][..], &glossy[..]] {
+                let mut out = Filtered::default();
+                DiscontinuityBuffer::default().filter(
+                    &region,
+                    &tile,
+                    &il,
+                    &FilterSettings::default(),
+                    (&points, glossy),
+                    &mut out,
+                );
+                let (d, g) = reference(&points, glossy, &region, &tile, &il);
+                for (i, p) in points.iter().enumerate() {
+                    let (x, y) = region.pixel(p.pixel);
+                    if tile.rect.contains(x, y) {
+                        let what =
+                            format!("aa {aa}, coarse {coarse}, glossy {}, point {i}", !glossy.is_empty());
+                        assert_eq!(out.diffuse_radiance[i], d[i], "{what}");
+                        if !glossy.is_empty() {
+                            assert_eq!(out.glossy_radiance[i], g[i], "{what}");
+                        }
+                    }
+                }
+            }
+        }
     }
 
     #[test]
