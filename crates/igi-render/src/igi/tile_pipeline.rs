@@ -194,10 +194,63 @@ pub struct TileScratch {
     split: Vec<WholePixel>,
     /// A fine set's shading points (set and lighting group, index) in the order they are lit.
     order: Vec<(u64, u32)>,
-    filter_samples: Vec<FilterSample>,
-    glossy_radiance: Vec<[Vec3; 2]>,
+    /// The region's camera points as `compose` reads them, point by point in three arrays
+    /// ([`ComposedPoints`]), their pixels indices in the region.
+    composed: ComposedPoints,
     filtered: Filtered,
     filter: DiscontinuityBuffer,
+}
+
+/// What filtering and composing read of shading points, point by point in three arrays: what
+/// the filter reads (with D + the compensation's light), the glossy terms G and S, and each
+/// point's share of its pixel. Far smaller than the points, and read in order.
+#[derive(Clone, Debug, Default)]
+struct ComposedPoints {
+    samples: Vec<FilterSample>,
+    glossy_radiance: Vec<[Vec3; 2]>,
+    shares: Vec<PixelShare>,
+}
+
+impl ComposedPoints {
+    fn clear(&mut self) {
+        self.samples.clear();
+        self.glossy_radiance.clear();
+        self.shares.clear();
+    }
+
+    fn push(&mut self, (sample, glossy_radiance, share): (FilterSample, [Vec3; 2], PixelShare)) {
+        self.samples.push(sample);
+        self.glossy_radiance.push(glossy_radiance);
+        self.shares.push(share);
+    }
+
+    /// Appends the points `range` of `other`, their pixel indices shifted by `shift` (wrapping:
+    /// a shift into a region before the tile's first pixel is negative).
+    fn extend_from(&mut self, other: &Self, range: std::ops::Range<usize>, shift: u32) {
+        self.samples.extend(
+            other.samples[range.clone()]
+                .iter()
+                .map(|s| FilterSample { pixel: s.pixel.wrapping_add(shift), ..*s }),
+        );
+        self.glossy_radiance.extend_from_slice(&other.glossy_radiance[range.clone()]);
+        self.shares.extend_from_slice(&other.shares[range]);
+    }
+}
+
+/// A shading point's share of its pixel, beside its filtered terms: pixel += coverage ·
+/// throughput · (ρ_d · D̃ + exact diffuse + ρ_s · G̃ + S̃ + exact glossy).
+#[derive(Clone, Copy, Debug)]
+struct PixelShare {
+    /// Diffuse reflectance ρ_d and glossy reflectance ρ_s ([`ShadingPoint`]).
+    albedo: Vec3,
+    glossy: Vec3,
+    /// [`ShadingPoint::exact`].
+    exact: [Vec3; 2],
+    throughput: Vec3,
+    /// Samples of the pixel the point stands for.
+    coverage: f32,
+    /// The point is the camera ray's own hit (what the diffuse layer holds).
+    camera_path: bool,
 }
 
 /// The camera paths' own points of `points`: the compensation's points only carry light to
@@ -211,12 +264,11 @@ fn camera_points(points: &[ShadingPoint]) -> impl Iterator<Item = &ShadingPoint>
 #[derive(Debug, Default)]
 pub struct LitTile {
     tile: Tile,
-    /// The camera paths' shading points, lit, with the compensation's light folded in; their
-    /// pixels are indices in the tile.
-    points: Vec<ShadingPoint>,
-    /// Indices of `points` by pixel, stable, and where each pixel's run starts (one more entry
-    /// than pixels).
-    by_pixel: Vec<u32>,
+    /// The camera paths' shading points, lit, with the compensation's light folded in, as
+    /// filtering and composing read them, by pixel (stable, so each pixel keeps the order of
+    /// its points, which its sum in `compose` follows); their pixels are indices in the tile.
+    points: ComposedPoints,
+    /// Where each pixel's run of points starts (one more entry than pixels).
     pixel_start: Vec<u32>,
     /// Emission and sky seen, per pixel of the tile and sample.
     emitted: Vec<Vec3>,
@@ -284,11 +336,13 @@ impl<'a> TilePipeline<'a> {
         let (rays, mut times) = self.light_region(&region, scratch);
         let mut clock = Instant::now();
         self.fold_compensation(&mut scratch.points);
-        let points = std::mem::take(&mut scratch.points);
+        scratch.composed.clear();
+        for p in camera_points(&scratch.points) {
+            scratch.composed.push(self.composed(p, p.state.pixel));
+        }
         let emitted = std::mem::take(&mut scratch.emitted);
-        let view: Vec<_> = camera_points(&points).map(|p| (p.state.pixel, p)).collect();
-        let radiance = self.compose(&tile, &region, &view, (&region, &emitted), scratch);
-        (scratch.points, scratch.emitted) = (points, emitted);
+        let radiance = self.compose(&tile, &region, (&region, &emitted), scratch);
+        scratch.emitted = emitted;
         times.lap(Phase::Filter, &mut clock);
         TileOutput::encode(tile, radiance, self.pixels, &self.tone_map, rays, times)
     }
@@ -300,35 +354,67 @@ impl<'a> TilePipeline<'a> {
         (lit.rays, lit.times) = self.light_region(&tile.rect, scratch);
         lit.tile = tile;
         self.fold_compensation(&mut scratch.points);
-        // The camera paths' points and the emission move to the lit tile, and its old buffers
-        // become the scratch's.
-        scratch.points.retain(|p| p.state.path & COMPENSATION == 0);
-        std::mem::swap(&mut scratch.points, &mut lit.points);
+        // The emission moves to the lit tile, and its old buffer becomes the scratch's.
         std::mem::swap(&mut scratch.emitted, &mut lit.emitted);
-        // The points by pixel (a counting sort, stable, so each pixel keeps the order of its
-        // points, which its sum in `compose` follows): a neighbour's filter takes the rows of
-        // its apron as runs. `pixel_start[p + 1]` counts pixel p's points; summed, `pixel_start[p]`
-        // is where p's run starts and, as the points are placed, its end; shifted up one, the
-        // runs' ends are their successors' starts.
-        let (points, pixel_start, by_pixel) = (&lit.points, &mut lit.pixel_start, &mut lit.by_pixel);
+        // The camera paths' points by pixel (a counting sort, stable): a neighbour's filter
+        // takes the rows of its apron as runs. `pixel_start[p + 1]` counts pixel p's points;
+        // summed, `pixel_start[p]` is where p's run starts and, as the points are placed (read
+        // in order, written where they belong), its end; shifted up one, the runs' ends are
+        // their successors' starts.
+        let pixel_start = &mut lit.pixel_start;
         let pixels = tile.rect.pixel_count();
         pixel_start.clear();
         pixel_start.resize(pixels + 1, 0);
-        for p in points {
+        let mut count = 0;
+        for p in camera_points(&scratch.points) {
             pixel_start[p.state.pixel as usize + 1] += 1;
+            count += 1;
         }
         for i in 0..pixels {
             pixel_start[i + 1] += pixel_start[i];
         }
-        by_pixel.clear();
-        by_pixel.resize(points.len(), 0);
-        for (i, p) in points.iter().enumerate() {
+        // (The first point fills the arrays to their length before each is written in place.)
+        let Some(first) = camera_points(&scratch.points).next() else {
+            lit.points.clear();
+            return;
+        };
+        let (sample, glossy, share) = self.composed(first, first.state.pixel);
+        let out = &mut lit.points;
+        out.samples.resize(count, sample);
+        out.glossy_radiance.resize(count, glossy);
+        out.shares.resize(count, share);
+        for p in camera_points(&scratch.points) {
             let at = &mut pixel_start[p.state.pixel as usize];
-            by_pixel[*at as usize] = i as u32;
+            let i = *at as usize;
+            (out.samples[i], out.glossy_radiance[i], out.shares[i]) = self.composed(p, p.state.pixel);
             *at += 1;
         }
         pixel_start.copy_within(0..pixels, 1);
         pixel_start[0] = 0;
+    }
+
+    /// `p`, at pixel `pixel`, as filtering and composing read it ([`ComposedPoints`]).
+    #[inline]
+    fn composed(&self, p: &ShadingPoint, pixel: u32) -> (FilterSample, [Vec3; 2], PixelShare) {
+        let sample = FilterSample {
+            pixel,
+            sample: p.state.sample,
+            whole_pixel: p.state.coverage == self.interleave.aa,
+            path: p.state.path,
+            normal: p.ns,
+            depth: p.depth,
+            material: p.material,
+            diffuse_radiance: p.diffuse_radiance + p.compensation,
+        };
+        let share = PixelShare {
+            albedo: p.albedo,
+            glossy: p.glossy,
+            exact: p.exact,
+            throughput: p.state.throughput,
+            coverage: p.state.coverage as f32,
+            camera_path: p.state.path == CAMERA_PATH,
+        };
+        (sample, p.glossy_radiance, share)
     }
 
     /// The second pass of a frame on one machine: filters and composes `tile` from the lit
@@ -343,7 +429,7 @@ impl<'a> TilePipeline<'a> {
     ) -> TileOutput {
         let mut clock = Instant::now();
         let region = self.interleave.region(&tile, self.size.0, self.size.1);
-        let mut view = Vec::new();
+        scratch.composed.clear();
         for neighbour in grid.tiles_overlapping(&region) {
             let lit = &lit[neighbour.index as usize];
             let rect = &lit.tile.rect;
@@ -351,16 +437,13 @@ impl<'a> TilePipeline<'a> {
             for y in region.y0.max(rect.y0)..region.y1.min(rect.y1) {
                 // The row's pixels are consecutive in the tile and in the region.
                 let (first, last) = (rect.index(x0, y), rect.index(x1 - 1, y) + 1);
-                let shift = region.index(x0, y) as u32;
+                let shift = (region.index(x0, y) as u32).wrapping_sub(first as u32);
                 let run = lit.pixel_start[first] as usize..lit.pixel_start[last] as usize;
-                view.extend(lit.by_pixel[run].iter().map(|&i| {
-                    let p = &lit.points[i as usize];
-                    (p.state.pixel - first as u32 + shift, p)
-                }));
+                scratch.composed.extend_from(&lit.points, run, shift);
             }
         }
         let own = &lit[tile.index as usize];
-        let radiance = self.compose(&tile, &region, &view, (&tile.rect, &own.emitted), scratch);
+        let radiance = self.compose(&tile, &region, (&tile.rect, &own.emitted), scratch);
         let mut times = own.times;
         times.lap(Phase::Filter, &mut clock);
         TileOutput::encode(tile, radiance, self.pixels, &self.tone_map, own.rays, times)
@@ -424,53 +507,29 @@ impl<'a> TilePipeline<'a> {
     /// Filters the diffuse and glossy radiance and composes the tile's pixels, and for a
     /// layered frame their [`DiffuseLayer`](crate::image::frame_image::DiffuseLayer) part: the
     /// diffuse reflection (ρ_d·D and the exact lights' diffuse term) of the camera rays' own
-    /// hits. `points` are the region's camera paths' points with their pixels' indices in
-    /// `region` (the compensation's light folded in: [`TilePipeline::fold_compensation`]),
-    /// `emitted` the
-    /// emission and sky seen per pixel and sample of a rectangle holding the tile.
+    /// hits. The region's camera paths' points are in `s.composed`, their pixels' indices in
+    /// `region` (the compensation's light folded in: [`TilePipeline::fold_compensation`]);
+    /// `emitted` is the emission and sky seen per pixel and sample of a rectangle holding the
+    /// tile.
     fn compose(
         &self,
         tile: &Tile,
         region: &PixelRect,
-        points: &[(u32, &ShadingPoint)],
         (emitted_rect, emitted): (&PixelRect, &[Vec3]),
         s: &mut TileScratch,
     ) -> (Vec<Vec3>, Option<Vec<Vec3>>) {
-        let TileScratch { filter_samples, glossy_radiance, filtered, filter, .. } = s;
-        // One pass gathers what the filter reads; the points are large and a tile's do not fit
-        // in the cache, so every pass over them costs. Most tiles have no glossy point; their
-        // glossy term stays out of the filter.
-        filter_samples.clear();
-        glossy_radiance.clear();
-        filtered.diffuse_radiance.clear();
-        let mut any_glossy = false;
-        for &(pixel, p) in points {
-            any_glossy |= p.glossy_radiance != [Vec3::ZERO; 2];
-            glossy_radiance.push(p.glossy_radiance);
-            let diffuse_radiance = p.diffuse_radiance + p.compensation;
-            match self.filter {
-                Some(_) => filter_samples.push(FilterSample {
-                    pixel,
-                    sample: p.state.sample,
-                    whole_pixel: p.state.coverage == self.interleave.aa,
-                    path: p.state.path,
-                    normal: p.ns,
-                    depth: p.depth,
-                    material: p.material,
-                    diffuse_radiance,
-                }),
-                None => filtered.diffuse_radiance.push(diffuse_radiance),
-            }
-        }
-        if !any_glossy {
-            glossy_radiance.clear();
-        }
+        let TileScratch { composed, filtered, filter, .. } = s;
+        // Most tiles have no glossy point; their glossy term stays out of the filter.
+        let any_glossy = composed.glossy_radiance.iter().any(|g| *g != [Vec3::ZERO; 2]);
+        let glossy_radiance = if any_glossy { &composed.glossy_radiance[..] } else { &[] };
         match &self.filter {
             Some(settings) => {
-                let input = (&filter_samples[..], &glossy_radiance[..]);
+                let input = (&composed.samples[..], glossy_radiance);
                 filter.filter(region, tile, &self.interleave, settings, input, filtered);
             }
             None => {
+                filtered.diffuse_radiance.clear();
+                filtered.diffuse_radiance.extend(composed.samples.iter().map(|p| p.diffuse_radiance));
                 filtered.glossy_radiance.clear();
                 filtered.glossy_radiance.extend_from_slice(glossy_radiance);
             }
@@ -483,14 +542,15 @@ impl<'a> TilePipeline<'a> {
             let (x, y) = region.pixel(pixel);
             tile.rect.contains(x, y).then(|| tile.rect.index(x, y))
         };
-        for (i, (&(pixel, p), d)) in points.iter().zip(&filtered.diffuse_radiance).enumerate() {
-            if let Some(pixel) = tile_index(pixel) {
+        let points = composed.samples.iter().zip(&composed.shares);
+        for (i, ((sample, p), d)) in points.zip(&filtered.diffuse_radiance).enumerate() {
+            if let Some(pixel) = tile_index(sample.pixel) {
                 let g = filtered.glossy_radiance.get(i).map_or(Vec3::ZERO, |[g, s]| p.glossy * *g + *s);
-                let (coverage, [exact_diffuse, exact_glossy]) = (p.state.coverage as f32, p.exact);
+                let (coverage, [exact_diffuse, exact_glossy]) = (p.coverage, p.exact);
                 let diffuse = p.albedo * *d + exact_diffuse;
-                pixels[pixel] += coverage * p.state.throughput * (diffuse + g + exact_glossy);
+                pixels[pixel] += coverage * p.throughput * (diffuse + g + exact_glossy);
                 // Only the camera ray's own hit: what a mirror or glass shows moves with the view.
-                if let (Some(layer), CAMERA_PATH) = (&mut layer, p.state.path) {
+                if let (Some(layer), true) = (&mut layer, p.camera_path) {
                     layer[pixel] += coverage * diffuse;
                 }
             }
