@@ -15,9 +15,9 @@
 //!
 //! The whole pixels are filtered eight neighbours of a row at a time (SIMD lanes: eight cells
 //! of 32 bytes turned into vectors of their fields by one transpose), the points of pixels
-//! with a point per sample one at a time; both add the same taps in the same order, so the
-//! values are the definition's bit for bit (tested against it; ARCHITECTURE.md, "Eight whole
-//! pixels at a time in the discontinuity filter").
+//! with a point per sample eight samples of a pixel at a time; every lane adds the same taps
+//! in the same order as the definition, so the values are its own bit for bit (tested against
+//! it; ARCHITECTURE.md, "Eight whole pixels at a time in the discontinuity filter").
 
 use crate::frame::FilterSettings;
 use crate::igi::interleave::{Interleave, Window};
@@ -82,18 +82,6 @@ impl Cell {
         Self([n.x, n.y, n.z, depth, d.x, d.y, d.z, f32::from_bits(material)])
     }
 
-    fn normal(&self) -> Vec3 {
-        Vec3::from_slice(&self.0[NORMAL..NORMAL + 3])
-    }
-
-    fn depth(&self) -> f32 {
-        self.0[DEPTH]
-    }
-
-    fn diffuse_radiance(&self) -> Vec3 {
-        Vec3::from_slice(&self.0[DIFFUSE..DIFFUSE + 3])
-    }
-
     fn set_diffuse_radiance(&mut self, d: Vec3) {
         d.write_to_slice(&mut self.0[DIFFUSE..DIFFUSE + 3]);
     }
@@ -116,10 +104,6 @@ impl GlossyCell {
 
     fn new([g, s]: [Vec3; 2]) -> Self {
         Self([g.x, g.y, g.z, s.x, s.y, s.z, 0.0, 0.0])
-    }
-
-    fn get(&self) -> [Vec3; 2] {
-        [Vec3::from_slice(&self.0[0..3]), Vec3::from_slice(&self.0[3..6])]
     }
 }
 
@@ -173,9 +157,11 @@ pub struct DiscontinuityBuffer {
     /// so eight neighbouring cells say at once whether one of them must be looked up
     /// elsewhere.
     edge_bits: Vec<EdgeBits>,
-    /// The cells of pixels with a point per sample, N per slot, and their G and S.
+    /// The cells of pixels with a point per sample, N per slot, their G and S, and the index
+    /// of each cell's point.
     edge_cells: Vec<Cell>,
     edge_glossy: Vec<GlossyCell>,
+    edge_points: Vec<u32>,
     /// Layer of each point.
     layers: Vec<u32>,
 }
@@ -274,10 +260,11 @@ impl DiscontinuityBuffer {
     fn level(&self, input: &LevelInput, rect: &PixelRect, level: Level, out: &mut Filtered) {
         if out.glossy_radiance.is_empty() {
             self.whole_pixels::<false>(input, rect, level, out);
+            self.sample_points::<false>(input, rect, level, out);
         } else {
             self.whole_pixels::<true>(input, rect, level, out);
+            self.sample_points::<true>(input, rect, level, out);
         }
-        self.sample_points(input, rect, level, out);
     }
 
     /// [`DiscontinuityBuffer::level`] for the points that stand for their whole pixel, eight
@@ -296,8 +283,6 @@ impl DiscontinuityBuffer {
         let (wx, wy) = level.weights();
         let width = region.width() as i64;
         let lane_offsets = I32x8::from_array(std::array::from_fn(|k| k as i32));
-        let (min_cos, max_ratio) =
-            (F32x8::splat(settings.min_normal_cos), F32x8::splat(settings.max_depth_ratio));
         for layer in 0..self.paths.len() {
             let (grid, glossy_grid) = (&self.grids[layer], &self.glossy_grids[layer]);
             let (whole, edge_map) = (&self.whole_points[layer], &self.edge_bits[layer]);
@@ -316,12 +301,8 @@ impl DiscontinuityBuffer {
                     }
                     let c =
                         F32x8::transpose(std::array::from_fn(|k| &grid[(centre + k).min(grid.len() - 1)].0));
-                    let (cn, cdepth, cmaterial) = ([c[0], c[1], c[2]], c[DEPTH], c[MATERIAL].to_bits());
-                    let max_step = max_ratio * cdepth;
-                    let active_mask = M32x8::from_bitmask(active);
-                    let mut sum = [F32x8::ZERO; 3];
-                    let mut glossy_sum = [F32x8::ZERO; 6];
-                    let mut count = F32x8::ZERO;
+                    let centres = Centres::new(&c, active, settings);
+                    let mut sums = TapSums::<GLOSSY>::ZERO;
                     let xs = I32x8::splat(x as i32) + lane_offsets;
                     for (ty, &w_y) in wy.iter().enumerate() {
                         let dy = ty as i64 - i64::from(up);
@@ -379,114 +360,106 @@ impl DiscontinuityBuffer {
                                     });
                                 F32x8::transpose(rows)
                             };
-                            let similar = if dx == 0 && dy == 0 {
-                                // The centre always counts (a normal's dot product with itself
-                                // can round below a threshold of 1), so count > 0.
-                                active_mask
-                            } else {
-                                let dot = cn[0] * q[0] + cn[1] * q[1] + cn[2] * q[2];
-                                q[MATERIAL].to_bits().eq(cmaterial)
-                                    & dot.ge(min_cos)
-                                    & (cdepth - q[DEPTH]).abs().le(max_step)
-                                    & inside
-                                    & active_mask
+                            let similar = match dx == 0 && dy == 0 {
+                                true => centres.active,
+                                false => centres.similar(&q) & inside,
                             };
-                            if similar.none() {
-                                continue;
-                            }
-                            let w = F32x8::splat(w_x * w_y);
-                            for (axis, s) in sum.iter_mut().enumerate() {
-                                *s = F32x8::select(similar, *s + w * q[DIFFUSE + axis], *s);
-                            }
-                            count = F32x8::select(similar, count + w, count);
-                            if GLOSSY {
-                                let g = if contiguous {
+                            sums.add(similar, w_x * w_y, &q, || {
+                                if contiguous {
                                     let cells = &glossy_grid[block..block + 8];
                                     F32x8::transpose(std::array::from_fn(|k| &cells[k].0))
                                 } else {
-                                    let rows: [&[f32; 8]; 8] =
-                                        std::array::from_fn(|k| match edge_bits >> k & 1 {
-                                            1 => &self.edge_glossy[edge_slot(k)].0,
-                                            _ => &glossy_grid[at(k)].0,
-                                        });
-                                    F32x8::transpose(rows)
-                                };
-                                for (axis, s) in glossy_sum.iter_mut().enumerate() {
-                                    *s = F32x8::select(similar, *s + w * g[axis], *s);
+                                    F32x8::transpose(std::array::from_fn(|k| match edge_bits >> k & 1 {
+                                        1 => &self.edge_glossy[edge_slot(k)].0,
+                                        _ => &glossy_grid[at(k)].0,
+                                    }))
                                 }
-                            }
+                            });
                         }
                     }
-                    let d = sum.map(|s| (s / count).to_array());
-                    let g = glossy_sum.map(|s| (s / count).to_array());
-                    for k in (0..lanes).filter(|k| active >> k & 1 != 0) {
-                        let i = whole[centre + k] as usize;
-                        out.diffuse_radiance[i] = Vec3::new(d[0][k], d[1][k], d[2][k]);
-                        if GLOSSY {
-                            out.glossy_radiance[i] =
-                                [Vec3::new(g[0][k], g[1][k], g[2][k]), Vec3::new(g[3][k], g[4][k], g[5][k])];
-                        }
-                    }
+                    sums.write(active, |k| whole[centre + k] as usize, out);
                 }
             }
         }
     }
 
     /// [`DiscontinuityBuffer::level`] for the points of pixels whose samples have points of
-    /// their own, one at a time.
-    fn sample_points(&self, input: &LevelInput, rect: &PixelRect, level: Level, out: &mut Filtered) {
-        let LevelInput { region, settings, points, aa } = *input;
-        let glossy = !out.glossy_radiance.is_empty();
-        let (([left, right], [up, down]), (sx, sy)) = (level.window, level.stride);
+    /// their own, eight samples of a pixel at a time: a tap of them is one whole pixel's cell,
+    /// the same for all, or the tap pixel's cells of the same eight samples, side by side.
+    fn sample_points<const GLOSSY: bool>(
+        &self,
+        input: &LevelInput,
+        rect: &PixelRect,
+        level: Level,
+        out: &mut Filtered,
+    ) {
+        let LevelInput { region, settings, aa, .. } = *input;
+        let (([left, _], [up, _]), (sx, sy)) = (level.window, level.stride);
         let (wx, wy) = level.weights();
-        let width = region.width() as usize;
-        let (sx, sy) = (sx as usize, sy as usize);
-        for (i, p) in points.iter().enumerate() {
-            let (x, y) = region.pixel(p.pixel);
-            if p.whole_pixel || !rect.contains(x, y) {
-                continue;
-            }
-            let grid = &self.grids[self.layers[i] as usize];
-            let glossy_grid = &self.glossy_grids[self.layers[i] as usize];
-            // The taps at stride (sx, sy) that lie in the region, as tap numbers from the centre.
-            let (tx0, tx1) =
-                (left.min((x - region.x0) / sx as u32), right.min((region.x1 - 1 - x) / sx as u32));
-            let (ty0, ty1) = (up.min((y - region.y0) / sy as u32), down.min((region.y1 - 1 - y) / sy as u32));
-            let centre = p.pixel as usize;
-            let first = centre - ty0 as usize * sy * width - tx0 as usize * sx;
-            let (wx, wy) = (&wx[(left - tx0) as usize..], &wy[(up - ty0) as usize..]);
-            let mut sum = [Vec3::ZERO; 3];
-            let mut count = 0.0f32;
-            for (ty, &w_y) in wy.iter().enumerate().take((ty0 + ty1 + 1) as usize) {
-                let row = first + ty * sy * width;
-                for (tx, &w_x) in wx.iter().enumerate().take((tx0 + tx1 + 1) as usize) {
-                    let w = w_x * w_y;
-                    let index = row + tx * sx;
-                    let cell = &grid[index];
-                    // A neighbour with a point per sample shows this point's sample.
-                    let (q, edge) = match cell.material() {
-                        m if m != EMPTY && m & EDGE != 0 => {
-                            let at = (m & !EDGE) as usize * aa + p.sample as usize;
-                            (&self.edge_cells[at], Some(at))
+        let width = region.width() as i64;
+        for layer in 0..self.paths.len() {
+            let (grid, glossy_grid) = (&self.grids[layer], &self.glossy_grids[layer]);
+            for y in rect.y0..rect.y1 {
+                for x in rect.x0..rect.x1 {
+                    let m = grid[region.index(x, y)].material();
+                    if m == EMPTY || m & EDGE == 0 {
+                        continue;
+                    }
+                    let own = (m & !EDGE) as usize * aa;
+                    for first_sample in (0..aa).step_by(8) {
+                        // Lanes past the last sample repeat it and take no part.
+                        let lanes = (aa - first_sample).min(8);
+                        let sample = |k: usize| first_sample + k.min(lanes - 1);
+                        let c =
+                            F32x8::transpose(std::array::from_fn(|k| &self.edge_cells[own + sample(k)].0));
+                        let with_point = !c[MATERIAL].to_bits().eq(I32x8::splat(EMPTY as i32));
+                        let active = with_point.bitmask() & ((1 << lanes) - 1);
+                        if active == 0 {
+                            continue;
                         }
-                        _ => (cell, None),
-                    };
-                    // The centre is the point's own pixel, whose cell marks its slot of sample
-                    // cells: its own sample's cell, which always counts (see `whole_pixels`).
-                    if index == centre || similar(p, q, settings) {
-                        sum[0] += w * q.diffuse_radiance();
-                        if glossy {
-                            let [g, s] = edge.map_or(glossy_grid[index], |at| self.edge_glossy[at]).get();
-                            sum[1] += w * g;
-                            sum[2] += w * s;
+                        let centres = Centres::new(&c, active, settings);
+                        let mut sums = TapSums::<GLOSSY>::ZERO;
+                        for (ty, &w_y) in wy.iter().enumerate() {
+                            let dy = ty as i64 - i64::from(up);
+                            let row = i64::from(y) + dy * i64::from(sy);
+                            if row < i64::from(region.y0) || row >= i64::from(region.y1) {
+                                continue;
+                            }
+                            for (tx, &w_x) in wx.iter().enumerate() {
+                                let dx = (tx as i64 - i64::from(left)) * i64::from(sx);
+                                let column = i64::from(x) + dx;
+                                if column < i64::from(region.x0) || column >= i64::from(region.x1) {
+                                    continue;
+                                }
+                                let index = ((row - i64::from(region.y0)) * width
+                                    + (column - i64::from(region.x0)))
+                                    as usize;
+                                let tap = &grid[index];
+                                let edge = match tap.material() {
+                                    m if m != EMPTY && m & EDGE != 0 => Some((m & !EDGE) as usize * aa),
+                                    _ => None,
+                                };
+                                let q = match edge {
+                                    Some(slot) => F32x8::transpose(std::array::from_fn(|k| {
+                                        &self.edge_cells[slot + sample(k)].0
+                                    })),
+                                    None => tap.0.map(F32x8::splat),
+                                };
+                                let similar = match dx == 0 && dy == 0 {
+                                    true => centres.active,
+                                    false => centres.similar(&q),
+                                };
+                                sums.add(similar, w_x * w_y, &q, || match edge {
+                                    Some(slot) => F32x8::transpose(std::array::from_fn(|k| {
+                                        &self.edge_glossy[slot + sample(k)].0
+                                    })),
+                                    None => glossy_grid[index].0.map(F32x8::splat),
+                                });
+                            }
                         }
-                        count += w;
+                        sums.write(active, |k| self.edge_points[own + first_sample + k] as usize, out);
                     }
                 }
-            }
-            out.diffuse_radiance[i] = sum[0] / count;
-            if glossy {
-                out.glossy_radiance[i] = [sum[1] / count, sum[2] / count];
             }
         }
     }
@@ -533,6 +506,7 @@ impl DiscontinuityBuffer {
         self.layers.clear();
         self.edge_cells.clear();
         self.edge_glossy.clear();
+        self.edge_points.clear();
         let mut last: Option<(u32, u32)> = None;
         for (i, p) in points.iter().enumerate() {
             // Points come in runs of one path: look it up only when it changes.
@@ -559,9 +533,11 @@ impl DiscontinuityBuffer {
                 self.edge_bits[layer as usize].set(p.pixel as usize);
                 self.edge_cells.resize(self.edge_cells.len() + aa, EMPTY_CELL);
                 self.edge_glossy.resize(self.edge_glossy.len() + aa, GlossyCell::ZERO);
+                self.edge_points.resize(self.edge_points.len() + aa, u32::MAX);
             }
             let at = (slot.material() & !EDGE) as usize * aa + p.sample as usize;
             self.edge_cells[at] = cell;
+            self.edge_points[at] = i as u32;
             if let Some(g) = g {
                 self.edge_glossy[at] = g;
             }
@@ -595,18 +571,104 @@ impl DiscontinuityBuffer {
     }
 }
 
-/// The discontinuity test: same material (an empty cell has none), normals and path
-/// distances close enough.
-#[inline]
-fn similar(a: &FilterSample, b: &Cell, settings: &FilterSettings) -> bool {
-    a.material == b.material()
-        && a.normal.dot(b.normal()) >= settings.min_normal_cos
-        && (a.depth - b.depth()).abs() <= settings.max_depth_ratio * a.depth
+/// Eight points being filtered, as vectors of their fields, and which lanes hold one.
+struct Centres {
+    normal: [F32x8; 3],
+    depth: F32x8,
+    material: I32x8,
+    /// The largest depth difference of a similar point: the depth ratio times the depth.
+    max_step: F32x8,
+    min_cos: F32x8,
+    active: M32x8,
+}
+
+impl Centres {
+    /// The centres from their cells' fields `c` (a transpose of eight [`Cell`]s); `active`
+    /// has a bit per lane that holds a point.
+    #[inline(always)]
+    fn new(c: &[F32x8; 8], active: u32, settings: &FilterSettings) -> Self {
+        Self {
+            normal: [c[NORMAL], c[NORMAL + 1], c[NORMAL + 2]],
+            depth: c[DEPTH],
+            material: c[MATERIAL].to_bits(),
+            max_step: F32x8::splat(settings.max_depth_ratio) * c[DEPTH],
+            min_cos: F32x8::splat(settings.min_normal_cos),
+            active: M32x8::from_bitmask(active),
+        }
+    }
+
+    /// The discontinuity test per lane against the cell fields `q`: same material (an empty
+    /// cell has none), normals and path distances close enough; the operations of the
+    /// definition in its order (a·b = a.x·b.x + a.y·b.y + a.z·b.z), so the bits are its own.
+    #[inline(always)]
+    fn similar(&self, q: &[F32x8; 8]) -> M32x8 {
+        let n = &self.normal;
+        let dot = n[0] * q[NORMAL] + n[1] * q[NORMAL + 1] + n[2] * q[NORMAL + 2];
+        q[MATERIAL].to_bits().eq(self.material)
+            & dot.ge(self.min_cos)
+            & (self.depth - q[DEPTH]).abs().le(self.max_step)
+            & self.active
+    }
+}
+
+/// The weighted sums of eight points' similar taps: D, with G and S if `GLOSSY`, and the
+/// weights. Each lane adds its taps in the order they come, as the definition does.
+struct TapSums<const GLOSSY: bool> {
+    diffuse: [F32x8; 3],
+    glossy: [F32x8; 6],
+    count: F32x8,
+}
+
+impl<const GLOSSY: bool> TapSums<GLOSSY> {
+    const ZERO: Self = Self { diffuse: [F32x8::ZERO; 3], glossy: [F32x8::ZERO; 6], count: F32x8::ZERO };
+
+    /// Adds the tap with cell fields `q` and weight `w` to the `similar` lanes, and its glossy
+    /// cells' fields (from `glossy`, read only if some lane is similar).
+    #[inline(always)]
+    fn add(&mut self, similar: M32x8, w: f32, q: &[F32x8; 8], glossy: impl FnOnce() -> [F32x8; 8]) {
+        if similar.none() {
+            return;
+        }
+        let w = F32x8::splat(w);
+        for (axis, s) in self.diffuse.iter_mut().enumerate() {
+            *s = F32x8::select(similar, *s + w * q[DIFFUSE + axis], *s);
+        }
+        self.count = F32x8::select(similar, self.count + w, self.count);
+        if GLOSSY {
+            let g = glossy();
+            for (axis, s) in self.glossy.iter_mut().enumerate() {
+                *s = F32x8::select(similar, *s + w * g[axis], *s);
+            }
+        }
+    }
+
+    /// Writes the means of the lanes in `active` to their points, lane k's point `point(k)`
+    /// (every active lane counted its centre, so its weights are above zero).
+    fn write(self, active: u32, point: impl Fn(usize) -> usize, out: &mut Filtered) {
+        let d = self.diffuse.map(|s| (s / self.count).to_array());
+        let g = self.glossy.map(|s| (s / self.count).to_array());
+        for k in (0..8).filter(|k| active >> k & 1 != 0) {
+            let i = point(k);
+            out.diffuse_radiance[i] = Vec3::new(d[0][k], d[1][k], d[2][k]);
+            if GLOSSY {
+                out.glossy_radiance[i] =
+                    [Vec3::new(g[0][k], g[1][k], g[2][k]), Vec3::new(g[3][k], g[4][k], g[5][k])];
+            }
+        }
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The discontinuity test: same material (an empty cell has none), normals and path
+    /// distances close enough.
+    fn similar(a: &FilterSample, b: &Cell, settings: &FilterSettings) -> bool {
+        a.material == b.material()
+            && a.normal.dot(Vec3::from_slice(&b.0[NORMAL..NORMAL + 3])) >= settings.min_normal_cos
+            && (a.depth - b.0[DEPTH]).abs() <= settings.max_depth_ratio * a.depth
+    }
 
     fn grid_points(region: &PixelRect, f: impl Fn(u32, u32) -> (Vec3, f32, Vec3)) -> Vec<FilterSample> {
         let mut points = Vec::new();
@@ -724,7 +786,7 @@ mod tests {
             state = crate::sampling::hash32(state.wrapping_add(0x9e37_79b9));
             state as f32 / u32::MAX as f32
         };
-        for (aa, coarse) in [(1, 1), (4, 1), (1, 3), (4, 3)] {
+        for (aa, coarse) in [(1, 1), (4, 1), (1, 3), (4, 3), (12, 3)] {
             let il = Interleave { n: 3, m: 3, coarse, aa };
             let region = PixelRect { x0: 3, y0: 2, x1: 3 + 37, y1: 2 + 29 };
             let tile = Tile { index: 0, rect: PixelRect { x0: 3, y0: 2, x1: 30, y1: 23 } };
