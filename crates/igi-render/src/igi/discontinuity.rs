@@ -177,18 +177,59 @@ struct Level {
 }
 
 impl Level {
-    /// The weights of the taps along each axis, from the first tap before the centre to the
-    /// last after it, looked up: computing the tent per tap (two divisions, and two more for
-    /// the tap numbers) was a fifth of the filter's time. Their product is `coarse_weight`'s,
-    /// so the bits are the same.
-    fn weights(&self) -> (Vec<f32>, Vec<f32>) {
+    /// The level's taps, their weights looked up: computing the tent per tap (two divisions,
+    /// and two more for the tap numbers) was a fifth of the filter's time. The product of a
+    /// row's and a column's weight is `coarse_weight`'s, so the bits are the same.
+    fn taps(&self) -> Taps {
         let axis = |before: u32, after: u32| -> Vec<f32> {
             (0..=before + after)
                 .map(|t| self.tent.map_or(1.0, |il| il.coarse_tent(before.abs_diff(t))))
                 .collect()
         };
-        let ([left, right], [up, down]) = self.window;
-        (axis(left, right), axis(up, down))
+        let (([left, right], [up, down]), (sx, sy)) = (self.window, self.stride);
+        Taps {
+            column_weights: axis(left, right),
+            row_weights: axis(up, down),
+            first: (-i64::from(left) * i64::from(sx), -i64::from(up) * i64::from(sy)),
+            stride: (i64::from(sx), i64::from(sy)),
+        }
+    }
+}
+
+/// A level's window of taps, with the weight of each column and row of taps.
+struct Taps {
+    column_weights: Vec<f32>,
+    row_weights: Vec<f32>,
+    /// The offset in pixels of the first tap (left, top), and between taps.
+    first: (i64, i64),
+    stride: (i64, i64),
+}
+
+/// One tap around a pixel: its offset in pixels, the image row it reads and its weight.
+#[derive(Clone, Copy)]
+struct Tap {
+    dx: i64,
+    dy: i64,
+    row: i64,
+    weight: f32,
+}
+
+impl Taps {
+    /// The taps around the pixels of image row `y` whose rows lie in `region`, row by row from
+    /// the top, each row from the left: the order in which the filter adds them.
+    fn around(&self, y: u32, region: &PixelRect) -> impl Iterator<Item = Tap> + '_ {
+        let rows = i64::from(region.y0)..i64::from(region.y1);
+        self.row_weights.iter().enumerate().flat_map(move |(ty, &w_y)| {
+            let dy = self.first.1 + ty as i64 * self.stride.1;
+            let row = i64::from(y) + dy;
+            let columns = if rows.contains(&row) { &self.column_weights[..] } else { &[] };
+            columns.iter().enumerate().map(move |(tx, &w_x)| Tap {
+                dx: self.first.0 + tx as i64 * self.stride.0,
+                dy,
+                row,
+                weight: w_x * w_y,
+            })
+        })
     }
 }
 
@@ -279,8 +320,7 @@ impl DiscontinuityBuffer {
         out: &mut Filtered,
     ) {
         let LevelInput { region, settings, points, aa } = *input;
-        let (([left, _], [up, _]), (sx, sy)) = (level.window, level.stride);
-        let (wx, wy) = level.weights();
+        let taps = level.taps();
         let width = region.width() as i64;
         let lane_offsets = I32x8::from_array(std::array::from_fn(|k| k as i32));
         for layer in 0..self.paths.len() {
@@ -304,78 +344,67 @@ impl DiscontinuityBuffer {
                     let centres = Centres::new(&c, active, settings);
                     let mut sums = TapSums::<GLOSSY>::ZERO;
                     let xs = I32x8::splat(x as i32) + lane_offsets;
-                    for (ty, &w_y) in wy.iter().enumerate() {
-                        let dy = ty as i64 - i64::from(up);
-                        let row = i64::from(y) + dy * i64::from(sy);
-                        if row < i64::from(region.y0) || row >= i64::from(region.y1) {
-                            continue;
-                        }
-                        for (tx, &w_x) in wx.iter().enumerate() {
-                            let dx = (tx as i64 - i64::from(left)) * i64::from(sx);
-                            // Lanes whose tap lies outside the region's columns take no part
-                            // (and read some cell of the grid).
-                            let (tap_x0, tap_x7) = (i64::from(x) + dx, i64::from(x) + dx + 7);
-                            let inside = if tap_x0 >= i64::from(region.x0) && tap_x7 < i64::from(region.x1) {
-                                M32x8::from_bitmask(0xff)
-                            } else {
-                                let tap_x = xs + I32x8::splat(dx as i32);
-                                tap_x.gt(I32x8::splat(region.x0 as i32 - 1))
-                                    & tap_x.lt(I32x8::splat(region.x1 as i32))
-                            };
-                            let first =
-                                (row - i64::from(region.y0)) * width + (tap_x0 - i64::from(region.x0));
-                            let last = grid.len() as i64 - 8;
-                            let block = first.clamp(0, last.max(0)) as usize;
-                            let at = |k: usize| match first >= 0 && first <= last {
-                                true => block + k,
-                                false => (first + k as i64).clamp(0, grid.len() as i64 - 1) as usize,
-                            };
-                            // A neighbour with a point per sample shows each centre's sample.
-                            let edge_bits = match first >= 0 && first <= last {
-                                true => edge_map.eight(block) & inside.bitmask() & active,
-                                false => {
-                                    (0..8)
-                                        .filter(|&k| {
-                                            grid[at(k)].material() != EMPTY
-                                                && grid[at(k)].material() & EDGE != 0
-                                        })
-                                        .fold(0, |bits, k| bits | 1 << k)
-                                        & inside.bitmask()
-                                        & active
-                                }
-                            };
-                            let edge_slot = |k: usize| {
-                                let slot = (grid[at(k)].material() & !EDGE) as usize;
-                                slot * aa + points[whole[centre + k] as usize].sample as usize
-                            };
-                            let contiguous = first >= 0 && first <= last && edge_bits == 0;
-                            let q = if contiguous {
-                                let cells = &grid[block..block + 8];
+                    for Tap { dx, dy, row, weight } in taps.around(y, region) {
+                        // Lanes whose tap lies outside the region's columns take no part
+                        // (and read some cell of the grid).
+                        let (tap_x0, tap_x7) = (i64::from(x) + dx, i64::from(x) + dx + 7);
+                        let inside = if tap_x0 >= i64::from(region.x0) && tap_x7 < i64::from(region.x1) {
+                            M32x8::from_bitmask(0xff)
+                        } else {
+                            let tap_x = xs + I32x8::splat(dx as i32);
+                            tap_x.gt(I32x8::splat(region.x0 as i32 - 1))
+                                & tap_x.lt(I32x8::splat(region.x1 as i32))
+                        };
+                        let first = (row - i64::from(region.y0)) * width + (tap_x0 - i64::from(region.x0));
+                        let last = grid.len() as i64 - 8;
+                        let block = first.clamp(0, last.max(0)) as usize;
+                        let at = |k: usize| match first >= 0 && first <= last {
+                            true => block + k,
+                            false => (first + k as i64).clamp(0, grid.len() as i64 - 1) as usize,
+                        };
+                        // A neighbour with a point per sample shows each centre's sample.
+                        let edge_bits = match first >= 0 && first <= last {
+                            true => edge_map.eight(block) & inside.bitmask() & active,
+                            false => {
+                                (0..8)
+                                    .filter(|&k| {
+                                        grid[at(k)].material() != EMPTY && grid[at(k)].material() & EDGE != 0
+                                    })
+                                    .fold(0, |bits, k| bits | 1 << k)
+                                    & inside.bitmask()
+                                    & active
+                            }
+                        };
+                        let edge_slot = |k: usize| {
+                            let slot = (grid[at(k)].material() & !EDGE) as usize;
+                            slot * aa + points[whole[centre + k] as usize].sample as usize
+                        };
+                        let contiguous = first >= 0 && first <= last && edge_bits == 0;
+                        let q = if contiguous {
+                            let cells = &grid[block..block + 8];
+                            F32x8::transpose(std::array::from_fn(|k| &cells[k].0))
+                        } else {
+                            let rows: [&[f32; 8]; 8] = std::array::from_fn(|k| match edge_bits >> k & 1 {
+                                1 => &self.edge_cells[edge_slot(k)].0,
+                                _ => &grid[at(k)].0,
+                            });
+                            F32x8::transpose(rows)
+                        };
+                        let similar = match dx == 0 && dy == 0 {
+                            true => centres.active,
+                            false => centres.similar(&q) & inside,
+                        };
+                        sums.add(similar, weight, &q, || {
+                            if contiguous {
+                                let cells = &glossy_grid[block..block + 8];
                                 F32x8::transpose(std::array::from_fn(|k| &cells[k].0))
                             } else {
-                                let rows: [&[f32; 8]; 8] =
-                                    std::array::from_fn(|k| match edge_bits >> k & 1 {
-                                        1 => &self.edge_cells[edge_slot(k)].0,
-                                        _ => &grid[at(k)].0,
-                                    });
-                                F32x8::transpose(rows)
-                            };
-                            let similar = match dx == 0 && dy == 0 {
-                                true => centres.active,
-                                false => centres.similar(&q) & inside,
-                            };
-                            sums.add(similar, w_x * w_y, &q, || {
-                                if contiguous {
-                                    let cells = &glossy_grid[block..block + 8];
-                                    F32x8::transpose(std::array::from_fn(|k| &cells[k].0))
-                                } else {
-                                    F32x8::transpose(std::array::from_fn(|k| match edge_bits >> k & 1 {
-                                        1 => &self.edge_glossy[edge_slot(k)].0,
-                                        _ => &glossy_grid[at(k)].0,
-                                    }))
-                                }
-                            });
-                        }
+                                F32x8::transpose(std::array::from_fn(|k| match edge_bits >> k & 1 {
+                                    1 => &self.edge_glossy[edge_slot(k)].0,
+                                    _ => &glossy_grid[at(k)].0,
+                                }))
+                            }
+                        });
                     }
                     sums.write(active, |k| whole[centre + k] as usize, out);
                 }
@@ -394,8 +423,7 @@ impl DiscontinuityBuffer {
         out: &mut Filtered,
     ) {
         let LevelInput { region, settings, aa, .. } = *input;
-        let (([left, _], [up, _]), (sx, sy)) = (level.window, level.stride);
-        let (wx, wy) = level.weights();
+        let taps = level.taps();
         let width = region.width() as i64;
         for layer in 0..self.paths.len() {
             let (grid, glossy_grid) = (&self.grids[layer], &self.glossy_grids[layer]);
@@ -419,43 +447,35 @@ impl DiscontinuityBuffer {
                         }
                         let centres = Centres::new(&c, active, settings);
                         let mut sums = TapSums::<GLOSSY>::ZERO;
-                        for (ty, &w_y) in wy.iter().enumerate() {
-                            let dy = ty as i64 - i64::from(up);
-                            let row = i64::from(y) + dy * i64::from(sy);
-                            if row < i64::from(region.y0) || row >= i64::from(region.y1) {
+                        for Tap { dx, dy, row, weight } in taps.around(y, region) {
+                            let column = i64::from(x) + dx;
+                            if column < i64::from(region.x0) || column >= i64::from(region.x1) {
                                 continue;
                             }
-                            for (tx, &w_x) in wx.iter().enumerate() {
-                                let dx = (tx as i64 - i64::from(left)) * i64::from(sx);
-                                let column = i64::from(x) + dx;
-                                if column < i64::from(region.x0) || column >= i64::from(region.x1) {
-                                    continue;
-                                }
-                                let index = ((row - i64::from(region.y0)) * width
-                                    + (column - i64::from(region.x0)))
-                                    as usize;
-                                let tap = &grid[index];
-                                let edge = match tap.material() {
-                                    m if m != EMPTY && m & EDGE != 0 => Some((m & !EDGE) as usize * aa),
-                                    _ => None,
-                                };
-                                let q = match edge {
-                                    Some(slot) => F32x8::transpose(std::array::from_fn(|k| {
-                                        &self.edge_cells[slot + sample(k)].0
-                                    })),
-                                    None => tap.0.map(F32x8::splat),
-                                };
-                                let similar = match dx == 0 && dy == 0 {
-                                    true => centres.active,
-                                    false => centres.similar(&q),
-                                };
-                                sums.add(similar, w_x * w_y, &q, || match edge {
-                                    Some(slot) => F32x8::transpose(std::array::from_fn(|k| {
-                                        &self.edge_glossy[slot + sample(k)].0
-                                    })),
-                                    None => glossy_grid[index].0.map(F32x8::splat),
-                                });
-                            }
+                            let index = ((row - i64::from(region.y0)) * width
+                                + (column - i64::from(region.x0)))
+                                as usize;
+                            let tap = &grid[index];
+                            let edge = match tap.material() {
+                                m if m != EMPTY && m & EDGE != 0 => Some((m & !EDGE) as usize * aa),
+                                _ => None,
+                            };
+                            let q = match edge {
+                                Some(slot) => F32x8::transpose(std::array::from_fn(|k| {
+                                    &self.edge_cells[slot + sample(k)].0
+                                })),
+                                None => tap.0.map(F32x8::splat),
+                            };
+                            let similar = match dx == 0 && dy == 0 {
+                                true => centres.active,
+                                false => centres.similar(&q),
+                            };
+                            sums.add(similar, weight, &q, || match edge {
+                                Some(slot) => F32x8::transpose(std::array::from_fn(|k| {
+                                    &self.edge_glossy[slot + sample(k)].0
+                                })),
+                                None => glossy_grid[index].0.map(F32x8::splat),
+                            });
                         }
                         sums.write(active, |k| self.edge_points[own + first_sample + k] as usize, out);
                     }
