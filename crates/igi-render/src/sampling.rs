@@ -47,12 +47,16 @@ pub fn sobol4(index: u32, set: u32, seed: u32) -> [f32; 4] {
     use sobol_burley::parts::{Int4, hash_int4, owen_scramble_int4_rev, sobol_int4_rev};
     debug_assert!(index < MAX_SAMPLES);
     let sobol = sobol_int4_rev(index.reverse_bits(), set);
-    // The same per-dimension scramble seeds as `sample_4d`.
-    let scramble: Int4 = {
-        let s = seed.wrapping_mul(0x9c8f_2d3b) ^ set;
-        [s ^ 0x912f_69ba, s ^ 0x174f_18ab, s ^ 0x691e_72ca, s ^ 0xb40c_c1b8].into()
-    };
+    let scramble: Int4 = scramble_seeds(seed, set).into();
     owen_scramble_int4_rev(sobol, hash_int4(scramble)).reverse_bits().to_f32_norm()
+}
+
+/// The scramble seeds of the four dimensions of `set` under `seed`, before their hash: the same
+/// per-dimension seeds as `sobol_burley::sample_4d`.
+#[inline]
+fn scramble_seeds(seed: u32, set: u32) -> [u32; 4] {
+    let s = seed.wrapping_mul(0x9c8f_2d3b) ^ set;
+    [s ^ 0x912f_69ba, s ^ 0x174f_18ab, s ^ 0x691e_72ca, s ^ 0xb40c_c1b8]
 }
 
 /// Dimensions 0 and 1 of [`sobol4`]'s set 0 under one seed, for many sample indices: the
@@ -69,9 +73,8 @@ impl Sobol2 {
     /// The scrambles of `seed` (the lanes 0 and 1 of [`sobol4`]'s).
     #[inline]
     pub fn new(seed: u32) -> Self {
-        use sobol_burley::parts::hash;
-        let s = seed.wrapping_mul(0x9c8f_2d3b);
-        Self { scramble: [hash(s ^ 0x912f_69ba), hash(s ^ 0x174f_18ab)] }
+        let [u, v, ..] = scramble_seeds(seed, 0);
+        Self { scramble: [u, v].map(sobol_burley::parts::hash) }
     }
 
     /// The unscrambled point `index` (bit-reversed), for [`Sobol2::point`].
