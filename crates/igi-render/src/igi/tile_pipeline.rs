@@ -336,6 +336,7 @@ impl<'a> TilePipeline<'a> {
         let (rays, mut times) = self.light_region(&region, scratch);
         let mut clock = Instant::now();
         self.fold_compensation(&mut scratch.points);
+        times.lap(Phase::Compensation, &mut clock);
         scratch.composed.clear();
         for p in camera_points(&scratch.points) {
             scratch.composed.push(self.composed(p, p.state.pixel));
@@ -353,7 +354,9 @@ impl<'a> TilePipeline<'a> {
     pub fn light_tile(&self, tile: Tile, scratch: &mut TileScratch, lit: &mut LitTile) {
         (lit.rays, lit.times) = self.light_region(&tile.rect, scratch);
         lit.tile = tile;
+        let mut clock = Instant::now();
         self.fold_compensation(&mut scratch.points);
+        lit.times.lap(Phase::Compensation, &mut clock);
         // The emission moves to the lit tile, and its old buffer becomes the scratch's.
         std::mem::swap(&mut scratch.emitted, &mut lit.emitted);
         // The camera paths' points by pixel (a counting sort, stable): a neighbour's filter
@@ -376,6 +379,7 @@ impl<'a> TilePipeline<'a> {
         // (The first point fills the arrays to their length before each is written in place.)
         let Some(first) = camera_points(&scratch.points).next() else {
             lit.points.clear();
+            lit.times.lap(Phase::Filter, &mut clock);
             return;
         };
         let (sample, glossy, share) = self.composed(first, first.state.pixel);
@@ -391,6 +395,8 @@ impl<'a> TilePipeline<'a> {
         }
         pixel_start.copy_within(0..pixels, 1);
         pixel_start[0] = 0;
+        // Arranging the points for the filter is part of filtering.
+        lit.times.lap(Phase::Filter, &mut clock);
     }
 
     /// `p`, at pixel `pixel`, as filtering and composing read it ([`ComposedPoints`]).

@@ -49,7 +49,8 @@ pub enum Phase {
     Compensation,
     /// Shadow rays to the VPLs and accumulation of their contributions.
     Shadow,
-    /// The discontinuity filter and the final multiply by the albedo.
+    /// The discontinuity filter (with the lit points arranged by pixel for it) and the final
+    /// multiply by the albedo.
     Filter,
     /// Luminance statistics and the mapping to display values.
     ToneMap,
