@@ -1,8 +1,13 @@
 //! The streaming tile pipeline of instant global illumination (paper 3.1.2; ARCHITECTURE.md,
-//! "Data flow"): one tile, breadth first. For each VPL set s:
+//! "Data flow"): one tile, breadth first. First:
 //!
-//! 1. **primary**: the camera rays of all N samples of the set's pixels in the tile and its
-//!    apron, as 8-ray packets of neighbouring set pixels (paper Figure 2);
+//! 1. **primary**: the camera rays of all N samples of every pixel of the region, as 8-ray
+//!    packets of 4×2 neighbouring pixels (ARCHITECTURE.md, "Camera rays of neighbouring
+//!    pixels"), kept per pixel and sample;
+//!
+//! then for each fine VPL set s, its pixels taken in packets of the set's pixels (paper
+//! Figure 2):
+//!
 //! 2. **shading**: the surface shaders of the hits (paper 3.2: eight consecutive hits of one
 //!    material per call; constant materials skip the call), the sky behind misses, emission
 //!    seen directly, and a shading point for every hit with a diffuse or glossy lobe. A pixel
@@ -143,31 +148,26 @@ struct PendingHit {
 /// The samples of a pixel shaded once ([`PathState::coverage`]).
 #[derive(Clone, Copy, Debug)]
 struct WholePixel {
-    /// Index of the pixel's first packet in [`TileScratch::packets`] (one per sample).
-    packets: u32,
-    /// The pixel's lane in them.
-    lane: u32,
+    /// The pixel's index in the region (its samples are in [`TileScratch::camera`]).
+    pixel: u32,
     /// See [`ShadingPoint::sample_origins`] (the positions are lifted off the surface once its
     /// side is known).
     sample_origins: Option<u32>,
 }
 
-/// A traced primary packet of one anti-aliasing sample: directions, hits and pixels per lane,
-/// occupied lanes.
-#[derive(Clone, Copy, Debug)]
-struct PrimaryPacket {
-    dirs: [Vec3; 8],
-    /// The pixels' sequence seeds ([`pixel_seed`]).
-    seeds: [u32; 8],
-    hits: [Hit; 8],
-    pixels: [u32; 8],
-    bits: u32,
+/// The camera rays of a region ([`TilePipeline::trace_camera`]): per pixel (row by row) and
+/// anti-aliasing sample, the ray's direction and hit (a miss where it hit nothing).
+#[derive(Clone, Debug, Default)]
+struct CameraSamples {
+    dirs: Vec<Vec3>,
+    hits: Vec<Hit>,
 }
 
-impl PrimaryPacket {
-    /// The hit of `lane`, if its ray hit something.
-    fn hit(&self, lane: usize) -> Option<&Hit> {
-        (self.bits & (1 << lane) != 0).then(|| &self.hits[lane])
+impl CameraSamples {
+    /// The hits and directions of the `aa` samples of region pixel `pixel`.
+    fn samples(&self, pixel: u32, aa: usize) -> (&[Hit], &[Vec3]) {
+        let at = pixel as usize * aa..(pixel as usize + 1) * aa;
+        (&self.hits[at.clone()], &self.dirs[at])
     }
 }
 
@@ -183,7 +183,8 @@ struct SpecularRay {
 pub struct TileScratch {
     emitted: Vec<Vec3>,
     points: Vec<ShadingPoint>,
-    packets: Vec<PrimaryPacket>,
+    /// The region's camera rays, traced once for all its fine sets.
+    camera: CameraSamples,
     pending: Vec<PendingHit>,
     stream: Vec<SpecularRay>,
     next_stream: Vec<SpecularRay>,
@@ -471,11 +472,11 @@ impl<'a> TilePipeline<'a> {
         let mut rays = RayCounts::default();
         let mut times = PhaseTimes::default();
         let mut clock = Instant::now();
+        self.trace_camera(region, scratch, &mut rays);
+        times.lap(Phase::Primary, &mut clock);
         for fine in 0..il.fine_sets() {
             let first = scratch.points.len();
-            self.trace_primary(region, fine, scratch, &mut rays);
-            times.lap(Phase::Primary, &mut clock);
-            self.shade_primary(scratch);
+            self.shade_primary(region, fine, scratch);
             times.lap(Phase::Shading, &mut clock);
             self.trace_specular(scratch, &mut rays);
             times.lap(Phase::Specular, &mut clock);

@@ -2,89 +2,97 @@
 //! 8-ray packets (paper Figure 2), and the shading of their hits, once per pixel whose samples
 //! see one surface (paper 3.3).
 
-use super::{CAMERA_PATH, PathState, PendingHit, PrimaryPacket, TilePipeline, TileScratch, WholePixel};
+use super::{CAMERA_PATH, CameraSamples, PathState, PendingHit, TilePipeline, TileScratch, WholePixel};
 use crate::igi::packet::unpack_hits;
 use crate::image::pixel_rect::PixelRect;
 use crate::image::stats::RayCounts;
 use crate::prepared::SurfacePoint;
 use crate::sampling::{Sobol2, hash_combine, pixel_seed};
 use glam::Vec3;
-use igi_bvh::RayPacket8;
+use igi_bvh::{Hit, RayPacket8};
 use igi_simd::{F32x8, M32x8, Vec3x8};
 
 impl TilePipeline<'_> {
-    /// Step 1: the camera rays of every anti-aliasing sample of the pixels of fine set `fine`,
-    /// packet by packet: the N packets of one group of pixels follow each other in `s.packets`.
-    pub(super) fn trace_primary(
-        &self,
-        region: &PixelRect,
-        fine: u32,
-        s: &mut TileScratch,
-        rays: &mut RayCounts,
-    ) {
-        s.packets.clear();
+    /// Step 1: the camera rays of every anti-aliasing sample of every pixel of the region, as
+    /// 8-ray packets of 4×2 neighbouring pixels, their directions and hits kept per pixel and
+    /// sample ([`CameraSamples`]) for the fine sets' shading; the sky seen where they miss.
+    /// The pixels of one fine set lie n apart, so packets of one set's pixels (paper Figure 2)
+    /// spread n·m times as far and cost more to traverse: `igi bench frame`'s primary phase
+    /// (ARCHITECTURE.md, "Camera rays of neighbouring pixels"). Each ray's hit is the same in
+    /// any packet (packet = single ray, bit for bit), so the image does not depend on it.
+    pub(super) fn trace_camera(&self, region: &PixelRect, s: &mut TileScratch, rays: &mut RayCounts) {
         let accel = self.scene.accel();
         let aa = self.interleave.aa;
-        let mut primary = 0u64;
+        let camera = &mut s.camera;
+        let rays_in_region = region.pixel_count() * aa as usize;
+        camera.dirs.resize(rays_in_region, Vec3::ZERO);
+        camera.hits.resize(rays_in_region, Hit::miss(f32::INFINITY));
         let origin = Vec3x8::splat(self.camera.origin.to_array());
-        self.interleave.packets(region, fine, |lanes| {
-            primary += (lanes.len() as u64) * u64::from(aa);
-            // Unoccupied lanes repeat the first pixel, so every lane holds a valid ray (the
-            // packet kernel decides the traversal order from all lanes' signs).
-            let lane = |i: usize| lanes[if i < lanes.len() { i } else { 0 }];
-            let (x, y) = (std::array::from_fn(|i| lane(i).0), std::array::from_fn(|i| lane(i).1));
-            let pixels = std::array::from_fn(|i| region.index(lane(i).0, lane(i).1) as u32);
-            let seeds: [u32; 8] = std::array::from_fn(|i| pixel_seed(x[i], y[i], self.sequence.seed));
-            let sequences = seeds.map(Sobol2::new);
-            let occupied = (1u32 << lanes.len()) - 1;
-            for sample in 0..aa {
-                let index = self.sequence.first + sample;
-                let offsets = self.interleave.sample_offsets(index, &sequences, self.pixel_centres);
-                let dir = self.camera.directions_at8(x, y, offsets.map(|o| o.0), offsets.map(|o| o.1));
-                let packet =
-                    RayPacket8 { origin, dir, tnear: F32x8::ZERO, tfar: F32x8::splat(f32::INFINITY) };
-                let traced = accel.intersect8(&packet, M32x8::from_bitmask(occupied));
-                let bits = occupied & traced.hit_mask().bitmask();
-                let dirs: [Vec3; 8] = std::array::from_fn(|i| Vec3::from(dir.lane(i)));
-                let missed = occupied & !bits;
-                if missed != 0 && self.scene.environment().is_some() {
-                    for lane in (0..8).filter(|lane| missed & (1 << lane) != 0) {
-                        s.emitted[(pixels[lane] * aa + sample) as usize] += self.scene.background(dirs[lane]);
+        for y0 in (region.y0..region.y1).step_by(2) {
+            for x0 in (region.x0..region.x1).step_by(4) {
+                let inside = |i: u32| x0 + i % 4 < region.x1 && y0 + i / 4 < region.y1;
+                let occupied = (0..8).filter(|&i| inside(i)).fold(0u32, |bits, i| bits | 1 << i);
+                // Unoccupied lanes repeat the first pixel, so every lane holds a valid ray (the
+                // packet kernel decides the traversal order from all lanes' signs).
+                let lane = |i: u32| if inside(i) { (x0 + i % 4, y0 + i / 4) } else { (x0, y0) };
+                let (x, y): ([u32; 8], [u32; 8]) =
+                    (std::array::from_fn(|i| lane(i as u32).0), std::array::from_fn(|i| lane(i as u32).1));
+                let sequences =
+                    std::array::from_fn(|i| Sobol2::new(pixel_seed(x[i], y[i], self.sequence.seed)));
+                for sample in 0..aa {
+                    let index = self.sequence.first + sample;
+                    let offsets = self.interleave.sample_offsets(index, &sequences, self.pixel_centres);
+                    let dir = self.camera.directions_at8(x, y, offsets.map(|o| o.0), offsets.map(|o| o.1));
+                    let packet =
+                        RayPacket8 { origin, dir, tnear: F32x8::ZERO, tfar: F32x8::splat(f32::INFINITY) };
+                    let traced = accel.intersect8(&packet, M32x8::from_bitmask(occupied));
+                    let bits = occupied & traced.hit_mask().bitmask();
+                    let hits = unpack_hits(&traced);
+                    for lane in (0..8).filter(|lane| occupied & (1 << lane) != 0) {
+                        let i = region.index(x[lane], y[lane]) * aa as usize + sample as usize;
+                        let d = Vec3::from(dir.lane(lane));
+                        camera.dirs[i] = d;
+                        camera.hits[i] =
+                            if bits & (1 << lane) != 0 { hits[lane] } else { Hit::miss(f32::INFINITY) };
+                        if bits & (1 << lane) == 0 && self.scene.environment().is_some() {
+                            s.emitted[i] += self.scene.background(d);
+                        }
                     }
                 }
-                s.packets.push(PrimaryPacket { dirs, seeds, hits: unpack_hits(&traced), pixels, bits });
+                rays.primary += u64::from(occupied.count_ones() * aa);
             }
-        });
-        rays.primary += primary;
+        }
     }
 
-    /// Step 2: the surface shaders of the primary hits: once per pixel whose samples all hit
-    /// one surface ([`same_surface`]), else once per sample that hit something.
-    pub(super) fn shade_primary(&self, s: &mut TileScratch) {
-        let packets = std::mem::take(&mut s.packets);
+    /// Step 2: the surface shaders of the primary hits of fine set `fine`'s pixels, in the
+    /// order of the set's packets (paper Figure 2): once per pixel whose samples all hit one
+    /// surface ([`same_surface`]), else once per sample that hit something.
+    pub(super) fn shade_primary(&self, region: &PixelRect, fine: u32, s: &mut TileScratch) {
+        let camera = std::mem::take(&mut s.camera);
         let aa = self.interleave.aa as usize;
-        for (k, samples) in packets.chunks(aa).enumerate() {
-            for lane in 0..8 {
-                let shading_sample = self.shading_sample(samples[0].seeds[lane]);
-                let p = &samples[shading_sample];
-                let Some(first) = p.hit(lane) else {
-                    self.shade_samples(samples, lane, s);
+        self.interleave.packets(region, fine, |lanes| {
+            for &(x, y) in lanes {
+                let pixel = region.index(x, y) as u32;
+                let (hits, dirs) = camera.samples(pixel, aa);
+                let shading_sample = self.shading_sample(pixel_seed(x, y, self.sequence.seed));
+                let first = &hits[shading_sample];
+                if !first.is_hit() {
+                    self.shade_samples(&camera, pixel, s);
                     continue;
-                };
+                }
                 let surface = self.scene.surface(first);
                 // Hits of one triangle lie on one surface; others are looked at closer.
-                let whole_pixel = samples.iter().all(|q| {
-                    q.hit(lane).is_some_and(|h| {
-                        (h.instance, h.prim) == (first.instance, first.prim)
-                            || same_surface(&surface, first.t, &self.scene.surface(h))
-                    })
+                let whole_pixel = hits.iter().all(|h| {
+                    h.is_hit()
+                        && ((h.instance, h.prim) == (first.instance, first.prim)
+                            || same_surface(&surface, first.t, &self.scene.surface(h)))
                 });
                 if !whole_pixel {
-                    self.shade_samples(samples, lane, s);
+                    self.shade_samples(&camera, pixel, s);
                     continue;
                 }
                 let state = PathState {
-                    pixel: p.pixels[lane],
+                    pixel,
                     sample: shading_sample as u32,
                     coverage: aa as u32,
                     path: CAMERA_PATH,
@@ -96,27 +104,25 @@ impl TilePipeline<'_> {
                 let sample_origins = (aa > 1 && !self.vpls.lights().is_empty()).then(|| {
                     let at = s.sample_origins.len() as u32;
                     let accel = self.scene.accel();
-                    s.sample_origins
-                        .extend(samples.iter().map(|p| p.hits[lane]).map(|h| accel.hit_position(&h)));
+                    s.sample_origins.extend(hits.iter().map(|h| accel.hit_position(h)));
                     at
                 });
-                let packets = (k * aa) as u32;
-                let whole_pixel = Some(WholePixel { packets, lane: lane as u32, sample_origins });
-                self.queue(PendingHit { state, dir: p.dirs[lane], t: first.t, surface, whole_pixel }, s);
+                let whole_pixel = Some(WholePixel { pixel, sample_origins });
+                let (dir, t) = (dirs[shading_sample], first.t);
+                self.queue(PendingHit { state, dir, t, surface, whole_pixel }, s);
             }
-        }
+        });
         self.shade_queued(s);
         // Mirrors and glass show what lies behind them, which the samples must resolve as
         // they resolve the pixel's own edges: such pixels are shaded again, sample by sample.
         let split = std::mem::take(&mut s.split);
         for w in &split {
-            let at = w.packets as usize;
-            self.shade_samples(&packets[at..at + aa], w.lane as usize, s);
+            self.shade_samples(&camera, w.pixel, s);
         }
         s.split = split;
         s.split.clear();
         self.shade_queued(s);
-        s.packets = packets;
+        s.camera = camera;
     }
 
     /// The sample that stands for the pixel of sequence seed `pixel_seed` if all its samples
@@ -132,12 +138,13 @@ impl TilePipeline<'_> {
         (hash_combine(pixel_seed, self.sequence.first) % aa) as usize
     }
 
-    /// Queues the hit of `lane` of each sample's packet in `samples` on its own.
-    pub(super) fn shade_samples(&self, samples: &[PrimaryPacket], lane: usize, s: &mut TileScratch) {
-        for (sample, p) in samples.iter().enumerate() {
-            if p.bits & (1 << lane) != 0 {
+    /// Queues the hit of each sample of region pixel `pixel` on its own.
+    pub(super) fn shade_samples(&self, camera: &CameraSamples, pixel: u32, s: &mut TileScratch) {
+        let (hits, dirs) = camera.samples(pixel, self.interleave.aa as usize);
+        for (sample, (hit, &dir)) in hits.iter().zip(dirs).enumerate() {
+            if hit.is_hit() {
                 let state = PathState {
-                    pixel: p.pixels[lane],
+                    pixel,
                     sample: sample as u32,
                     coverage: 1,
                     path: CAMERA_PATH,
@@ -146,7 +153,7 @@ impl TilePipeline<'_> {
                     depth: 0.0,
                     bounces: 0,
                 };
-                self.queue_hit(p.dirs[lane], &p.hits[lane], state, s);
+                self.queue_hit(dir, hit, state, s);
             }
         }
     }
