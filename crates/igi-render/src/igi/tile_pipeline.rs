@@ -336,8 +336,10 @@ impl<'a> TilePipeline<'a> {
         let region = self.interleave.region(&tile, self.size.0, self.size.1);
         let (rays, mut times) = self.light_region(&region, scratch);
         let mut clock = Instant::now();
-        self.fold_compensation(&mut scratch.points);
-        times.lap(Phase::Compensation, &mut clock);
+        if self.compensates() {
+            self.fold_compensation(&mut scratch.points);
+            times.lap(Phase::Compensation, &mut clock);
+        }
         scratch.composed.clear();
         for p in camera_points(&scratch.points) {
             scratch.composed.push(self.composed(p, p.state.pixel));
@@ -356,8 +358,10 @@ impl<'a> TilePipeline<'a> {
         (lit.rays, lit.times) = self.light_region(&tile.rect, scratch);
         lit.tile = tile;
         let mut clock = Instant::now();
-        self.fold_compensation(&mut scratch.points);
-        lit.times.lap(Phase::Compensation, &mut clock);
+        if self.compensates() {
+            self.fold_compensation(&mut scratch.points);
+            lit.times.lap(Phase::Compensation, &mut clock);
+        }
         // The emission moves to the lit tile, and its old buffer becomes the scratch's.
         std::mem::swap(&mut scratch.emitted, &mut lit.emitted);
         // The camera paths' points by pixel (a counting sort, stable): a neighbour's filter
@@ -493,12 +497,9 @@ impl<'a> TilePipeline<'a> {
     /// The light each compensation point reflects toward its parent joins the D of its camera
     /// path's point, and is filtered with it: one short ray per pixel is as noisy as one VPL
     /// set (more, where it finds a sunlit surface), and left unfiltered it leaves single
-    /// bright pixels near creases and contacts. (Only a frame that compensates has such
-    /// points: the others skip this pass over the points.)
+    /// bright pixels near creases and contacts. Only a frame that compensates has such points
+    /// (the callers skip this pass over the points for the others).
     fn fold_compensation(&self, points: &mut [ShadingPoint]) {
-        if !self.compensates() {
-            return;
-        }
         for i in 0..points.len() {
             let p = &points[i];
             if p.state.path & COMPENSATION != 0 {
