@@ -1,7 +1,7 @@
 //! Interleaved sampling (paper 2.1 and 3.3, Keller & Heidrich 2001): which VPL set lights a
 //! pixel, which part of the set lights each of its anti-aliasing samples, where those samples
-//! lie in the pixel, and how a tile's pixels of one set are grouped into 8-ray packets
-//! (paper Figure 2).
+//! lie in the pixel, and how a tile's pixels of one set are grouped into blocks of eight
+//! (paper Figure 2), the order in which they are shaded and lit.
 //!
 //! Pixel (x, y) belongs to fine set (x mod n) + n·(y mod m), so every n×m window of the image
 //! holds one pixel of every fine set, which is what the discontinuity filter averages over.
@@ -15,7 +15,7 @@
 //! bilinearly. A box of K×K taps would hold each set's one lattice point constant over the
 //! window, and a set's error would show as an nK × mK square (ARCHITECTURE.md, "The coarse
 //! level's tent"). The frame thereby holds K² times the
-//! VPLs at the same VPLs per pixel; the primary rays keep the coherence of the fine sets. With N
+//! VPLs at the same VPLs per pixel; a VPL's shadow rays come from pixels nK and mK apart. With N
 //! samples per pixel, a pixel whose samples all see one surface is shaded once and lit by its
 //! whole set; in a pixel across an edge, sample j is lit by the VPLs j, j + N, j + 2N, … of
 //! the pixel's set, weighted by N. Either way each pixel uses each VPL of its set once, so
@@ -54,7 +54,8 @@ impl Interleave {
         }
     }
 
-    /// Number of fine sets, n·m: the pipeline traces the pixels of one fine set at a time.
+    /// Number of fine sets, n·m: the pipeline shades and lights the pixels of one fine set at a
+    /// time.
     pub fn fine_sets(&self) -> u32 {
         self.n * self.m
     }
@@ -135,11 +136,11 @@ impl Interleave {
         })
     }
 
-    /// The pixels of fine set `fine` inside `region`, grouped into packets of 4×2 pixels of the
-    /// set's sub-grid (paper Figure 2: neighbouring pixels of one set, so each packet's rays stay
-    /// coherent). Each packet lists up to 8 pixels; the last ones of a row or column may be
-    /// partial.
-    pub fn packets(&self, region: &PixelRect, fine: u32, mut f: impl FnMut(&[(u32, u32)])) {
+    /// The pixels of fine set `fine` inside `region`, grouped into blocks of 4×2 pixels of the
+    /// set's sub-grid (paper Figure 2: neighbouring pixels of one set, so the shadow packets of
+    /// their points toward one VPL stay coherent). Each block lists up to 8 pixels; the last
+    /// ones of a row or column may be partial.
+    pub fn set_blocks(&self, region: &PixelRect, fine: u32, mut f: impl FnMut(&[(u32, u32)])) {
         let (sx, sy) = (fine % self.n, fine / self.n);
         let first = |start: u32, phase: u32, period: u32| start + (phase + period - start % period) % period;
         let (x_first, y_first) = (first(region.x0, sx, self.n), first(region.y0, sy, self.m));
@@ -199,12 +200,12 @@ mod tests {
     }
 
     #[test]
-    fn packets_cover_each_pixel_of_a_fine_set_once() {
+    fn set_blocks_cover_each_pixel_of_a_fine_set_once() {
         let il = Interleave { n: 3, m: 3, coarse: 3, aa: 1 };
         let region = PixelRect { x0: 5, y0: 2, x1: 40, y1: 23 };
         let mut count = vec![0; region.pixel_count()];
         for fine in 0..il.fine_sets() {
-            il.packets(&region, fine, |lanes| {
+            il.set_blocks(&region, fine, |lanes| {
                 assert!(!lanes.is_empty() && lanes.len() <= 8);
                 for &(x, y) in lanes {
                     assert_eq!(set_of(&il, x, y) % il.fine_sets(), fine);

@@ -1,6 +1,6 @@
 //! [`Packet8`]: up to eight rays of a stream gathered lane by lane and traced as one 8-ray
-//! packet, as the tile pipeline traces its camera, specular and bias-compensation rays (closest
-//! hit) and the shadow rays the roulette leaves ([`crate::igi::vpl_lighting`], any hit; paper
+//! packet, as the tile pipeline traces its specular and bias-compensation rays (closest hit)
+//! and the shadow rays the roulette leaves ([`crate::igi::vpl_lighting`], any hit; paper
 //! 3.1.2: rays travel in packets of eight).
 
 use glam::Vec3;

@@ -3,13 +3,13 @@
 //!
 //! 1. **primary**: the camera rays of all N samples of every pixel of the region, as 8-ray
 //!    packets of 4×2 neighbouring pixels (ARCHITECTURE.md, "Camera rays of neighbouring
-//!    pixels"), kept per pixel and sample;
+//!    pixels"), kept per pixel and sample, and the sky behind misses;
 //!
-//! then for each fine VPL set s, its pixels taken in packets of the set's pixels (paper
+//! then for each fine VPL set s, its pixels block by block of the set's sub-grid (paper
 //! Figure 2):
 //!
 //! 2. **shading**: the surface shaders of the hits (paper 3.2: eight consecutive hits of one
-//!    material per call; constant materials skip the call), the sky behind misses, emission
+//!    material per call; constant materials skip the call), emission
 //!    seen directly, and a shading point for every hit with a diffuse or glossy lobe. A pixel
 //!    whose samples all see one surface is shaded once, as one point that stands for all N
 //!    samples ([`PathState::coverage`]; ARCHITECTURE.md, "Anti-aliasing costs primary rays");
@@ -156,18 +156,34 @@ struct WholePixel {
 }
 
 /// The camera rays of a region ([`TilePipeline::trace_camera`]): per pixel (row by row) and
-/// anti-aliasing sample, the ray's direction and hit (a miss where it hit nothing).
+/// anti-aliasing sample, the ray's direction and hit (a miss where it hit nothing). 32 bytes a
+/// ray, kept for the region's fine sets.
 #[derive(Clone, Debug, Default)]
 struct CameraSamples {
     dirs: Vec<Vec3>,
     hits: Vec<Hit>,
+    /// Samples per pixel.
+    aa: usize,
 }
 
 impl CameraSamples {
-    /// The hits and directions of the `aa` samples of region pixel `pixel`.
-    fn samples(&self, pixel: u32, aa: usize) -> (&[Hit], &[Vec3]) {
-        let at = pixel as usize * aa..(pixel as usize + 1) * aa;
-        (&self.hits[at.clone()], &self.dirs[at])
+    /// Room for the `aa` samples of `pixels` pixels, every one to be set before it is read.
+    fn reset(&mut self, pixels: usize, aa: usize) {
+        self.aa = aa;
+        self.dirs.resize(pixels * aa, Vec3::ZERO);
+        self.hits.resize(pixels * aa, Hit::miss(f32::INFINITY));
+    }
+
+    /// Sets the hit and direction of sample `sample` of pixel `pixel`.
+    fn set(&mut self, pixel: usize, sample: usize, hit: Hit, dir: Vec3) {
+        let i = pixel * self.aa + sample;
+        (self.hits[i], self.dirs[i]) = (hit, dir);
+    }
+
+    /// The directions and hits of the samples of region pixel `pixel`.
+    fn samples(&self, pixel: u32) -> (&[Vec3], &[Hit]) {
+        let at = pixel as usize * self.aa..(pixel as usize + 1) * self.aa;
+        (&self.dirs[at.clone()], &self.hits[at])
     }
 }
 

@@ -45,7 +45,8 @@ pub enum Phase {
     Shading,
     /// Mirror and glass rays.
     Specular,
-    /// Bias compensation of the VPL clamp.
+    /// Bias compensation of the VPL clamp (its rays, and folding the light they find into the
+    /// camera paths' points after the shadow phase).
     Compensation,
     /// Shadow rays to the VPLs and accumulation of their contributions.
     Shadow,

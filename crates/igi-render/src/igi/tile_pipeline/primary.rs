@@ -1,6 +1,6 @@
-//! Steps 1 and 2 of the tile pipeline ([`super`]): the camera rays of a VPL set's pixels as
-//! 8-ray packets (paper Figure 2), and the shading of their hits, once per pixel whose samples
-//! see one surface (paper 3.3).
+//! Steps 1 and 2 of the tile pipeline ([`super`]): the camera rays of a region as 8-ray
+//! packets of neighbouring pixels, and the shading of their hits set by set, once per pixel
+//! whose samples see one surface (paper 3.3).
 
 use super::{CAMERA_PATH, CameraSamples, PathState, PendingHit, TilePipeline, TileScratch, WholePixel};
 use crate::igi::packet::unpack_hits;
@@ -9,71 +9,82 @@ use crate::image::stats::RayCounts;
 use crate::prepared::SurfacePoint;
 use crate::sampling::{Sobol2, hash_combine, pixel_seed};
 use glam::Vec3;
-use igi_bvh::{Hit, RayPacket8};
+use igi_bvh::RayPacket8;
 use igi_simd::{F32x8, M32x8, Vec3x8};
 
+/// Width and height in pixels of a camera packet's block.
+const BLOCK: (u32, u32) = (4, 2);
+
 impl TilePipeline<'_> {
-    /// Step 1: the camera rays of every anti-aliasing sample of every pixel of the region, as
-    /// 8-ray packets of 4×2 neighbouring pixels, their directions and hits kept per pixel and
-    /// sample ([`CameraSamples`]) for the fine sets' shading; the sky seen where they miss.
-    /// The pixels of one fine set lie n apart, so packets of one set's pixels (paper Figure 2)
-    /// spread n·m times as far and cost more to traverse: `igi bench frame`'s primary phase
-    /// (ARCHITECTURE.md, "Camera rays of neighbouring pixels"). Each ray's hit is the same in
-    /// any packet (packet = single ray, bit for bit), so the image does not depend on it.
+    /// Step 1: the camera rays of every anti-aliasing sample of every pixel of `region`, as
+    /// 8-ray packets of blocks of 4×2 neighbouring pixels, their directions and hits kept per
+    /// pixel and sample ([`CameraSamples`]) for the fine sets' shading; the sky seen where they
+    /// miss. The pixels of one fine set lie n apart, so packets of one set's pixels (paper
+    /// Figure 2) would spread n times as wide and m times as tall, and cost more to traverse
+    /// (ARCHITECTURE.md, "Camera rays of neighbouring pixels"). The blocks lie on the image's
+    /// grid, and every pixel of a block inside the image is traced (those outside the region
+    /// too, their hits dropped), so a ray's packet and its active lanes do not depend on the
+    /// tile or on the apron: its hit is the same whoever renders it, even between nearly
+    /// coincident surfaces (ARCHITECTURE.md, "Known: closest hits between nearly coincident
+    /// surfaces depend on the traversal order"). `s.emitted` must be zero for the region.
     pub(super) fn trace_camera(&self, region: &PixelRect, s: &mut TileScratch, rays: &mut RayCounts) {
         let accel = self.scene.accel();
         let aa = self.interleave.aa;
-        let camera = &mut s.camera;
-        let rays_in_region = region.pixel_count() * aa as usize;
-        camera.dirs.resize(rays_in_region, Vec3::ZERO);
-        camera.hits.resize(rays_in_region, Hit::miss(f32::INFINITY));
+        s.camera.reset(region.pixel_count(), aa as usize);
         let origin = Vec3x8::splat(self.camera.origin.to_array());
-        for y0 in (region.y0..region.y1).step_by(2) {
-            for x0 in (region.x0..region.x1).step_by(4) {
-                let inside = |i: u32| x0 + i % 4 < region.x1 && y0 + i / 4 < region.y1;
-                let occupied = (0..8).filter(|&i| inside(i)).fold(0u32, |bits, i| bits | 1 << i);
-                // Unoccupied lanes repeat the first pixel, so every lane holds a valid ray (the
-                // packet kernel decides the traversal order from all lanes' signs).
-                let lane = |i: u32| if inside(i) { (x0 + i % 4, y0 + i / 4) } else { (x0, y0) };
+        let sky = self.scene.environment().is_some();
+        let (bw, bh) = BLOCK;
+        for y0 in (region.y0 - region.y0 % bh..region.y1).step_by(bh as usize) {
+            for x0 in (region.x0 - region.x0 % bw..region.x1).step_by(bw as usize) {
+                let at = |i: u32| (x0 + i % bw, y0 + i / bw);
+                let in_image = |i: u32| at(i).0 < self.size.0 && at(i).1 < self.size.1;
+                let traced_lanes = (0..8).filter(|&i| in_image(i)).fold(0u32, |bits, i| bits | 1 << i);
+                // Lanes outside the image repeat the first pixel, so every lane holds a finite
+                // ray; they take no part.
+                let lane = |i: usize| if in_image(i as u32) { at(i as u32) } else { (x0, y0) };
                 let (x, y): ([u32; 8], [u32; 8]) =
-                    (std::array::from_fn(|i| lane(i as u32).0), std::array::from_fn(|i| lane(i as u32).1));
+                    (std::array::from_fn(|i| lane(i).0), std::array::from_fn(|i| lane(i).1));
                 let sequences =
                     std::array::from_fn(|i| Sobol2::new(pixel_seed(x[i], y[i], self.sequence.seed)));
+                // The lanes whose pixels lie in the region, with their pixels' indices there.
+                let (mut kept, mut kept_count) = ([(0, 0); 8], 0);
+                for i in (0..8).filter(|&i| traced_lanes & (1 << i) != 0 && region.contains(x[i], y[i])) {
+                    kept[kept_count] = (i, region.index(x[i], y[i]));
+                    kept_count += 1;
+                }
                 for sample in 0..aa {
                     let index = self.sequence.first + sample;
                     let offsets = self.interleave.sample_offsets(index, &sequences, self.pixel_centres);
                     let dir = self.camera.directions_at8(x, y, offsets.map(|o| o.0), offsets.map(|o| o.1));
                     let packet =
                         RayPacket8 { origin, dir, tnear: F32x8::ZERO, tfar: F32x8::splat(f32::INFINITY) };
-                    let traced = accel.intersect8(&packet, M32x8::from_bitmask(occupied));
-                    let bits = occupied & traced.hit_mask().bitmask();
-                    let hits = unpack_hits(&traced);
-                    for lane in (0..8).filter(|lane| occupied & (1 << lane) != 0) {
-                        let i = region.index(x[lane], y[lane]) * aa as usize + sample as usize;
+                    // Lanes that miss come back as misses.
+                    let hits = unpack_hits(&accel.intersect8(&packet, M32x8::from_bitmask(traced_lanes)));
+                    for &(lane, pixel) in &kept[..kept_count] {
                         let d = Vec3::from(dir.lane(lane));
-                        camera.dirs[i] = d;
-                        camera.hits[i] =
-                            if bits & (1 << lane) != 0 { hits[lane] } else { Hit::miss(f32::INFINITY) };
-                        if bits & (1 << lane) == 0 && self.scene.environment().is_some() {
-                            s.emitted[i] += self.scene.background(d);
+                        s.camera.set(pixel, sample as usize, hits[lane], d);
+                        if sky && !hits[lane].is_hit() {
+                            s.emitted[pixel * aa as usize + sample as usize] += self.scene.background(d);
                         }
                     }
                 }
-                rays.primary += u64::from(occupied.count_ones() * aa);
+                rays.primary += u64::from(traced_lanes.count_ones() * aa);
             }
         }
     }
 
-    /// Step 2: the surface shaders of the primary hits of fine set `fine`'s pixels, in the
-    /// order of the set's packets (paper Figure 2): once per pixel whose samples all hit one
-    /// surface ([`same_surface`]), else once per sample that hit something.
+    /// Step 2: the surface shaders of the camera rays' hits at fine set `fine`'s pixels: once
+    /// per pixel whose samples all hit one surface ([`same_surface`]), else once per sample
+    /// that hit something. The pixels go block by block of the set's sub-grid (paper Figure 2),
+    /// the order their shading points are lit in, which keeps neighbours in one shadow packet
+    /// ([`Receivers::push`](crate::igi::vpl_lighting::Receivers::push)).
     pub(super) fn shade_primary(&self, region: &PixelRect, fine: u32, s: &mut TileScratch) {
         let camera = std::mem::take(&mut s.camera);
         let aa = self.interleave.aa as usize;
-        self.interleave.packets(region, fine, |lanes| {
+        self.interleave.set_blocks(region, fine, |lanes| {
             for &(x, y) in lanes {
                 let pixel = region.index(x, y) as u32;
-                let (hits, dirs) = camera.samples(pixel, aa);
+                let (dirs, hits) = camera.samples(pixel);
                 let shading_sample = self.shading_sample(pixel_seed(x, y, self.sequence.seed));
                 let first = &hits[shading_sample];
                 if !first.is_hit() {
@@ -140,7 +151,7 @@ impl TilePipeline<'_> {
 
     /// Queues the hit of each sample of region pixel `pixel` on its own.
     pub(super) fn shade_samples(&self, camera: &CameraSamples, pixel: u32, s: &mut TileScratch) {
-        let (hits, dirs) = camera.samples(pixel, self.interleave.aa as usize);
+        let (dirs, hits) = camera.samples(pixel);
         for (sample, (hit, &dir)) in hits.iter().zip(dirs).enumerate() {
             if hit.is_hit() {
                 let state = PathState {
