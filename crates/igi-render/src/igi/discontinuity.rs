@@ -93,6 +93,14 @@ impl Cell {
     fn set_material(&mut self, material: u32) {
         self.0[MATERIAL] = f32::from_bits(material);
     }
+
+    /// For a cell that marks a pixel with a point per sample, the index of the first of its N
+    /// edge cells (the slot times N); none for a whole pixel's cell or an empty one.
+    #[inline]
+    fn edge_cells(&self, aa: usize) -> Option<usize> {
+        let m = self.material();
+        (m != EMPTY && m & EDGE != 0).then(|| (m & !EDGE) as usize * aa)
+    }
 }
 
 /// The glossy terms G and S of a cell, in eight lanes (two unused) like [`Cell`].
@@ -367,17 +375,17 @@ impl DiscontinuityBuffer {
                             true => edge_map.eight(block) & inside.bitmask() & active,
                             false => {
                                 (0..8)
-                                    .filter(|&k| {
-                                        grid[at(k)].material() != EMPTY && grid[at(k)].material() & EDGE != 0
-                                    })
+                                    .filter(|&k| grid[at(k)].edge_cells(aa).is_some())
                                     .fold(0, |bits, k| bits | 1 << k)
                                     & inside.bitmask()
                                     & active
                             }
                         };
                         let edge_slot = |k: usize| {
-                            let slot = (grid[at(k)].material() & !EDGE) as usize;
-                            slot * aa + points[whole[centre + k] as usize].sample as usize
+                            let first_cell = grid[at(k)]
+                                .edge_cells(aa)
+                                .expect("an edge pixel's cell names its edge cells");
+                            first_cell + points[whole[centre + k] as usize].sample as usize
                         };
                         let contiguous = first >= 0 && first <= last && edge_bits == 0;
                         let q = if contiguous {
@@ -429,11 +437,7 @@ impl DiscontinuityBuffer {
             let (grid, glossy_grid) = (&self.grids[layer], &self.glossy_grids[layer]);
             for y in rect.y0..rect.y1 {
                 for x in rect.x0..rect.x1 {
-                    let m = grid[region.index(x, y)].material();
-                    if m == EMPTY || m & EDGE == 0 {
-                        continue;
-                    }
-                    let own = (m & !EDGE) as usize * aa;
+                    let Some(own) = grid[region.index(x, y)].edge_cells(aa) else { continue };
                     for first_sample in (0..aa).step_by(8) {
                         // Lanes past the last sample repeat it and take no part.
                         let lanes = (aa - first_sample).min(8);
@@ -456,10 +460,7 @@ impl DiscontinuityBuffer {
                                 + (column - i64::from(region.x0)))
                                 as usize;
                             let tap = &grid[index];
-                            let edge = match tap.material() {
-                                m if m != EMPTY && m & EDGE != 0 => Some((m & !EDGE) as usize * aa),
-                                _ => None,
-                            };
+                            let edge = tap.edge_cells(aa);
                             let q = match edge {
                                 Some(slot) => F32x8::transpose(std::array::from_fn(|k| {
                                     &self.edge_cells[slot + sample(k)].0
@@ -509,8 +510,10 @@ impl DiscontinuityBuffer {
                 }
             } else {
                 // The pixel's slot of N cells ([`DiscontinuityBuffer::index`]).
-                let slot = self.grids[layer][p.pixel as usize].material() & !EDGE;
-                let at = slot as usize * aa + p.sample as usize;
+                let first_cell = self.grids[layer][p.pixel as usize]
+                    .edge_cells(aa)
+                    .expect("an edge pixel's cell names its edge cells");
+                let at = first_cell + p.sample as usize;
                 self.edge_cells[at].set_diffuse_radiance(d);
                 if glossy {
                     self.edge_glossy[at] = GlossyCell::new(values.glossy_radiance[i]);
@@ -547,7 +550,7 @@ impl DiscontinuityBuffer {
                 }
                 continue;
             }
-            if slot.material() == EMPTY || slot.material() & EDGE == 0 {
+            if slot.edge_cells(aa).is_none() {
                 // The pixel's first sample point in this layer opens its slot.
                 slot.set_material(EDGE | (self.edge_cells.len() / aa) as u32);
                 self.edge_bits[layer as usize].set(p.pixel as usize);
@@ -555,7 +558,8 @@ impl DiscontinuityBuffer {
                 self.edge_glossy.resize(self.edge_glossy.len() + aa, GlossyCell::ZERO);
                 self.edge_points.resize(self.edge_points.len() + aa, u32::MAX);
             }
-            let at = (slot.material() & !EDGE) as usize * aa + p.sample as usize;
+            let at =
+                slot.edge_cells(aa).expect("an edge pixel's cell names its edge cells") + p.sample as usize;
             self.edge_cells[at] = cell;
             self.edge_points[at] = i as u32;
             if let Some(g) = g {

@@ -352,10 +352,7 @@ impl<'a> TilePipeline<'a> {
         let region = self.interleave.region(&tile, self.size.0, self.size.1);
         let (rays, mut times) = self.light_region(&region, scratch);
         let mut clock = Instant::now();
-        if self.compensates() {
-            self.fold_compensation(&mut scratch.points);
-            times.lap(Phase::Compensation, &mut clock);
-        }
+        self.fold_compensation(&mut scratch.points, &mut times, &mut clock);
         scratch.composed.clear();
         for p in camera_points(&scratch.points) {
             scratch.composed.push(self.composed(p, p.state.pixel));
@@ -374,10 +371,7 @@ impl<'a> TilePipeline<'a> {
         (lit.rays, lit.times) = self.light_region(&tile.rect, scratch);
         lit.tile = tile;
         let mut clock = Instant::now();
-        if self.compensates() {
-            self.fold_compensation(&mut scratch.points);
-            lit.times.lap(Phase::Compensation, &mut clock);
-        }
+        self.fold_compensation(&mut scratch.points, &mut lit.times, &mut clock);
         // The emission moves to the lit tile, and its old buffer becomes the scratch's.
         std::mem::swap(&mut scratch.emitted, &mut lit.emitted);
         // The camera paths' points by pixel (a counting sort, stable): a neighbour's filter
@@ -513,9 +507,12 @@ impl<'a> TilePipeline<'a> {
     /// The light each compensation point reflects toward its parent joins the D of its camera
     /// path's point, and is filtered with it: one short ray per pixel is as noisy as one VPL
     /// set (more, where it finds a sunlit surface), and left unfiltered it leaves single
-    /// bright pixels near creases and contacts. Only a frame that compensates has such points
-    /// (the callers skip this pass over the points for the others).
-    fn fold_compensation(&self, points: &mut [ShadingPoint]) {
+    /// bright pixels near creases and contacts. Only a frame that compensates has such points:
+    /// the others skip this pass over the points, and count no compensation time in `times`.
+    fn fold_compensation(&self, points: &mut [ShadingPoint], times: &mut PhaseTimes, clock: &mut Instant) {
+        if !self.compensates() {
+            return;
+        }
         for i in 0..points.len() {
             let p = &points[i];
             if p.state.path & COMPENSATION != 0 {
@@ -526,6 +523,7 @@ impl<'a> TilePipeline<'a> {
                 points[root].compensation += light;
             }
         }
+        times.lap(Phase::Compensation, clock);
     }
 
     /// Filters the diffuse and glossy radiance and composes the tile's pixels, and for a
