@@ -211,8 +211,9 @@ pub struct TileScratch {
     split: Vec<WholePixel>,
     /// A fine set's shading points (set and lighting group, index) in the order they are lit.
     order: Vec<(u64, u32)>,
-    /// The region's camera points as `compose` reads them, point by point in three arrays
-    /// ([`ComposedPoints`]), their pixels indices in the region.
+    /// The region's camera points as the filter reads them, point by point
+    /// ([`ComposedPoints`]), their pixels indices in the region; with their shares only where
+    /// a tile is rendered on its own ([`TilePipeline::render_tile`]).
     composed: ComposedPoints,
     filtered: Filtered,
     filter: DiscontinuityBuffer,
@@ -241,16 +242,17 @@ impl ComposedPoints {
         self.shares.push(share);
     }
 
-    /// Appends the points `range` of `other`, their pixel indices shifted by `shift` (wrapping:
-    /// a shift into a region before the tile's first pixel is negative).
-    fn extend_from(&mut self, other: &Self, range: std::ops::Range<usize>, shift: u32) {
+    /// Appends what the filter reads of the points `range` of `other` (not their shares: a
+    /// tile composes only its own points, whose shares stay in their lit tile), their pixel
+    /// indices shifted by `shift` (wrapping: a shift into a region before the tile's first
+    /// pixel is negative).
+    fn extend_filter_input(&mut self, other: &Self, range: std::ops::Range<usize>, shift: u32) {
         self.samples.extend(
             other.samples[range.clone()]
                 .iter()
                 .map(|s| FilterSample { pixel: s.pixel.wrapping_add(shift), ..*s }),
         );
-        self.glossy_radiance.extend_from_slice(&other.glossy_radiance[range.clone()]);
-        self.shares.extend_from_slice(&other.shares[range]);
+        self.glossy_radiance.extend_from_slice(&other.glossy_radiance[range]);
     }
 }
 
@@ -357,9 +359,15 @@ impl<'a> TilePipeline<'a> {
         for p in camera_points(&scratch.points) {
             scratch.composed.push(self.composed(p, p.state.pixel));
         }
-        let emitted = std::mem::take(&mut scratch.emitted);
-        let radiance = self.compose(&tile, &region, (&region, &emitted), scratch);
-        scratch.emitted = emitted;
+        let (emitted, composed) =
+            (std::mem::take(&mut scratch.emitted), std::mem::take(&mut scratch.composed));
+        let tile_points =
+            composed.samples.iter().zip(&composed.shares).enumerate().filter_map(|(i, (p, share))| {
+                let (x, y) = region.pixel(p.pixel);
+                tile.rect.contains(x, y).then(|| (i, tile.rect.index(x, y), share))
+            });
+        let radiance = self.compose(&tile, &region, (&region, &emitted), (&composed, tile_points), scratch);
+        (scratch.emitted, scratch.composed) = (emitted, composed);
         times.lap(Phase::Filter, &mut clock);
         TileOutput::encode(tile, radiance, self.pixels, &self.tone_map, rays, times)
     }
@@ -450,7 +458,11 @@ impl<'a> TilePipeline<'a> {
     ) -> TileOutput {
         let mut clock = Instant::now();
         let region = self.interleave.region(&tile, self.size.0, self.size.1);
-        scratch.composed.clear();
+        let mut composed = std::mem::take(&mut scratch.composed);
+        composed.clear();
+        // Where each row of the tile's own points starts among the region's, and its run of
+        // them in the tile's lit points.
+        let mut own_rows = Vec::with_capacity(tile.rect.height() as usize);
         for neighbour in grid.tiles_overlapping(&region) {
             let lit = &lit[neighbour.index as usize];
             let rect = &lit.tile.rect;
@@ -460,11 +472,22 @@ impl<'a> TilePipeline<'a> {
                 let (first, last) = (rect.index(x0, y), rect.index(x1 - 1, y) + 1);
                 let shift = (region.index(x0, y) as u32).wrapping_sub(first as u32);
                 let run = lit.pixel_start[first] as usize..lit.pixel_start[last] as usize;
-                scratch.composed.extend_from(&lit.points, run, shift);
+                if neighbour.index == tile.index {
+                    own_rows.push((composed.samples.len(), run.clone()));
+                }
+                composed.extend_filter_input(&lit.points, run, shift);
             }
         }
         let own = &lit[tile.index as usize];
-        let radiance = self.compose(&tile, &region, (&tile.rect, &own.emitted), scratch);
+        // The own points' pixels are indices in the tile.
+        let tile_points = own_rows.iter().flat_map(|(start, run)| {
+            run.clone().map(move |j| {
+                (start + j - run.start, own.points.samples[j].pixel as usize, &own.points.shares[j])
+            })
+        });
+        let radiance =
+            self.compose(&tile, &region, (&tile.rect, &own.emitted), (&composed, tile_points), scratch);
+        scratch.composed = composed;
         let mut times = own.times;
         times.lap(Phase::Filter, &mut clock);
         TileOutput::encode(tile, radiance, self.pixels, &self.tone_map, own.rays, times)
@@ -529,18 +552,21 @@ impl<'a> TilePipeline<'a> {
     /// Filters the diffuse and glossy radiance and composes the tile's pixels, and for a
     /// layered frame their [`DiffuseLayer`](crate::image::frame_image::DiffuseLayer) part: the
     /// diffuse reflection (ρ_d·D and the exact lights' diffuse term) of the camera rays' own
-    /// hits. The region's camera paths' points are in `s.composed`, their pixels' indices in
-    /// `region` (the compensation's light folded in: [`TilePipeline::fold_compensation`]);
-    /// `emitted` is the emission and sky seen per pixel and sample of a rectangle holding the
-    /// tile.
-    fn compose(
+    /// hits. What the filter reads of the region's camera paths' points is in `composed`,
+    /// their pixels' indices in `region` (the compensation's light folded in:
+    /// [`TilePipeline::fold_compensation`]); `tile_points` are the tile's own points, each as
+    /// its index there, its pixel's index in the tile and its share of the pixel, each
+    /// pixel's in the order they are summed; `emitted` is the emission and sky seen per pixel
+    /// and sample of a rectangle holding the tile.
+    fn compose<'p>(
         &self,
         tile: &Tile,
         region: &PixelRect,
         (emitted_rect, emitted): (&PixelRect, &[Vec3]),
+        (composed, tile_points): (&ComposedPoints, impl Iterator<Item = (usize, usize, &'p PixelShare)>),
         s: &mut TileScratch,
     ) -> (Vec<Vec3>, Option<Vec<Vec3>>) {
-        let TileScratch { composed, filtered, filter, .. } = s;
+        let TileScratch { filtered, filter, .. } = s;
         // Most tiles have no glossy point; their glossy term stays out of the filter.
         let any_glossy = composed.glossy_radiance.iter().any(|g| *g != [Vec3::ZERO; 2]);
         let glossy_radiance = if any_glossy { &composed.glossy_radiance[..] } else { &[] };
@@ -560,21 +586,15 @@ impl<'a> TilePipeline<'a> {
         let aa = self.interleave.aa as usize;
         let mut pixels = vec![Vec3::ZERO; tile.rect.pixel_count()];
         let mut layer = (self.pixels == PixelFormat::Layered).then(|| vec![Vec3::ZERO; pixels.len()]);
-        let tile_index = |pixel: u32| {
-            let (x, y) = region.pixel(pixel);
-            tile.rect.contains(x, y).then(|| tile.rect.index(x, y))
-        };
-        let points = composed.samples.iter().zip(&composed.shares);
-        for (i, ((sample, p), d)) in points.zip(&filtered.diffuse_radiance).enumerate() {
-            if let Some(pixel) = tile_index(sample.pixel) {
-                let g = filtered.glossy_radiance.get(i).map_or(Vec3::ZERO, |[g, s]| p.glossy * *g + *s);
-                let (coverage, [exact_diffuse, exact_glossy]) = (p.coverage, p.exact);
-                let diffuse = p.albedo * *d + exact_diffuse;
-                pixels[pixel] += coverage * p.throughput * (diffuse + g + exact_glossy);
-                // Only the camera ray's own hit: what a mirror or glass shows moves with the view.
-                if let (Some(layer), true) = (&mut layer, p.camera_path) {
-                    layer[pixel] += coverage * diffuse;
-                }
+        for (i, pixel, p) in tile_points {
+            let d = filtered.diffuse_radiance[i];
+            let g = filtered.glossy_radiance.get(i).map_or(Vec3::ZERO, |[g, s]| p.glossy * *g + *s);
+            let (coverage, [exact_diffuse, exact_glossy]) = (p.coverage, p.exact);
+            let diffuse = p.albedo * d + exact_diffuse;
+            pixels[pixel] += coverage * p.throughput * (diffuse + g + exact_glossy);
+            // Only the camera ray's own hit: what a mirror or glass shows moves with the view.
+            if let (Some(layer), true) = (&mut layer, p.camera_path) {
+                layer[pixel] += coverage * diffuse;
             }
         }
         let scale = 1.0 / aa as f32;
