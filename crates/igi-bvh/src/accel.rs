@@ -335,10 +335,16 @@ impl Accel {
 
     /// [`Accel::trace8`] of `rays` prepared in world space as `world`.
     fn trace8_from<Q: TriangleQuery<F32x8>>(&self, world: &Local8, rays: &RayPacket8, q: &mut Q) {
-        let world = *world;
         let instance = |q: &mut Q, inst: u32, p: &Placement| {
-            let local =
-                if p.identity { world } else { world.transformed(rays, &p.world_to_object, q.active()) };
+            // By reference: the prepared packet is about a kilobyte, and a copy per instance
+            // was a `memcpy` call per packet.
+            let transformed;
+            let local = if p.identity {
+                world
+            } else {
+                transformed = world.transformed(rays, &p.world_to_object, q.active());
+                &transformed
+            };
             let start = &local.start;
             match (&local.shear, &local.boxes) {
                 (Shear8::Uniform(s), BoxRay8::Octant(b)) => self.walk_mesh(p.mesh, inst, start, s, b, q),
