@@ -189,55 +189,46 @@ impl Level {
     /// and two more for the tap numbers) was a fifth of the filter's time. The product of a
     /// row's and a column's weight is `coarse_weight`'s, so the bits are the same.
     fn taps(&self) -> Taps {
-        let axis = |before: u32, after: u32| -> Vec<f32> {
+        let axis = |before: u32, after: u32, stride: u32| -> Vec<(i64, f32)> {
             (0..=before + after)
-                .map(|t| self.tent.map_or(1.0, |il| il.coarse_tent(before.abs_diff(t))))
+                .map(|t| {
+                    let offset = (i64::from(t) - i64::from(before)) * i64::from(stride);
+                    (offset, self.tent.map_or(1.0, |il| il.coarse_tent(before.abs_diff(t))))
+                })
                 .collect()
         };
         let (([left, right], [up, down]), (sx, sy)) = (self.window, self.stride);
-        Taps {
-            column_weights: axis(left, right),
-            row_weights: axis(up, down),
-            first: (-i64::from(left) * i64::from(sx), -i64::from(up) * i64::from(sy)),
-            stride: (i64::from(sx), i64::from(sy)),
-        }
+        let (columns, rows) = (axis(left, right, sx), axis(up, down, sy));
+        let taps = rows
+            .iter()
+            .flat_map(|&(dy, w_y)| columns.iter().map(move |&(dx, w_x)| Tap { dx, dy, weight: w_x * w_y }))
+            .collect();
+        Taps { taps, reach: ([left * sx, right * sx], [up * sy, down * sy]) }
     }
 }
 
-/// A level's window of taps, with the weight of each column and row of taps.
+/// A level's window of taps around a pixel, row by row from the top, each row from the left:
+/// the order in which the filter adds them.
 struct Taps {
-    column_weights: Vec<f32>,
-    row_weights: Vec<f32>,
-    /// The offset in pixels of the first tap (left, top), and between taps.
-    first: (i64, i64),
-    stride: (i64, i64),
+    taps: Vec<Tap>,
+    /// How far the taps reach from the pixel, in pixels: ([left, right], [up, down]).
+    reach: Window,
 }
 
-/// One tap around a pixel: its offset in pixels, the image row it reads and its weight.
+/// One tap around a pixel: its offset in pixels and its weight.
 #[derive(Clone, Copy)]
 struct Tap {
     dx: i64,
     dy: i64,
-    row: i64,
     weight: f32,
 }
 
 impl Taps {
-    /// The taps around the pixels of image row `y` whose rows lie in `region`, row by row from
-    /// the top, each row from the left: the order in which the filter adds them.
-    fn around(&self, y: u32, region: &PixelRect) -> impl Iterator<Item = Tap> + '_ {
-        let rows = i64::from(region.y0)..i64::from(region.y1);
-        self.row_weights.iter().enumerate().flat_map(move |(ty, &w_y)| {
-            let dy = self.first.1 + ty as i64 * self.stride.1;
-            let row = i64::from(y) + dy;
-            let columns = if rows.contains(&row) { &self.column_weights[..] } else { &[] };
-            columns.iter().enumerate().map(move |(tx, &w_x)| Tap {
-                dx: self.first.0 + tx as i64 * self.stride.0,
-                dy,
-                row,
-                weight: w_x * w_y,
-            })
-        })
+    /// Whether every tap of the eight pixels from (x, y) on lies in `region`: their taps need
+    /// no test of the region's borders.
+    fn all_inside(&self, x: u32, y: u32, region: &PixelRect) -> bool {
+        let ([left, right], [up, down]) = self.reach;
+        x >= region.x0 + left && x + 7 + right < region.x1 && y >= region.y0 + up && y + down < region.y1
     }
 }
 
@@ -352,26 +343,40 @@ impl DiscontinuityBuffer {
                     let centres = Centres::new(&c, active, settings);
                     let mut sums = TapSums::<GLOSSY>::ZERO;
                     let xs = I32x8::splat(x as i32) + lane_offsets;
-                    for Tap { dx, dy, row, weight } in taps.around(y, region) {
+                    // Away from the region's borders every tap is eight neighbouring cells of
+                    // the grid, at a fixed distance from the centres'.
+                    let interior = taps.all_inside(x, y, region);
+                    for &Tap { dx, dy, weight } in &taps.taps {
+                        let row = i64::from(y) + dy;
+                        if !interior && !(i64::from(region.y0)..i64::from(region.y1)).contains(&row) {
+                            continue;
+                        }
                         // Lanes whose tap lies outside the region's columns take no part
                         // (and read some cell of the grid).
                         let (tap_x0, tap_x7) = (i64::from(x) + dx, i64::from(x) + dx + 7);
-                        let inside = if tap_x0 >= i64::from(region.x0) && tap_x7 < i64::from(region.x1) {
+                        let inside = if interior
+                            || (tap_x0 >= i64::from(region.x0) && tap_x7 < i64::from(region.x1))
+                        {
                             M32x8::from_bitmask(0xff)
                         } else {
                             let tap_x = xs + I32x8::splat(dx as i32);
                             tap_x.gt(I32x8::splat(region.x0 as i32 - 1))
                                 & tap_x.lt(I32x8::splat(region.x1 as i32))
                         };
-                        let first = (row - i64::from(region.y0)) * width + (tap_x0 - i64::from(region.x0));
+                        let first = match interior {
+                            true => centre as i64 + dy * width + dx,
+                            false => (row - i64::from(region.y0)) * width + (tap_x0 - i64::from(region.x0)),
+                        };
                         let last = grid.len() as i64 - 8;
-                        let block = first.clamp(0, last.max(0)) as usize;
-                        let at = |k: usize| match first >= 0 && first <= last {
+                        let in_grid = interior || (first >= 0 && first <= last);
+                        let block =
+                            if interior { first as usize } else { first.clamp(0, last.max(0)) as usize };
+                        let at = |k: usize| match in_grid {
                             true => block + k,
                             false => (first + k as i64).clamp(0, grid.len() as i64 - 1) as usize,
                         };
                         // A neighbour with a point per sample shows each centre's sample.
-                        let edge_bits = match first >= 0 && first <= last {
+                        let edge_bits = match in_grid {
                             true => edge_map.eight(block) & inside.bitmask() & active,
                             false => {
                                 (0..8)
@@ -387,7 +392,7 @@ impl DiscontinuityBuffer {
                                 .expect("an edge pixel's cell names its edge cells");
                             first_cell + points[whole[centre + k] as usize].sample as usize
                         };
-                        let contiguous = first >= 0 && first <= last && edge_bits == 0;
+                        let contiguous = in_grid && edge_bits == 0;
                         let q = if contiguous {
                             let cells = &grid[block..block + 8];
                             F32x8::transpose(std::array::from_fn(|k| &cells[k].0))
@@ -451,7 +456,11 @@ impl DiscontinuityBuffer {
                         }
                         let centres = Centres::new(&c, active, settings);
                         let mut sums = TapSums::<GLOSSY>::ZERO;
-                        for Tap { dx, dy, row, weight } in taps.around(y, region) {
+                        for &Tap { dx, dy, weight } in &taps.taps {
+                            let row = i64::from(y) + dy;
+                            if !(i64::from(region.y0)..i64::from(region.y1)).contains(&row) {
+                                continue;
+                            }
                             let column = i64::from(x) + dx;
                             if column < i64::from(region.x0) || column >= i64::from(region.x1) {
                                 continue;
