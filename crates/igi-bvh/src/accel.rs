@@ -336,8 +336,8 @@ impl Accel {
     /// [`Accel::trace8`] of `rays` prepared in world space as `world`.
     fn trace8_from<Q: TriangleQuery<F32x8>>(&self, world: &Local8, rays: &RayPacket8, q: &mut Q) {
         let instance = |q: &mut Q, inst: u32, p: &Placement| {
-            // By reference: the prepared packet is about a kilobyte, and a copy per instance
-            // was a `memcpy` call per packet.
+            // By reference: the prepared packet is about a kilobyte, and a copy was a `memcpy`
+            // call per packet and instance.
             let transformed;
             let local = if p.identity {
                 world

@@ -203,14 +203,14 @@ impl Level {
             .iter()
             .flat_map(|&(dy, w_y)| columns.iter().map(move |&(dx, w_x)| Tap { dx, dy, weight: w_x * w_y }))
             .collect();
-        Taps { taps, reach: ([left * sx, right * sx], [up * sy, down * sy]) }
+        Taps { all: taps, reach: ([left * sx, right * sx], [up * sy, down * sy]) }
     }
 }
 
 /// A level's window of taps around a pixel, row by row from the top, each row from the left:
 /// the order in which the filter adds them.
 struct Taps {
-    taps: Vec<Tap>,
+    all: Vec<Tap>,
     /// How far the taps reach from the pixel, in pixels: ([left, right], [up, down]).
     reach: Window,
 }
@@ -346,7 +346,7 @@ impl DiscontinuityBuffer {
                     // Away from the region's borders every tap is eight neighbouring cells of
                     // the grid, at a fixed distance from the centres'.
                     let interior = taps.all_inside(x, y, region);
-                    for &Tap { dx, dy, weight } in &taps.taps {
+                    for &Tap { dx, dy, weight } in &taps.all {
                         let row = i64::from(y) + dy;
                         if !interior && !(i64::from(region.y0)..i64::from(region.y1)).contains(&row) {
                             continue;
@@ -456,7 +456,7 @@ impl DiscontinuityBuffer {
                         }
                         let centres = Centres::new(&c, active, settings);
                         let mut sums = TapSums::<GLOSSY>::ZERO;
-                        for &Tap { dx, dy, weight } in &taps.taps {
+                        for &Tap { dx, dy, weight } in &taps.all {
                             let row = i64::from(y) + dy;
                             if !(i64::from(region.y0)..i64::from(region.y1)).contains(&row) {
                                 continue;

@@ -212,16 +212,21 @@ pub struct TileScratch {
     /// A fine set's shading points (set and lighting group, index) in the order they are lit.
     order: Vec<(u64, u32)>,
     /// The region's camera points as the filter reads them, point by point
-    /// ([`ComposedPoints`]), their pixels indices in the region; with their shares only where
+    /// ([`ComposedPoints`]), their pixels' indices in the region; with their shares only where
     /// a tile is rendered on its own ([`TilePipeline::render_tile`]).
     composed: ComposedPoints,
+    /// Where each row of a composed tile's own points starts in `composed`, and its run of
+    /// them in the tile's lit points ([`TilePipeline::compose_tile`]).
+    own_rows: Vec<(usize, std::ops::Range<usize>)>,
     filtered: Filtered,
     filter: DiscontinuityBuffer,
 }
 
 /// What filtering and composing read of shading points, point by point in three arrays: what
 /// the filter reads (with D + the compensation's light), the glossy terms G and S, and each
-/// point's share of its pixel. Far smaller than the points, and read in order.
+/// point's share of its pixel. Far smaller than the points, and read in order. The copy of a
+/// region that [`TilePipeline::compose_tile`] gathers from the lit tiles leaves the shares
+/// out: only the tile's own points are composed, with their shares read in their lit tile.
 #[derive(Clone, Debug, Default)]
 struct ComposedPoints {
     samples: Vec<FilterSample>,
@@ -254,6 +259,15 @@ impl ComposedPoints {
         );
         self.glossy_radiance.extend_from_slice(&other.glossy_radiance[range]);
     }
+}
+
+/// One of the points a tile composes ([`TilePipeline::compose`]).
+struct TilePoint<'a> {
+    /// Its index in the region's [`ComposedPoints`] (and in the filter's output).
+    index: usize,
+    /// Its pixel's index in the tile.
+    pixel: usize,
+    share: &'a PixelShare,
 }
 
 /// A shading point's share of its pixel, beside its filtered terms: pixel += coverage ·
@@ -364,7 +378,7 @@ impl<'a> TilePipeline<'a> {
         let tile_points =
             composed.samples.iter().zip(&composed.shares).enumerate().filter_map(|(i, (p, share))| {
                 let (x, y) = region.pixel(p.pixel);
-                tile.rect.contains(x, y).then(|| (i, tile.rect.index(x, y), share))
+                tile.rect.contains(x, y).then(|| TilePoint { index: i, pixel: tile.rect.index(x, y), share })
             });
         let radiance = self.compose(&tile, &region, (&region, &emitted), (&composed, tile_points), scratch);
         (scratch.emitted, scratch.composed) = (emitted, composed);
@@ -460,9 +474,8 @@ impl<'a> TilePipeline<'a> {
         let region = self.interleave.region(&tile, self.size.0, self.size.1);
         let mut composed = std::mem::take(&mut scratch.composed);
         composed.clear();
-        // Where each row of the tile's own points starts among the region's, and its run of
-        // them in the tile's lit points.
-        let mut own_rows = Vec::with_capacity(tile.rect.height() as usize);
+        let mut own_rows = std::mem::take(&mut scratch.own_rows);
+        own_rows.clear();
         for neighbour in grid.tiles_overlapping(&region) {
             let lit = &lit[neighbour.index as usize];
             let rect = &lit.tile.rect;
@@ -481,13 +494,15 @@ impl<'a> TilePipeline<'a> {
         let own = &lit[tile.index as usize];
         // The own points' pixels are indices in the tile.
         let tile_points = own_rows.iter().flat_map(|(start, run)| {
-            run.clone().map(move |j| {
-                (start + j - run.start, own.points.samples[j].pixel as usize, &own.points.shares[j])
+            run.clone().map(move |j| TilePoint {
+                index: start + j - run.start,
+                pixel: own.points.samples[j].pixel as usize,
+                share: &own.points.shares[j],
             })
         });
         let radiance =
             self.compose(&tile, &region, (&tile.rect, &own.emitted), (&composed, tile_points), scratch);
-        scratch.composed = composed;
+        (scratch.composed, scratch.own_rows) = (composed, own_rows);
         let mut times = own.times;
         times.lap(Phase::Filter, &mut clock);
         TileOutput::encode(tile, radiance, self.pixels, &self.tone_map, own.rays, times)
@@ -554,16 +569,15 @@ impl<'a> TilePipeline<'a> {
     /// diffuse reflection (ρ_d·D and the exact lights' diffuse term) of the camera rays' own
     /// hits. What the filter reads of the region's camera paths' points is in `composed`,
     /// their pixels' indices in `region` (the compensation's light folded in:
-    /// [`TilePipeline::fold_compensation`]); `tile_points` are the tile's own points, each as
-    /// its index there, its pixel's index in the tile and its share of the pixel, each
-    /// pixel's in the order they are summed; `emitted` is the emission and sky seen per pixel
-    /// and sample of a rectangle holding the tile.
+    /// [`TilePipeline::fold_compensation`]); `tile_points` are the tile's own points, each
+    /// pixel's points in the order they are to be summed; `emitted` is the emission and sky
+    /// seen per pixel and sample of a rectangle holding the tile.
     fn compose<'p>(
         &self,
         tile: &Tile,
         region: &PixelRect,
         (emitted_rect, emitted): (&PixelRect, &[Vec3]),
-        (composed, tile_points): (&ComposedPoints, impl Iterator<Item = (usize, usize, &'p PixelShare)>),
+        (composed, tile_points): (&ComposedPoints, impl Iterator<Item = TilePoint<'p>>),
         s: &mut TileScratch,
     ) -> (Vec<Vec3>, Option<Vec<Vec3>>) {
         let TileScratch { filtered, filter, .. } = s;
@@ -586,7 +600,7 @@ impl<'a> TilePipeline<'a> {
         let aa = self.interleave.aa as usize;
         let mut pixels = vec![Vec3::ZERO; tile.rect.pixel_count()];
         let mut layer = (self.pixels == PixelFormat::Layered).then(|| vec![Vec3::ZERO; pixels.len()]);
-        for (i, pixel, p) in tile_points {
+        for TilePoint { index: i, pixel, share: p } in tile_points {
             let d = filtered.diffuse_radiance[i];
             let g = filtered.glossy_radiance.get(i).map_or(Vec3::ZERO, |[g, s]| p.glossy * *g + *s);
             let (coverage, [exact_diffuse, exact_glossy]) = (p.coverage, p.exact);
