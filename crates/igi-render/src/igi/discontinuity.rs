@@ -346,31 +346,34 @@ impl DiscontinuityBuffer {
                     // Away from the region's borders every tap is eight neighbouring cells of
                     // the grid, at a fixed distance from the centres'.
                     let interior = taps.all_inside(x, y, region);
+                    let last = grid.len() as i64 - 8;
                     for &Tap { dx, dy, weight } in &taps.all {
-                        let row = i64::from(y) + dy;
-                        if !interior && !(i64::from(region.y0)..i64::from(region.y1)).contains(&row) {
-                            continue;
-                        }
-                        // Lanes whose tap lies outside the region's columns take no part
-                        // (and read some cell of the grid).
-                        let (tap_x0, tap_x7) = (i64::from(x) + dx, i64::from(x) + dx + 7);
-                        let inside = if interior
-                            || (tap_x0 >= i64::from(region.x0) && tap_x7 < i64::from(region.x1))
-                        {
-                            M32x8::from_bitmask(0xff)
+                        // The tap's first cell, and the lanes whose tap lies in the region's
+                        // columns (the others take no part, and read some cell of the grid).
+                        let (first, inside) = if interior {
+                            (centre as i64 + dy * width + dx, M32x8::from_bitmask(0xff))
                         } else {
-                            let tap_x = xs + I32x8::splat(dx as i32);
-                            tap_x.gt(I32x8::splat(region.x0 as i32 - 1))
-                                & tap_x.lt(I32x8::splat(region.x1 as i32))
+                            let row = i64::from(y) + dy;
+                            if !(i64::from(region.y0)..i64::from(region.y1)).contains(&row) {
+                                continue;
+                            }
+                            let tap_x0 = i64::from(x) + dx;
+                            let first =
+                                (row - i64::from(region.y0)) * width + (tap_x0 - i64::from(region.x0));
+                            let inside =
+                                if tap_x0 >= i64::from(region.x0) && tap_x0 + 7 < i64::from(region.x1) {
+                                    M32x8::from_bitmask(0xff)
+                                } else {
+                                    let tap_x = xs + I32x8::splat(dx as i32);
+                                    tap_x.gt(I32x8::splat(region.x0 as i32 - 1))
+                                        & tap_x.lt(I32x8::splat(region.x1 as i32))
+                                };
+                            (first, inside)
                         };
-                        let first = match interior {
-                            true => centre as i64 + dy * width + dx,
-                            false => (row - i64::from(region.y0)) * width + (tap_x0 - i64::from(region.x0)),
-                        };
-                        let last = grid.len() as i64 - 8;
+                        // An interior block's taps lie in the grid by construction.
                         let in_grid = interior || (first >= 0 && first <= last);
                         let block =
-                            if interior { first as usize } else { first.clamp(0, last.max(0)) as usize };
+                            if in_grid { first as usize } else { first.clamp(0, last.max(0)) as usize };
                         let at = |k: usize| match in_grid {
                             true => block + k,
                             false => (first + k as i64).clamp(0, grid.len() as i64 - 1) as usize,
