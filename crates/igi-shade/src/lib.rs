@@ -28,3 +28,9 @@ pub use params::{BrdfParams, BrdfParams8, GlossyModel, MIN_ALPHA};
 pub use procedural::ProceduralShader;
 pub use shader_table::ShaderTable;
 pub use surface_shader::SurfaceShader;
+
+/// The README's Rust examples (a surface shader of one's own), compiled as doctests so that
+/// they keep working.
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+struct ReadmeExamples;
