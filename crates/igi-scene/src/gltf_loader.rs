@@ -50,9 +50,11 @@
 //! their buffer view or have an unexpected type, `count = 0`, URIs that percent-decode to
 //! invalid UTF-8). So those fields are checked before the crate sees them, every accessor is
 //! checked against its buffer before it is read, and URIs are resolved here, not by the crate.
+//! What the meshes and animations will read is added up from the accessors' counts before any
+//! is read (`read_budget`), since a count need not be backed by data in the file.
 //!
 //! One submodule per part of the file: `document` (the checks before the `gltf` crate sees the
-//! document, required extensions), `buffers` (URIs and buffer bytes), `accessors`, `nodes` (the
+//! document, required extensions), `read_budget`, `buffers` (URIs and buffer bytes), `accessors`, `nodes` (the
 //! node forest, instances, animation nodes), `meshes`, `materials`, `lights`, `camera` and
 //! `channels` (animations); all but `document`, `buffers` and `channels` fill in the state of
 //! the load, `loader::Loader`.
@@ -75,6 +77,9 @@ mod loader;
 mod materials;
 mod meshes;
 mod nodes;
+mod read_budget;
+
+pub use read_budget::GLTF_READ_BUDGET;
 
 /// Parses the glTF document or GLB container of `file`, whose external buffers and images
 /// are looked up in `base_dir` (with `None` only embedded data, GLB chunks and `data:` URIs,
@@ -88,6 +93,7 @@ pub(crate) fn parse(
     report: &mut LoadReport,
 ) -> Result<Scene, SceneError> {
     let (document, blob) = document::read(bytes, file, report)?;
+    read_budget::check(&document, file, GLTF_READ_BUDGET)?;
     let buffers = buffers::load_buffers(&document, blob, file, base_dir, report)?;
     let tracks = channels::read(&document, &buffers, file, report);
     let mut loader = Loader::new(file, base_dir, &buffers, tracks, textures, report);

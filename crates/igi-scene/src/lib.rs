@@ -52,6 +52,7 @@ pub use environment::Environment;
 pub use error::{Location, SceneError};
 use format::{Format, format_of};
 pub use format::{MeshFormat, parse_mesh};
+pub use gltf_loader::GLTF_READ_BUDGET;
 pub use light::Light;
 pub use model::CameraDefect;
 pub use model::{

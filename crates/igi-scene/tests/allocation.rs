@@ -71,6 +71,12 @@ fn lying_counts_do_not_allocate() {
     let (json, _) = gltf_document(&[[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], &[0, 1, 2], true);
     let lies = [
         json.replacen(r#""count":3"#, r#""count":4000000000"#, 1),
+        // No buffer view: four billion zeros with one sparse value, all the file's data.
+        json.replacen(
+            r#"{"bufferView":0,"componentType":5126,"count":3,"#,
+            r#"{"componentType":5126,"count":4294967295,"sparse":{"count":1,"indices":{"bufferView":1,"componentType":5123},"values":{"bufferView":0}},"#,
+            1,
+        ),
         json.replacen(r#""byteLength":44"#, r#""byteLength":1000000000000"#, 1),
         json.replacen(r#""byteLength":36"#, r#""byteLength":4000000000"#, 1),
     ];
@@ -81,6 +87,18 @@ fn lying_counts_do_not_allocate() {
         });
         assert!(largest < LIMIT, "{lie}: {largest} bytes");
     }
+    // 20,000 primitives over one accessor of 300,000 vertices (3.6 MB of data): each would be
+    // read into the mesh, 7 GB in all; refused before the first, so nothing beyond the file's
+    // own buffer is allocated.
+    let positions: Vec<[f32; 3]> = (0..300_000).map(|i| [i as f32, 0.0, 0.0]).collect();
+    let (json, _) = gltf_document(&positions, &[0, 1, 2], true);
+    let primitive = r#"{"attributes":{"POSITION":0},"indices":1}"#;
+    let many = json.replacen(primitive, &vec![primitive; 20_000].join(","), 1);
+    let largest = largest_allocation(|| {
+        igi_scene::parse_mesh(igi_scene::MeshFormat::Gltf, many.as_bytes(), "many.gltf", None, &mut report)
+            .is_err()
+    });
+    assert!(largest < 4 * many.len(), "primitives sharing an accessor: {largest} bytes");
     // Key times that claim a billion keys: the channel is skipped before they are read.
     let animated = common::lying_key_times();
     let largest = largest_allocation(|| {
