@@ -64,7 +64,7 @@ pub use resources::read_regular_file;
 pub use scene_files::{MAX_CATALOG_FILES, name_under, scene_files_under};
 pub use shader::{Pattern, ShaderDesc};
 pub use texels::{ColorSpace, Image, Texels, srgb_to_linear};
-pub use texture::DEFAULT_TEXTURE_BUDGET;
+pub use texture::{DEFAULT_TEXTURE_BUDGET, SKY_BYTES_PER_TEXEL};
 use texture::TextureSet;
 pub use validate::MAX_INSTANCES;
 use validate::check_instance_count;

@@ -35,6 +35,11 @@ const MAX_DIMENSION: u32 = 16_384;
 const MAX_DECODE_BYTES: u64 = 1 << 30;
 /// Default scene-wide bound on the memory of all textures with their mipmaps.
 pub const DEFAULT_TEXTURE_BUDGET: u64 = 4 << 30;
+/// What the renderer builds per texel of a sky image besides the texture itself, charged to
+/// the texture budget with it: the radiance of each texel (three 32-bit floats) and its
+/// sampling table (a cumulative and a probability value per texel, 32-bit each). A 16k² sky
+/// is five times its texels.
+pub const SKY_BYTES_PER_TEXEL: u64 = 20;
 
 /// Bytes of a texture with its mipmap: the coarser levels add up to a third of the finest.
 fn with_mipmap(bytes: u64) -> u64 {
@@ -48,9 +53,16 @@ fn mib(bytes: u64) -> String {
 
 /// Decodes an encoded image (PNG, JPEG, Radiance HDR or OpenEXR). `name` is used, if the
 /// content is not recognised, to guess the format from its extension. `budget` bounds the
-/// bytes the image and its mipmap may keep: a larger image is halved until it fits (the
-/// returned message says so), and one that cannot fit even at 1 × 1 is refused before decoding.
-pub(crate) fn decode(bytes: &[u8], name: &str, budget: u64) -> Result<(Image, Option<String>), String> {
+/// bytes the image and its mipmap may keep, with `extra_per_texel` bytes more per texel for
+/// what the renderer derives from it ([`SKY_BYTES_PER_TEXEL`] for a sky, else 0): a larger
+/// image is halved until it fits (the returned message says so), and one that cannot fit even
+/// at 1 × 1 is refused before decoding.
+pub(crate) fn decode(
+    bytes: &[u8],
+    name: &str,
+    budget: u64,
+    extra_per_texel: u64,
+) -> Result<(Image, Option<String>), String> {
     let mut reader = ImageReader::new(Cursor::new(bytes)).with_guessed_format().map_err(|e| e.to_string())?;
     if reader.format().is_none() {
         if let Some(format) = Path::new(name).extension().and_then(ImageFormat::from_extension) {
@@ -76,12 +88,16 @@ pub(crate) fn decode(bytes: &[u8], name: &str, budget: u64) -> Result<(Image, Op
     }
     // How many times the image must be halved (as a mipmap level is: ⌈w/2⌉ × ⌈h/2⌉) to fit
     // what is left of the budget.
+    let cost = |w: u32, h: u32| {
+        let texels = u64::from(w) * u64::from(h);
+        with_mipmap(texels * per_texel) + texels * extra_per_texel
+    };
     let (mut w, mut h, mut halvings) = (width, height, 0);
-    while with_mipmap(u64::from(w) * u64::from(h) * per_texel) > budget {
+    while cost(w, h) > budget {
         if w == 1 && h == 1 {
             return Err(format!(
                 "{width}x{height} ({}) does not fit what is left of the scene's texture budget ({})",
-                mib(with_mipmap(stored)),
+                mib(cost(width, height)),
                 mib(budget)
             ));
         }
@@ -93,9 +109,10 @@ pub(crate) fn decode(bytes: &[u8], name: &str, budget: u64) -> Result<(Image, Op
     }
     let note = (halvings > 0).then(|| {
         format!(
-            "{width}x{height} ({} with mipmaps) exceeds what is left of the scene's texture budget ({}); \
+            "{width}x{height} ({} with mipmaps{}) exceeds what is left of the scene's texture budget ({}); \
              downscaled to {}x{}",
-            mib(with_mipmap(stored)),
+            mib(cost(width, height)),
+            if extra_per_texel > 0 { " and sampling tables" } else { "" },
             mib(budget),
             image.width,
             image.height
@@ -223,39 +240,52 @@ impl TextureSet {
             }
             return None;
         };
-        let (key, fresh) = self.load_file(&path, referrer, report);
+        let (key, fresh) = self.load_file(&path, 0, referrer, report);
         if let (Err(err), true) = (&self.images[&key], fresh) {
             report.warn(referrer, format!("texture `{key}` skipped: {err}"));
         }
         self.view(&key, space)
     }
 
-    /// The texture of the image file at `path` (resolved) read in `space`, or why there is
-    /// none: for an image the scene cannot do without (an environment map).
-    pub fn required_file(
+    /// The texture of the sky image file at `path` (resolved) read in `space`, or why there is
+    /// none (the scene cannot do without it). The image is charged with what the renderer
+    /// derives from it ([`SKY_BYTES_PER_TEXEL`]), so it is decoded apart from any surface
+    /// texture of the same file.
+    pub fn sky_file(
         &mut self,
         path: &Path,
         space: ColorSpace,
         referrer: &Path,
         report: &mut LoadReport,
     ) -> Result<u32, String> {
-        let (key, _) = self.load_file(path, referrer, report);
+        let (key, _) = self.load_file(path, SKY_BYTES_PER_TEXEL, referrer, report);
         match &self.images[&key] {
             Err(err) => Err(err.clone()),
             Ok(_) => self.view(&key, space).ok_or_else(|| "too many textures".into()),
         }
     }
 
-    /// Reads and decodes the file at `path` unless that was done before; returns its key (one
-    /// per file, however its path is spelled: `x.png`, `./x.png`, links) and whether this call
+    /// Reads and decodes the file at `path` unless that was done before, charging
+    /// `extra_per_texel` beside its texels (see [`decode`]); returns its key (one per file and
+    /// use, however its path is spelled: `x.png`, `./x.png`, links) and whether this call
     /// decoded it.
-    fn load_file(&mut self, path: &Path, referrer: &Path, report: &mut LoadReport) -> (String, bool) {
-        let key = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf()).display().to_string();
+    fn load_file(
+        &mut self,
+        path: &Path,
+        extra_per_texel: u64,
+        referrer: &Path,
+        report: &mut LoadReport,
+    ) -> (String, bool) {
+        let file = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
+        let key = match extra_per_texel {
+            0 => file.display().to_string(),
+            _ => format!("{} (sky)", file.display()),
+        };
         if self.images.contains_key(&key) {
             return (key, false);
         }
         let image = match resources::read(path, report) {
-            Ok(bytes) => self.decoded(&bytes, &key, referrer, report),
+            Ok(bytes) => self.decoded(&bytes, &key, extra_per_texel, referrer, report),
             Err(err) => Err(err.to_string()),
         };
         self.images.insert(key.clone(), image);
@@ -273,7 +303,7 @@ impl TextureSet {
         report: &mut LoadReport,
     ) -> Option<u32> {
         if !self.images.contains_key(key) {
-            let image = self.decoded(bytes, key, referrer, report);
+            let image = self.decoded(bytes, key, 0, referrer, report);
             if let Err(err) = &image {
                 report.warn(referrer, format!("texture `{key}` skipped: {err}"));
             }
@@ -282,20 +312,22 @@ impl TextureSet {
         self.view(key, space)
     }
 
-    /// Decodes an image within what is left of the budget and charges it; a downscale is
-    /// reported as a warning.
+    /// Decodes an image within what is left of the budget and charges it, with
+    /// `extra_per_texel` (see [`decode`]); a downscale is reported as a warning.
     fn decoded(
         &mut self,
         bytes: &[u8],
         name: &str,
+        extra_per_texel: u64,
         referrer: &Path,
         report: &mut LoadReport,
     ) -> Result<Image, String> {
-        let (image, note) = decode(bytes, name, self.budget_left)?;
+        let (image, note) = decode(bytes, name, self.budget_left, extra_per_texel)?;
         if let Some(note) = note {
             report.warn(referrer, format!("texture `{name}`: {note}"));
         }
-        self.budget_left -= with_mipmap(image.bytes());
+        let texels = u64::from(image.width) * u64::from(image.height);
+        self.budget_left -= with_mipmap(image.bytes()) + texels * extra_per_texel;
         Ok(image)
     }
 
@@ -392,7 +424,7 @@ mod tests {
         let grey = image::GrayImage::from_raw(2, 1, vec![0, 255]).unwrap();
         let mut bytes = Vec::new();
         grey.write_to(&mut Cursor::new(&mut bytes), ImageFormat::Png).unwrap();
-        let (image, note) = decode(&bytes, "g.png", u64::MAX).unwrap();
+        let (image, note) = decode(&bytes, "g.png", u64::MAX, 0).unwrap();
         assert!(note.is_none());
         let texels = image.texels.in_space(ColorSpace::Linear);
         assert_eq!(texels.linear(0), [0.0, 0.0, 0.0, 1.0]);
@@ -400,7 +432,7 @@ mod tests {
         let rgb = image::RgbImage::from_raw(2, 1, vec![1, 2, 3, 4, 5, 6]).unwrap();
         let mut bytes = Vec::new();
         rgb.write_to(&mut Cursor::new(&mut bytes), ImageFormat::Png).unwrap();
-        let (image, _) = decode(&bytes, "c.png", u64::MAX).unwrap();
+        let (image, _) = decode(&bytes, "c.png", u64::MAX, 0).unwrap();
         match &image.texels {
             Texels::Rgba8 { texels, .. } => assert_eq!(**texels, [[1, 2, 3, 255], [4, 5, 6, 255]]),
             other => panic!("8-bit stays 8-bit: {other:?}"),
@@ -441,7 +473,7 @@ mod tests {
                 }
             }
             bytes.truncate(cut.max(8));
-            if let Ok((image, _)) = decode(&bytes, "fuzz.png", budget) {
+            if let Ok((image, _)) = decode(&bytes, "fuzz.png", budget, 0) {
                 proptest::prop_assert!(image.is_complete());
                 proptest::prop_assert!(with_mipmap(image.bytes()) <= budget);
             }
@@ -450,27 +482,44 @@ mod tests {
 
     #[test]
     fn garbage_is_an_error_not_a_panic() {
-        assert!(decode(b"\x89PNG\r\n\x1a\nnot really", "x.png", u64::MAX).is_err());
-        assert!(decode(&[], "x.jpg", u64::MAX).is_err());
+        assert!(decode(b"\x89PNG\r\n\x1a\nnot really", "x.png", u64::MAX, 0).is_err());
+        assert!(decode(&[], "x.jpg", u64::MAX, 0).is_err());
     }
 
     #[test]
     fn images_over_the_budget_are_halved_until_they_fit_or_refused() {
         let bytes = png(&[[200, 100, 50, 255]; 64 * 64], 64);
         // 64 × 64 × 4 bytes = 16 KiB, 21.3 KiB with its mipmap.
-        let (image, note) = decode(&bytes, "t.png", 22 << 10).unwrap();
+        let (image, note) = decode(&bytes, "t.png", 22 << 10, 0).unwrap();
         assert_eq!((image.width, note), (64, None));
-        let (image, note) = decode(&bytes, "t.png", 6 << 10).unwrap();
+        let (image, note) = decode(&bytes, "t.png", 6 << 10, 0).unwrap();
         assert_eq!((image.width, image.height), (32, 32));
         assert!(note.unwrap().contains("downscaled to 32x32"));
         // Odd sizes halve to ⌈w/2⌉: 5 × 3 texels become 3 × 2 (24 bytes, 32 with mipmaps).
         let odd = png(&[[1, 2, 3, 255]; 15], 5);
-        let (image, _) = decode(&odd, "t.png", 32).unwrap();
+        let (image, _) = decode(&odd, "t.png", 32, 0).unwrap();
         assert_eq!((image.width, image.height), (3, 2));
-        let (image, _) = decode(&odd, "t.png", 31).unwrap();
+        let (image, _) = decode(&odd, "t.png", 31, 0).unwrap();
         assert_eq!((image.width, image.height), (2, 1));
         // Even one texel (4 bytes, 5 with its "mipmap") is over a budget of 4.
-        assert!(decode(&bytes, "t.png", 4).unwrap_err().contains("texture budget"));
+        assert!(decode(&bytes, "t.png", 4, 0).unwrap_err().contains("texture budget"));
+    }
+
+    #[test]
+    fn a_sky_is_charged_with_its_sampling_tables() {
+        let bytes = png(&[[200, 100, 50, 255]; 64 * 64], 64);
+        // As a surface texture 64 × 64 fits 22 KiB; as a sky it also needs 20 bytes a texel
+        // (80 KiB), so it is halved twice: 16 × 16 is 1.3 + 5 KiB.
+        let (image, note) = decode(&bytes, "sky.png", 22 << 10, SKY_BYTES_PER_TEXEL).unwrap();
+        assert_eq!((image.width, image.height), (16, 16));
+        assert!(note.unwrap().contains("sampling tables"));
+        let mut set = TextureSet::with_budget(128 << 10);
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("sky.png");
+        std::fs::write(&path, &bytes).unwrap();
+        let mut report = LoadReport::default();
+        set.sky_file(&path, ColorSpace::Srgb, Path::new("s.toml"), &mut report).unwrap();
+        assert_eq!(set.budget_left, (128 << 10) - (64 * 64 * 4 * 4 / 3 + 64 * 64 * SKY_BYTES_PER_TEXEL));
     }
 
     #[test]

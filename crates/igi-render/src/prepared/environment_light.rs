@@ -395,6 +395,17 @@ mod tests {
         EnvironmentLight::new(&Environment::Map { texture: 0, intensity, rotation_deg }, &[sky()])
     }
 
+    /// The loader charges a sky image [`igi_scene::SKY_BYTES_PER_TEXEL`] per texel to the
+    /// texture budget for what the map builds (its radiance and sampling tables), so the map
+    /// holds no more than that.
+    #[test]
+    fn a_sky_map_holds_what_the_texture_budget_charged() {
+        let Kind::Map(map) = light(1.0, 0.0).kind else { panic!("a map") };
+        let radiance = map.texels.len() * size_of::<Vec3>();
+        let tables: usize = map.columns.iter().map(|c| c.len() * 2 * size_of::<f32>()).sum();
+        assert_eq!((radiance + tables) as u64, u64::from(W * H) * igi_scene::SKY_BYTES_PER_TEXEL);
+    }
+
     /// The i-th of a fixed sequence of points in [0, 1)².
     fn random(i: u32) -> Vec2 {
         let a = hash32(2 * i) >> 8;

@@ -63,7 +63,7 @@ pub(super) fn environment_from(
     // Float images (.hdr, .exr) are linear whatever the colour space; 8- and 16-bit images
     // are sRGB-encoded pictures.
     let texture = textures
-        .required_file(&image_path, ColorSpace::Srgb, check.file, report)
+        .sky_file(&image_path, ColorSpace::Srgb, check.file, report)
         .map_err(|e| SceneError::invalid(check.file, at(), format!("`{name}` could not be loaded: {e}")))?;
     Ok(Some(Environment::Map { texture, intensity, rotation_deg }))
 }
