@@ -356,6 +356,55 @@ fn spot_light_vpls_stay_inside_its_cone() {
 }
 
 #[test]
+fn many_point_lights_are_sampled_per_set_with_their_whole_power() {
+    // 40 point lights of different intensities under a plane, more than the 8 of 16 VPLs per
+    // pixel that may light every set exactly: no exact light, and each set's sampled lights
+    // (chosen in proportion to their power, each scaled by 1 / (p_l P)) sum to the scene's
+    // whole intensity, since every path starts at one of them.
+    let lights: Vec<Light> = (0..40)
+        .map(|i| Light::Point {
+            position: Vec3::new(0.1 * i as f32 - 2.0, -1.0, 0.05 * i as f32),
+            intensity: Vec3::new(1.0 + i as f32, 2.0, 0.5 + 0.1 * i as f32),
+        })
+        .collect();
+    let total: Vec3 = lights
+        .iter()
+        .map(|l| match l {
+            Light::Point { intensity, .. } => *intensity,
+            _ => unreachable!(),
+        })
+        .sum();
+    let many =
+        PreparedScene::new(scene(vec![plane(0.0, 3.0, true, 0)], vec![diffuse("grey", 0.5)], lights.clone()));
+    let sets = VplSets::generate(&many, &frame(0, 16));
+    assert!(sets.lights().is_empty(), "40 lights are more than 16 VPLs per pixel may light exactly");
+    for s in 0..sets.set_count() {
+        let sampled = sets.sky(s);
+        assert!(!sampled.is_empty() && sampled.len() < lights.len(), "set {s}: {} lights", sampled.len());
+        let intensity: Vec3 = sampled
+            .iter()
+            .map(|l| match l {
+                Light::Point { intensity, .. } => *intensity,
+                other => panic!("a sampled point light: {other:?}"),
+            })
+            .sum();
+        // The luminance is exact; the channels follow the chosen lights' colours.
+        let luminance = |c: Vec3| c.dot(Vec3::new(0.2126, 0.7152, 0.0722));
+        let relative = (luminance(intensity) - luminance(total)).abs() / luminance(total);
+        assert!(relative < 1e-4, "set {s}: {intensity} against {total}");
+    }
+    // Up to the limit, the lights stay exact in every set.
+    let few = PreparedScene::new(scene(
+        vec![plane(0.0, 3.0, true, 0)],
+        vec![diffuse("grey", 0.5)],
+        lights[..8].to_vec(),
+    ));
+    let sets = VplSets::generate(&few, &frame(0, 16));
+    assert_eq!(sets.lights(), &lights[..8]);
+    assert!((0..sets.set_count()).all(|s| sets.sky(s).is_empty()));
+}
+
+#[test]
 fn scene_without_lights_walks_from_the_headlight() {
     let scene = PreparedScene::new(scene(vec![plane(0.0, 3.0, true, 0)], vec![diffuse("grey", 0.5)], vec![]));
     let f = frame(0, 16);

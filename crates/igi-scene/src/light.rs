@@ -32,3 +32,18 @@ pub enum Light {
         irradiance: Vec3,
     },
 }
+
+impl Light {
+    /// The same light with its emitted power (intensity or irradiance) times `factor`.
+    pub fn scaled(&self, factor: f32) -> Self {
+        match *self {
+            Light::Point { position, intensity } => Light::Point { position, intensity: intensity * factor },
+            Light::Spot { position, direction, angle_deg, intensity } => {
+                Light::Spot { position, direction, angle_deg, intensity: intensity * factor }
+            }
+            Light::Directional { direction, irradiance } => {
+                Light::Directional { direction, irradiance: irradiance * factor }
+            }
+        }
+    }
+}

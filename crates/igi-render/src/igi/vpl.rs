@@ -10,6 +10,14 @@
 //! triangles have no such exact term: the first vertex of a path on an area light is a VPL
 //! ("light-surface samples are VPLs too"), and these VPLs are the direct light of area lights.
 //!
+//! Exact terms cost a shadow ray per light and pixel, and they count toward the VPLs per pixel
+//! (see "Paths per set"), so a scene with more punctual lights than [`exact_light_limit`]
+//! (half the VPLs per pixel) has none: its punctual lights are sources of light paths like
+//! the others, and a path that starts at light l leaves the light itself, scaled by
+//! 1/(p_l · P), among its set's sky VPLs. Each set then holds an unbiased, power-proportional
+//! sample of the lights, and the filter merges the sets' samples as it merges their VPLs
+//! (200,000 point lights used to cost 600,000 shadow rays per pixel).
+//!
 //! A path starts at light l with probability p_l ∝ luminance of its power Φ_l:
 //!
 //! | light | Φ_l | start point and direction |
@@ -213,6 +221,12 @@ impl Vpl {
     }
 }
 
+/// The most point, spot and directional lights that light every set exactly: half the VPLs
+/// per pixel, at least one (see the module documentation, "Lights").
+pub fn exact_light_limit(vpls_per_pixel: u32) -> usize {
+    (vpls_per_pixel / 2).max(1) as usize
+}
+
 /// The VPLs of one frame: n·m interleaved sets of surface VPLs and sky VPLs, plus the
 /// punctual lights that light every set exactly.
 #[derive(Clone, Debug, Default)]
@@ -230,9 +244,12 @@ impl VplSets {
     /// depends only on `scene` and `frame`. A scene whose lights all have zero power gets
     /// empty sets.
     pub fn generate(scene: &PreparedScene, frame: &FrameState) -> Self {
-        let lights = scene.punctual_lights(&frame.camera);
+        let punctual = scene.punctual_lights(&frame.camera);
+        let sampled_lights = punctual.len() > exact_light_limit(frame.settings.vpls_per_pixel);
+        let lights = if sampled_lights { Vec::new() } else { punctual.clone() };
         let view = ViewImportance::new(scene, frame);
-        let Some(emitters) = Emitters::new(scene, &lights, frame.settings.bounces, view) else {
+        let Some(emitters) = Emitters::new(scene, &punctual, sampled_lights, frame.settings.bounces, view)
+        else {
             let sets = vec![Vec::new(); frame.settings.set_count() as usize];
             let sky = sets.iter().map(|_| Vec::new()).collect();
             return Self { lights, sets, sky, paths: 0, expected_vpls_per_path: 0.0 };
@@ -299,8 +316,9 @@ impl VplSets {
         &self.sets[s as usize]
     }
 
-    /// Sky VPLs of set `s`: directional lights, each a sample of the light the sky sends
-    /// (see the module documentation).
+    /// Sky VPLs of set `s`: directional lights, each a sample of the light the sky sends,
+    /// and in a scene with more punctual lights than [`exact_light_limit`] the lights its
+    /// paths started at, scaled (see the module documentation).
     pub fn sky(&self, s: u32) -> &[Light] {
         &self.sky[s as usize]
     }
@@ -382,12 +400,8 @@ struct PathVpls {
 enum Source {
     /// All emissive triangles, the triangle chosen by [`AreaLights::sample`].
     Area,
-    /// A point light.
-    Point { position: Vec3 },
-    /// A spot light and its cone.
-    Spot { position: Vec3, cone: SpotCone },
-    /// A directional light: unit direction of travel.
-    Directional { direction: Vec3 },
+    /// The punctual light of this index in [`Emitters::lights`] (point, spot or directional).
+    Punctual(usize),
     /// The sky ([`PreparedScene::environment`]).
     Environment,
 }
@@ -395,6 +409,11 @@ enum Source {
 /// The lights of a frame as sources of light paths, with the distribution that picks one.
 struct Emitters<'a> {
     scene: &'a PreparedScene,
+    /// The frame's point, spot and directional lights.
+    lights: &'a [Light],
+    /// Whether the punctual lights are sampled by the paths ([`exact_light_limit`]): a path
+    /// that starts at one leaves it, scaled as a VPL, among the set's [`PathVpls::sky`].
+    sampled_lights: bool,
     /// The sources with their power Φ_l per channel (unused for [`Source::Area`], whose
     /// particles take the power of the sampled point).
     sources: Vec<(Source, Vec3)>,
@@ -409,8 +428,15 @@ struct Emitters<'a> {
 }
 
 impl<'a> Emitters<'a> {
-    /// The sources of `scene`'s area lights and of `lights`; `None` if none emits any power.
-    fn new(scene: &'a PreparedScene, lights: &[Light], bounces: u32, view: ViewImportance) -> Option<Self> {
+    /// The sources of `scene`'s area lights and of `lights` (`sampled_lights`: see the
+    /// field); `None` if none emits any power.
+    fn new(
+        scene: &'a PreparedScene,
+        lights: &'a [Light],
+        sampled_lights: bool,
+        bounces: u32,
+        view: ViewImportance,
+    ) -> Option<Self> {
         let bounds = scene.bounds();
         let sphere =
             if bounds.is_empty() { (Vec3::ZERO, 0.0) } else { (bounds.centroid(), 0.5 * bounds.diagonal()) };
@@ -422,28 +448,26 @@ impl<'a> Emitters<'a> {
             // The flux through a disc of radius R across the scene from every direction.
             sources.push((Source::Environment, PI * sphere.1 * sphere.1 * sky.integral()));
         }
-        for light in lights {
-            sources.push(match *light {
-                Light::Point { position, intensity } => (Source::Point { position }, 4.0 * PI * intensity),
-                Light::Spot { position, direction, angle_deg, intensity } => {
+        for (index, light) in lights.iter().enumerate() {
+            let power = match *light {
+                Light::Point { intensity, .. } => 4.0 * PI * intensity,
+                Light::Spot { direction, angle_deg, intensity, .. } => {
                     let cone = SpotCone::new(direction, angle_deg);
-                    let power = if cone.axis == Vec3::ZERO {
+                    if cone.axis == Vec3::ZERO {
                         Vec3::ZERO
                     } else {
                         2.0 * PI * (1.0 - cone.cos_half) * intensity
-                    };
-                    (Source::Spot { position, cone }, power)
+                    }
                 }
                 Light::Directional { direction, irradiance } => {
-                    let direction = direction.normalize_or_zero();
-                    let power = if direction == Vec3::ZERO {
+                    if direction.normalize_or_zero() == Vec3::ZERO {
                         Vec3::ZERO
                     } else {
                         PI * sphere.1 * sphere.1 * irradiance
-                    };
-                    (Source::Directional { direction }, power)
+                    }
                 }
-            });
+            };
+            sources.push((Source::Punctual(index), power));
         }
         let choice = Cdf::new(sources.iter().map(|(_, power)| {
             let w = luminance(*power);
@@ -451,6 +475,8 @@ impl<'a> Emitters<'a> {
         }));
         (!choice.is_empty()).then_some(Self {
             scene,
+            lights,
+            sampled_lights,
             sources,
             choice,
             sphere,
@@ -507,12 +533,16 @@ impl<'a> Emitters<'a> {
         out.surface.drain(surface_before..end);
         let end = out.sky.len();
         for i in sky_before..end {
-            if let Light::Directional { direction, irradiance } = out.sky[i] {
-                let p = self.view.sky_acceptance(accel, direction);
-                out.expected += p;
-                if let Some(scale) = kept(MAX_BOUNCES as usize + 1 + i - sky_before, p) {
-                    out.sky.push(Light::Directional { direction, irradiance: irradiance * scale });
-                }
+            // A sky VPL or a sampled directional light is kept if the view sees its
+            // direction; a sampled point or spot light always is.
+            let light = out.sky[i].clone();
+            let p = match light {
+                Light::Directional { direction, .. } => self.view.sky_acceptance(accel, direction),
+                Light::Point { .. } | Light::Spot { .. } => 1.0,
+            };
+            out.expected += p;
+            if let Some(scale) = kept(MAX_BOUNCES as usize + 1 + i - sky_before, p) {
+                out.sky.push(light.scaled(scale));
             }
         }
         out.sky.drain(sky_before..end);
@@ -521,7 +551,6 @@ impl<'a> Emitters<'a> {
     /// Starts path `k` of `paths` of the set with scramble seed `seed` at a light and walks
     /// it, appending every VPL it leaves.
     fn start_path(&self, k: u32, seed: u32, paths: u32, out: &mut PathVpls) {
-        let vpls = &mut out.surface;
         let [u_light, u_select, u0, u1] = sobol4(k, LIGHT_DIMENSIONS, seed);
         let [d0, d1, ..] = sobol4(k, EMISSION_DIMENSIONS, seed);
         let (index, p_light) = self.choice.sample(u_light);
@@ -532,20 +561,35 @@ impl<'a> Emitters<'a> {
                 let Some(y) = self.scene.area_lights().sample(u_select, Vec2::new(u0, u1)) else { return };
                 // Φ = L_e cosθ / (p_l p_A (cosθ / π) P): cosine-weighted emission cancels cosθ.
                 let power = y.emission * (PI / y.pdf_area) * scale;
-                vpls.push(Vpl::diffuse(y.point, y.normal, power));
+                out.surface.push(Vpl::diffuse(y.point, y.normal, power));
                 let dir = cosine_hemisphere(y.normal, Vec2::new(d0, d1));
                 (offset_ray_origin(y.point, y.normal), dir, power)
             }
-            Source::Point { position } => (position, uniform_sphere(Vec2::new(d0, d1)), power * scale),
-            Source::Spot { position, cone } => {
-                (position, uniform_cone(cone.axis, cone.cos_half, Vec2::new(d0, d1)), power * scale)
-            }
-            Source::Directional { direction } => {
-                let (centre, radius) = self.sphere;
-                let (t, b) = direction.any_orthonormal_pair();
-                let disc = radius * concentric_disc(Vec2::new(u0, u1));
-                let origin = centre - (1.0 + DISC_MARGIN) * radius * direction + disc.x * t + disc.y * b;
-                (origin, direction, power * scale)
+            Source::Punctual(index) => {
+                let light = &self.lights[index];
+                if self.sampled_lights {
+                    // Chosen with probability p_l among P paths: the light scaled by
+                    // 1 / (p_l P) is its unbiased share of the set's direct light.
+                    out.sky.push(light.scaled(scale));
+                }
+                match *light {
+                    Light::Point { position, .. } => {
+                        (position, uniform_sphere(Vec2::new(d0, d1)), power * scale)
+                    }
+                    Light::Spot { position, direction, angle_deg, .. } => {
+                        let cone = SpotCone::new(direction, angle_deg);
+                        (position, uniform_cone(cone.axis, cone.cos_half, Vec2::new(d0, d1)), power * scale)
+                    }
+                    Light::Directional { direction, .. } => {
+                        let direction = direction.normalize_or_zero();
+                        let (centre, radius) = self.sphere;
+                        let (t, b) = direction.any_orthonormal_pair();
+                        let disc = radius * concentric_disc(Vec2::new(u0, u1));
+                        let origin =
+                            centre - (1.0 + DISC_MARGIN) * radius * direction + disc.x * t + disc.y * b;
+                        (origin, direction, power * scale)
+                    }
+                }
             }
             Source::Environment => {
                 // Light arriving from ω: a direction drawn by the sky's importance (density
@@ -564,7 +608,7 @@ impl<'a> Emitters<'a> {
                 (origin, -sky.dir, irradiance * (PI * radius * radius))
             }
         };
-        self.walk(origin, dir, power, k, seed, vpls);
+        self.walk(origin, dir, power, k, seed, &mut out.surface);
     }
 
     /// Follows a particle of power `power` leaving `origin` along `dir` through at most
