@@ -6,7 +6,8 @@
 // Checks: on a 1920x1080 page the image fills the area beside the panel, rendered at that
 // size times the resolution scale (auto, full, 1/4); a non-blank frame arrives; a mouse drag over the image turns the view (the next
 // frame differs); a click selects the object under it (named, outlined); a setting changed in the side panel comes back in the frames' settings and
-// changes the image (the filter off; the coarse interleave K 3 -> 1); and, with the
+// changes the image (the filter off; the coarse interleave K 3 -> 1); a scene that does not
+// open says why in place of "opening…"; and, with the
 // animation playing, the latency from an input event to the first frame drawn with it is at
 // most 3 frame times + 40 ms (median of 12 drags): the frame in progress when the input comes,
 // the frame with it, encoding, sending and drawing, and one frame of slack for a busy 2-core
@@ -239,7 +240,8 @@ await waitFor(() => window.__igi.header.stats.settings.accumulate === false);
 
 // Another scene (issue 18): the server lists what it may open; choosing the Cornell box
 // says so while it loads and shows it; the animated room comes back the same way.
-assert.deepEqual(await page.locator("#open_scene option").allTextContents(), ["animated-room", "cornell-box"]);
+assert.deepEqual(await page.locator("#open_scene option").allTextContents(),
+  ["animated-room", "cornell-box", "toml/missing_mesh.toml"]);
 const roomTriangles = (await header()).stats.triangles;
 for (const name of ["cornell-box", "animated-room"]) {
   await page.locator("#open_scene").selectOption(name);
@@ -249,6 +251,14 @@ const reopened = (await header()).stats;
 assert.equal(reopened.triangles, roomTriangles);
 assert.equal(await page.evaluate(() => document.title), "igi: animated-room");
 console.log("open scene: cornell-box, then animated-room again");
+// A scene that does not open (issues 34, 35): the server's reason replaces "opening…", and the
+// list shows the scene still shown.
+await page.locator("#open_scene").selectOption("toml/missing_mesh.toml");
+await waitFor(() => document.getElementById("status").textContent.startsWith("open: "));
+const failed = await page.locator("#status").textContent();
+assert.equal(failed, "open: toml/missing_mesh.toml: mesh file missing.obj: No such file or directory");
+assert.equal(await page.locator("#open_scene").inputValue(), "animated-room");
+console.log(`a scene that does not open: "${failed}"`);
 
 // 4. Latency with the animation playing (the renderer is always busy with a frame).
 await page.locator("#playing").click();

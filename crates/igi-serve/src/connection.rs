@@ -1,6 +1,12 @@
 //! One WebSocket connection: its input messages go to the shared render loop, the newest
 //! encoded frame goes out whenever the previous send has completed (see the crate doc for the
 //! wire format). A bad message closes this connection only.
+//!
+//! The connection has its own [`igi_session::Refusals`]: why the session refused one of its inputs (a
+//! scene that does not open, a view or light the scene lacks) or the connection refused its
+//! settings goes out with the next frame, sent at once with the newest frame again, since a
+//! still view renders none. They are bounded however many come unread, and go with the
+//! connection (issue 35).
 
 use crate::budget::FrameBudget;
 use crate::encoder::EncodedFrame;
@@ -36,17 +42,14 @@ pub struct FrameHeader<'a> {
     pub stats: &'a FrameStats,
     /// The highest `id` of this connection's inputs that the frame includes, if a new one.
     pub acked: Option<u64>,
-    /// Settings this connection sent that were refused, with the reason.
+    /// Why inputs this connection sent were refused (the newest
+    /// [`igi_session::refusals::MAX_KEPT`] since the last frame it was sent).
     pub errors: Vec<String>,
 }
 
-/// What this connection has sent and not yet seen acknowledged.
-#[derive(Debug, Default)]
-struct Pending {
-    /// (render-loop sequence number, client id) in sending order.
-    inputs: VecDeque<(u64, u64)>,
-    errors: Vec<String>,
-}
+/// What this connection has sent and not yet seen acknowledged: (render-loop sequence
+/// number, client id) in sending order.
+type Pending = VecDeque<(u64, u64)>;
 
 /// Why a connection ends.
 struct Closing {
@@ -64,14 +67,18 @@ pub async fn handle(
     // The session renders while at least one viewer is connected.
     let _watching = render_loop.watch();
     let (mut sink, mut stream) = socket.split();
-    let pending = Arc::new(Mutex::new(Pending::default()));
+    let pending = Arc::new(Mutex::new(Pending::new()));
+    // A refusal wakes the sender, which says it with the newest frame.
     let refusal = Arc::new(Notify::new());
+    let refusals = {
+        let refusal = refusal.clone();
+        render_loop.refusals(move || refusal.notify_one())
+    };
     // The newest frame goes out at once to a new viewer.
     frames.mark_changed();
 
     let receive = {
-        let pending = pending.clone();
-        let refusal = refusal.clone();
+        let (pending, refusals) = (pending.clone(), &refusals);
         async move {
             while let Some(message) = stream.next().await {
                 let text = match message {
@@ -102,20 +109,17 @@ pub async fn handle(
                         Ok(()) => budget.check(settings).err().map(|e| e.to_string()),
                     };
                     if let Some(why) = refused {
-                        lock(&pending).errors.push(why);
-                        // Said at once, with the newest frame again: a still view renders
-                        // no frame that could carry it.
-                        refusal.notify_one();
+                        refusals.push(&why);
                         continue;
                     }
                 }
-                let seq = render_loop.send(message.input);
+                let seq = render_loop.send(message.input, refusals);
                 if let Some(id) = message.id {
                     let mut p = lock(&pending);
-                    if p.inputs.len() == MAX_PENDING {
-                        p.inputs.pop_front();
+                    if p.len() == MAX_PENDING {
+                        p.pop_front();
                     }
-                    p.inputs.push_back((seq, id));
+                    p.push_back((seq, id));
                 }
             }
             Closing { code: close_code::NORMAL, reason: String::new() }
@@ -129,14 +133,15 @@ pub async fn handle(
                 () = refusal.notified() => {}
             }
             let Some(frame) = frames.borrow_and_update().clone() else { continue };
-            let (acked, errors) = {
+            let acked = {
                 let mut p = lock(&pending);
                 let mut acked = None;
-                while p.inputs.front().is_some_and(|&(seq, _)| seq <= frame.stats.input_seq) {
-                    acked = p.inputs.pop_front().map(|(_, id)| id);
+                while p.front().is_some_and(|&(seq, _)| seq <= frame.stats.input_seq) {
+                    acked = p.pop_front().map(|(_, id)| id);
                 }
-                (acked, std::mem::take(&mut p.errors))
+                acked
             };
+            let errors = refusals.take();
             let header = FrameHeader { stats: &frame.stats, acked, errors };
             let Ok(json) = serde_json::to_vec(&header) else { return };
             let mut bytes = Vec::with_capacity(5 + json.len() + frame.bytes.len());

@@ -20,7 +20,11 @@
 //!
 //! Settings a client sends are checked on its connection: invalid ones, and ones whose frame
 //! would cost more than the server's [`FrameBudget`], are refused with the reason in the
-//! `errors` of that connection's next frame.
+//! `errors` of that connection's next frame. So are the inputs the session refuses (a scene
+//! that does not open, a view or light source the scene does not have): the reason goes to
+//! the connection that sent them, at once with the newest frame, at most
+//! [`igi_session::refusals::MAX_KEPT`] reasons of at most
+//! [`igi_session::refusals::MAX_CHARS`] characters waiting for a client that reads none.
 //!
 //! Modules: [`encoder`] (frames to JPEG/PNG once for all connections), [`connection`] (one
 //! WebSocket), [`budget`] (the most a frame may cost), [`server`] (routes, connection limits,

@@ -1,7 +1,8 @@
 //! The WebSocket protocol spoken by a Rust client: frames arrive as documented and decode to
 //! the session's image, inputs are acknowledged by the frame that includes them, settings
-//! round-trip, and malformed, oversized and binary messages close only their own connection.
-//! The HTTP side serves the page and nothing else.
+//! round-trip, refused inputs are answered to the connection that sent them (bounded), and
+//! malformed, oversized and binary messages close only their own connection. The HTTP side
+//! serves the page and nothing else.
 
 mod common;
 
@@ -170,6 +171,72 @@ async fn settings_over_the_frame_budget_are_refused_to_their_sender() {
     );
 }
 
+/// The errors of the frames that come within `within`, until one says `done`.
+async fn errors_until(
+    socket: &mut Socket,
+    within: Duration,
+    done: impl Fn(&[String]) -> bool,
+) -> Vec<String> {
+    let mut errors = Vec::new();
+    let deadline = tokio::time::Instant::now() + within;
+    while !done(&errors) {
+        let Ok(frame) = tokio::time::timeout_at(deadline, next_frame(socket)).await else { break };
+        let said = frame.header["errors"].as_array().cloned().unwrap_or_default();
+        errors.extend(said.iter().map(|e| e.as_str().unwrap().to_string()));
+    }
+    errors
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_scene_that_does_not_open_is_said_to_the_viewer_that_chose_it() {
+    let server = common::start(160, 120);
+    let mut chooser = connect(&server).await;
+    let mut other = connect(&server).await;
+    next_frame(&mut chooser).await;
+    next_frame(&mut other).await;
+    let open = json!({"id": 1, "input": {"type": "open", "name": "toml/missing_mesh.toml"}});
+    chooser.send(Message::Text(open.to_string().into())).await.unwrap();
+    // At once, with the newest frame again: the view is still and renders none.
+    let errors = errors_until(&mut chooser, Duration::from_secs(10), |e| !e.is_empty()).await;
+    assert_eq!(errors, [format!("open: {}", common::MISSING)], "the reason, to the viewer that chose it");
+    let elsewhere = errors_until(&mut other, Duration::from_secs(1), |e| !e.is_empty()).await;
+    assert!(elsewhere.is_empty(), "not to the other viewer: {elsewhere:?}");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn thousands_of_refused_inputs_are_answered_in_a_few_short_messages() {
+    let server = common::start(160, 120);
+    let mut viewer = connect(&server).await;
+    next_frame(&mut viewer).await;
+    // The probe's messages: names of 15.5 KB, sent without reading what comes back.
+    let name = "v".repeat(15_500);
+    for _ in 0..3_000 {
+        let view = json!({"input": {"type": "view", "name": name}});
+        viewer.send(Message::Text(view.to_string().into())).await.unwrap();
+    }
+    let nudge = json!({"id": 2, "input": {"type": "drag", "dx": 5, "dy": 0, "button": "primary"}});
+    viewer.send(Message::Text(nudge.to_string().into())).await.unwrap();
+    // Many frames may wait unread (each answer comes with one): read until the drag's.
+    let (mut errors, mut most) = (Vec::new(), 0);
+    let deadline = tokio::time::Instant::now() + Duration::from_secs(60);
+    loop {
+        let frame =
+            tokio::time::timeout_at(deadline, next_frame(&mut viewer)).await.expect("the drag's frame");
+        let said = frame.header["errors"].as_array().cloned().unwrap_or_default();
+        most = most.max(said.len());
+        errors.extend(said.iter().map(|e| e.as_str().unwrap().to_string()));
+        if frame.header["acked"] == 2 {
+            break;
+        }
+    }
+    assert!(!errors.is_empty(), "the refusals are answered");
+    assert!(most <= igi_session::refusals::MAX_KEPT, "{most} errors in one frame");
+    for error in &errors {
+        assert!(error.starts_with("view: the scene has no view \"vvv"), "{error}");
+        assert!(error.ends_with("…\" (15500 bytes)"), "the name is cut: {error}");
+    }
+}
+
 /// A raw HTTP GET; returns the status line and the body.
 fn get(address: std::net::SocketAddr, path: &str) -> (String, String) {
     let mut stream = std::net::TcpStream::connect(address).unwrap();
@@ -190,7 +257,7 @@ fn only_the_page_the_stream_and_the_scene_list_are_served() {
     // The names of the scenes the page may open, and nothing else about the file system.
     let (status, body) = get(server.address, "/scenes");
     assert!(status.contains("200"), "{status}");
-    assert_eq!(body, r#"["animated-room","cornell-box"]"#);
+    assert_eq!(body, r#"["animated-room","cornell-box","toml/missing_mesh.toml"]"#);
     for path in ["/etc/passwd", "/../Cargo.toml", "/index.html", "/page/index.html", "/src/lib.rs"] {
         let (status, _) = get(server.address, path);
         assert!(status.contains("404"), "{path}: {status}");

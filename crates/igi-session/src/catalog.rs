@@ -2,6 +2,7 @@
 //! to open them. A viewer names an entry of the list and nothing else: a browser never gives
 //! the server a path.
 
+use crate::refusals::quote_name;
 use igi_render::PreparedScene;
 
 /// Opens the scene of a catalog entry's name, ready to render, or says why it cannot.
@@ -32,11 +33,12 @@ impl SceneCatalog {
     }
 
     /// Opens entry `name`; a name that is not in the list is refused without a look at the
-    /// file system.
+    /// file system. An entry that does not open is logged (a warning naming it and why), for
+    /// whoever runs the viewer: the viewer that asked is told as well.
     pub fn open(&self, name: &str) -> Result<PreparedScene, String> {
         if !self.names.iter().any(|n| n == name) {
-            return Err(format!("{name:?} is not in the list of scenes"));
+            return Err(format!("{} is not in the list of scenes", quote_name(name)));
         }
-        (self.open)(name)
+        (self.open)(name).inspect_err(|why| tracing::warn!("cannot open the scene {name}: {why}"))
     }
 }

@@ -130,8 +130,9 @@ pub enum InputError {
     /// A setting outside its range ([`Input::Settings`]).
     #[error(transparent)]
     Settings(#[from] SettingsError),
-    /// [`Input::View`] named a view the scene does not have.
-    #[error("view: the scene has no view {0:?}")]
+    /// [`Input::View`] named a view the scene does not have (its name as
+    /// [`crate::refusals::quote_name`] quotes it).
+    #[error("view: the scene has no view {0}")]
     NoView(String),
     /// A light input named a light source the scene does not have (`index` counts from 0).
     #[error("light: the scene has {count} light sources, not {}", index + 1)]

@@ -16,11 +16,13 @@
 //! - [`catalog`]: [`SceneCatalog`], the scenes a viewer may open instead (by name only).
 //! - [`render_loop`]: [`RenderLoop`], a thread rendering the next frame while the viewer
 //!   shows the newest one; inputs go in, only the newest frame comes out.
+//! - [`refusals`]: [`Refusals`], one viewer's messages about its refused inputs, bounded.
 
 pub mod camera_control;
 pub mod catalog;
 pub mod input;
 pub mod light_control;
+pub mod refusals;
 pub mod render_loop;
 pub mod selection;
 pub mod session;
@@ -30,6 +32,7 @@ pub use camera_control::CameraController;
 pub use catalog::{SceneCatalog, SceneOpener};
 pub use input::{Button, CameraMode, Input, InputError, Key};
 pub use light_control::{LightControl, LightKind};
+pub use refusals::Refusals;
 pub use render_loop::{LatestFrame, RenderLoop, Watching};
 pub use selection::Selection;
 pub use session::{Frame, FrameStats, Session};

@@ -10,14 +10,18 @@
 //! that new settings started gives way to the next input within a tile. Dropping the loop
 //! cancels the frame in progress the same way.
 //!
+//! Each viewer sends its inputs with its own [`Refusals`] ([`RenderLoop::refusals`]): why an
+//! input was refused goes to the viewer that sent it, and why a frame failed to every viewer.
+//!
 //! A loop started with [`RenderLoop::spawn_on_demand`] renders only while someone watches
 //! ([`RenderLoop::watch`]): a server with no browser connected does not spend its cores.
 
 use crate::input::Input;
+use crate::refusals::{Mailbox, Refusals};
 use crate::session::{Frame, Session};
 use igi_render::CancelToken;
 use igi_render::FrameError;
-use std::sync::{Arc, Condvar, Mutex, MutexGuard};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard, Weak};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
@@ -76,12 +80,14 @@ struct Shared {
 
 #[derive(Debug, Default)]
 struct State {
-    /// Inputs not yet handled, oldest first.
-    inputs: Vec<Input>,
+    /// Inputs not yet handled, oldest first, each with where its refusal goes (nowhere once
+    /// its viewer has gone).
+    inputs: Vec<(Input, Weak<Mailbox>)>,
     /// Inputs posted so far.
     sent: u64,
-    /// Messages of refused inputs not yet taken.
-    errors: Vec<String>,
+    /// Every viewer's messages, for a frame that failed; viewers that have gone are dropped
+    /// from the list as new ones come.
+    viewers: Vec<Weak<Mailbox>>,
     /// The frame being rendered, if any.
     frame: Option<FrameInFlight>,
     /// The loop waits for input with nothing to render.
@@ -162,12 +168,23 @@ impl RenderLoop {
         Self { shared, latest, thread: Some(thread) }
     }
 
-    /// Posts an input; returns its sequence number: the first frame whose
+    /// A new viewer's messages: why its inputs were refused, and why frames failed. `wake` is
+    /// called after each message that comes (from the render thread: it must not block).
+    pub fn refusals(&self, wake: impl Fn() + Send + Sync + 'static) -> Refusals {
+        let refusals = Refusals::new(wake);
+        let mut state = self.shared.lock();
+        state.viewers.retain(|v| v.strong_count() > 0);
+        state.viewers.push(refusals.downgrade());
+        refusals
+    }
+
+    /// Posts an input from the viewer of `from`, where its refusal goes if the session
+    /// refuses it; returns its sequence number: the first frame whose
     /// [`FrameStats::input_seq`](crate::FrameStats::input_seq) is at least this number
     /// includes it. A frame in progress that has run out of patience is cancelled.
-    pub fn send(&self, input: Input) -> u64 {
+    pub fn send(&self, input: Input, from: &Refusals) -> u64 {
         let mut state = self.shared.lock();
-        state.inputs.push(input);
+        state.inputs.push((input, from.downgrade()));
         state.sent += 1;
         if let Some(frame) = &state.frame {
             frame.cancel.cancel_at(frame.patience_ends);
@@ -186,11 +203,6 @@ impl RenderLoop {
     /// newer frame comes until an input or a viewer arrives.
     pub fn is_idle(&self) -> bool {
         self.shared.lock().idle
-    }
-
-    /// Messages of refused inputs (invalid settings) since the last call.
-    pub fn take_errors(&self) -> Vec<String> {
-        std::mem::take(&mut self.shared.lock().errors)
     }
 }
 
@@ -223,6 +235,9 @@ fn run(mut session: Session, shared: &Shared, latest: &LatestFrame) {
     let mut last = Instant::now();
     // The wall time of the last finished frame: how long an input waits for the next one.
     let mut frame_time = Duration::ZERO;
+    // A frame failed: render again only once an input comes (a failure that repeats would
+    // otherwise spin).
+    let mut failed = false;
     let mut state = shared.lock();
     while !state.stop {
         // Every pending input goes into the next frame; when nothing needs rendering, sleep
@@ -230,15 +245,19 @@ fn run(mut session: Session, shared: &Shared, latest: &LatestFrame) {
         let inputs = std::mem::take(&mut state.inputs);
         if !inputs.is_empty() {
             drop(state);
-            for input in &inputs {
+            failed = false;
+            for (input, from) in &inputs {
                 if let Err(e) = session.handle(input) {
-                    shared.lock().errors.push(e.panel_message());
+                    // A viewer that has gone is told nothing, and nothing is kept for it.
+                    if let Some(mailbox) = from.upgrade() {
+                        mailbox.push(&e.panel_message());
+                    }
                 }
             }
             state = shared.lock();
             continue;
         }
-        let needs_frame = session.needs_frame();
+        let needs_frame = session.needs_frame() && !failed;
         if !needs_frame || state.watchers == Some(0) {
             state.idle = true;
             state = shared
@@ -270,7 +289,16 @@ fn run(mut session: Session, shared: &Shared, latest: &LatestFrame) {
                 latest.publish(frame);
             }
             Err(FrameError::Cancelled(_)) => {}
-            Err(e) => state.errors.push(e.to_string()),
+            Err(e) => {
+                tracing::error!("a frame failed: {e}");
+                let viewers: Vec<_> = state.viewers.iter().filter_map(Weak::upgrade).collect();
+                drop(state);
+                for mailbox in viewers {
+                    mailbox.push(&e.to_string());
+                }
+                state = shared.lock();
+                failed = true;
+            }
         }
     }
 }

@@ -11,6 +11,7 @@ use crate::camera_control::CameraController;
 use crate::catalog::SceneCatalog;
 use crate::input::{Button, CameraMode, Input, InputError};
 use crate::light_control::{LightControl, LightKind};
+use crate::refusals::quote_name;
 use crate::selection::Selection;
 use crate::settings::{MAX_ACCUMULATION, ViewerSettings};
 use glam::{Affine3A, Vec3};
@@ -339,7 +340,7 @@ impl Session {
             Input::Drag { dx, dy, button: Button::Secondary } => self.drag_selected(*dx, *dy),
             Input::View { name } => {
                 let Some(view) = self.scene.views().iter().find(|v| &v.name == name) else {
-                    return Err(InputError::NoView(name.clone()));
+                    return Err(InputError::NoView(quote_name(name)));
                 };
                 let (camera, speed) = (view.camera, self.controller.speed());
                 self.look_from(&camera, speed);

@@ -187,8 +187,9 @@ fn inputs_serialise_as_tagged_json() {
 fn the_render_loop_delivers_newest_frames_with_their_inputs() {
     let session = session("cornell-box", |s| s.accumulate = false);
     let render_loop = RenderLoop::spawn(session);
+    let refusals = render_loop.refusals(|| {});
     let first = render_loop.latest().wait_newer(0, Duration::from_secs(30)).expect("a first frame");
-    let seq = render_loop.send(Input::Drag { dx: 30.0, dy: 0.0, button: Button::Primary });
+    let seq = render_loop.send(Input::Drag { dx: 30.0, dy: 0.0, button: Button::Primary }, &refusals);
     let mut frame = first.clone();
     while frame.stats.input_seq < seq {
         frame =
@@ -202,12 +203,12 @@ fn the_render_loop_delivers_newest_frames_with_their_inputs() {
     // Bad settings are reported, not applied.
     let mut bad = ViewerSettings::for_scene(1.0);
     bad.frame.aa = 0;
-    render_loop.send(Input::Settings { settings: bad });
+    render_loop.send(Input::Settings { settings: bad }, &refusals);
     let deadline = std::time::Instant::now() + Duration::from_secs(10);
     let mut errors = Vec::new();
     while errors.is_empty() && std::time::Instant::now() < deadline {
         std::thread::sleep(Duration::from_millis(10));
-        errors = render_loop.take_errors();
+        errors = refusals.take();
     }
     assert!(
         errors.iter().any(|e| e.starts_with("AA samples: ") || e.starts_with("\"AA samples: ")),
@@ -347,12 +348,13 @@ fn new_input_cancels_a_long_frame_and_its_frame_comes_at_once() {
     let session = session("cornell-box", |s| s.accumulate = false);
     let fast = session.settings().clone();
     let render_loop = RenderLoop::spawn(session);
+    let refusals = render_loop.refusals(|| {});
     render_loop.latest().wait_newer(0, Duration::from_secs(30)).expect("a first frame");
-    render_loop.send(Input::Settings { settings: slow(&fast) });
+    render_loop.send(Input::Settings { settings: slow(&fast) }, &refusals);
     // Let the long frame start.
     std::thread::sleep(Duration::from_secs(1));
     let start = std::time::Instant::now();
-    let seq = render_loop.send(Input::Settings { settings: fast.clone() });
+    let seq = render_loop.send(Input::Settings { settings: fast.clone() }, &refusals);
     let mut frame = render_loop.latest().get().unwrap();
     while frame.stats.input_seq < seq {
         let Some(newer) = render_loop.latest().wait_newer(frame.stats.id, Duration::from_secs(10)) else {

@@ -8,7 +8,7 @@
 use crate::ViewOptions;
 use crate::panel::{self, Panel};
 use eframe::egui::{self, ColorImage, Key, PointerButton, Sense, TextureHandle, TextureOptions};
-use igi_session::{Button, Frame, Input, RenderLoop};
+use igi_session::{Button, Frame, Input, Refusals, RenderLoop};
 use std::path::Path;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -24,6 +24,9 @@ const RESIZE_SETTLE: Duration = Duration::from_millis(120);
 /// The window.
 pub struct ViewerApp {
     render_loop: Arc<RenderLoop>,
+    /// Why the session refused this window's inputs; a message asks for a repaint, which
+    /// shows it.
+    refusals: Refusals,
     options: ViewOptions,
     texture: Option<TextureHandle>,
     shown: Option<Arc<Frame>>,
@@ -70,8 +73,13 @@ impl ViewerApp {
                 })
                 .expect("spawning the waker thread");
         }
+        let refusals = {
+            let ctx = cc.egui_ctx.clone();
+            render_loop.refusals(move || ctx.request_repaint())
+        };
         Self {
             render_loop,
+            refusals,
             texture: None,
             shown: None,
             frames_shown: 0,
@@ -101,7 +109,7 @@ impl ViewerApp {
             Some((size, since)) if size == wanted && since.elapsed() >= RESIZE_SETTLE => {
                 let mut settings = frame.stats.settings.clone();
                 [settings.frame.width, settings.frame.height] = wanted;
-                self.render_loop.send(Input::Settings { settings });
+                self.render_loop.send(Input::Settings { settings }, &self.refusals);
                 self.asked = Some(wanted);
                 self.settling = None;
             }
@@ -141,7 +149,7 @@ impl ViewerApp {
     /// Mouse and wheel over the image, keys anywhere outside text fields.
     fn handle_input(&self, ctx: &egui::Context, response: &egui::Response) {
         let send = |input| {
-            self.render_loop.send(input);
+            self.render_loop.send(input, &self.refusals);
         };
         for (button, which) in
             [(PointerButton::Primary, Button::Primary), (PointerButton::Secondary, Button::Secondary)]
@@ -314,7 +322,7 @@ impl eframe::App for ViewerApp {
                 });
             },
         );
-        for error in self.render_loop.take_errors() {
+        for error in self.refusals.take() {
             self.panel.refused(error);
         }
         egui::SidePanel::right("panel").exact_width(panel::WIDTH).resizable(false).show(ctx, |ui| {
@@ -324,7 +332,7 @@ impl eframe::App for ViewerApp {
                 if matches!(input, Input::Settings { .. }) {
                     self.panel.message.clear();
                 }
-                self.render_loop.send(input);
+                self.render_loop.send(input, &self.refusals);
             }
         });
         let mut image_rect = egui::Rect::NOTHING;

@@ -1,10 +1,18 @@
-//! A server on a free localhost port with a small session of the animated room.
+//! A server on a free localhost port with a small session of the animated room, and a list
+//! of scenes to open in which one does not.
 
 use igi_render::PreparedScene;
 use igi_session::{RenderLoop, Session, ViewerSettings};
 use std::net::SocketAddr;
 use std::sync::Arc;
 use tokio::sync::oneshot;
+
+/// The scenes the server lists: `toml/missing_mesh.toml` does not open, with [`MISSING`].
+pub const SCENES: [&str; 3] = ["animated-room", "cornell-box", "toml/missing_mesh.toml"];
+
+/// Why `toml/missing_mesh.toml` does not open.
+#[allow(dead_code)] // Not every test file uses every helper.
+pub const MISSING: &str = "toml/missing_mesh.toml: mesh file missing.obj: No such file or directory";
 
 /// A running server; dropping it stops the server.
 pub struct TestServer {
@@ -47,10 +55,10 @@ pub fn start_with(width: u32, height: u32, limits: igi_serve::Limits) -> TestSer
         ..ViewerSettings::for_scene(scene.bounds().diagonal())
     };
     let mut session = Session::new(scene, camera, settings, 1).unwrap();
-    // Two built-in scenes to open.
-    let names = vec!["animated-room".to_string(), "cornell-box".to_string()];
+    // Two built-in scenes to open, and a scene file that does not open.
+    let names: Vec<String> = SCENES.iter().map(|n| n.to_string()).collect();
     let open =
-        |name: &str| igi_scene::builtin(name).map(PreparedScene::new).ok_or_else(|| format!("no {name}"));
+        |name: &str| igi_scene::builtin(name).map(PreparedScene::new).ok_or_else(|| MISSING.to_string());
     session.set_catalog(igi_session::SceneCatalog::new(names.clone(), Box::new(open)), "animated-room");
     let (stop, stopped) = oneshot::channel::<()>();
     let (ready, address) = std::sync::mpsc::channel();
