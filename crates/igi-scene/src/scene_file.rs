@@ -5,7 +5,7 @@
 //! position = [0, 1, 3.5]
 //! target = [0, 1, 0]
 //! up = [0, 1, 0]                 # optional, default +Y
-//! fov = 39.3                     # vertical, degrees
+//! fov = 39.3                     # optional, default 40: vertical, degrees
 //!
 //! [[view]]                       # optional, any number: named cameras (saved views)
 //! name = "from the door"         # unique; `igi render --view NAME`, the viewers' list
@@ -307,6 +307,21 @@ mod tests {
             err.to_string(),
             "s.toml: line 3, field `mesh[0].scale`: expected a number or an array of three numbers"
         );
+    }
+
+    /// `fov` has an obvious default (a normal lens), so a camera without it is not an error;
+    /// the checks of the other fields stay.
+    #[test]
+    fn a_camera_without_fov_has_the_default_one() {
+        let scene = parse_str("[camera]\nposition = [0, 1, 3.5]\ntarget = [0, 1, 0]\n").unwrap();
+        assert_eq!(scene.camera.map(|c| c.fov_y_deg), Some(schema::DEFAULT_FOV));
+        let scene =
+            parse_str("[[view]]\nname = \"door\"\nposition = [0, 1, 3.5]\ntarget = [0, 1, 0]\n").unwrap();
+        assert_eq!(scene.views[0].camera.fov_y_deg, schema::DEFAULT_FOV);
+        let err = parse_str("[camera]\nposition = [0, 1, 3.5]\n").unwrap_err();
+        assert!(err.to_string().contains("missing field `target`"), "{err}");
+        let err = parse_str("[camera]\nposition = [0, 1, 0]\ntarget = [0, 1, 0]\n").unwrap_err();
+        assert!(err.to_string().contains("field `camera.target`"), "{err}");
     }
 
     #[test]

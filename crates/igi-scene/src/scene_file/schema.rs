@@ -27,6 +27,7 @@ pub(super) struct CameraSpec {
     pub(super) target: [f32; 3],
     #[serde(default = "up_y")]
     pub(super) up: [f32; 3],
+    #[serde(default = "default_fov")]
     pub(super) fov: f32,
 }
 
@@ -40,6 +41,7 @@ pub(super) struct ViewSpec {
     pub(super) target: [f32; 3],
     #[serde(default = "up_y")]
     pub(super) up: [f32; 3],
+    #[serde(default = "default_fov")]
     pub(super) fov: f32,
 }
 
@@ -52,6 +54,15 @@ impl ViewSpec {
 
 fn up_y() -> [f32; 3] {
     [0.0, 1.0, 0.0]
+}
+
+/// The vertical field of view, in degrees, of a `[camera]` or `[[view]]` without `fov`: the one
+/// igi frames an object with when a scene has no camera (a 33 mm lens on 35 mm film, held
+/// landscape), neither wide nor long.
+pub(super) const DEFAULT_FOV: f32 = 40.0;
+
+fn default_fov() -> f32 {
+    DEFAULT_FOV
 }
 
 #[derive(Deserialize)]
