@@ -54,6 +54,7 @@ pub fn start(args: &ClusterArgs, spec: &str, frame: &FrameArgs) -> Result<Rank> 
     }
     let (scene, report) =
         igi_scene::load_named_with_report(spec).unwrap_or_else(|e| fail(&format!("cannot load scene: {e}")));
+    crate::scene_load::warn_if_no_geometry(spec, &scene);
     if transport.size() == 1 {
         tracing::warn!("the MPI job has one rank: rank 0 renders by itself");
         return Ok(Rank::Root(Box::new(Root { scene, master: None })));
@@ -112,7 +113,7 @@ fn init() -> Result<Box<dyn Transport>> {
 
 /// Prints the error and ends every rank of the job with a non-zero status.
 pub fn fail(message: &str) -> ! {
-    eprintln!("igi: error: {message}");
+    crate::print_error(message);
     #[cfg(feature = "mpi")]
     igi_cluster::abort_job(1);
     #[cfg(not(feature = "mpi"))]

@@ -3,14 +3,14 @@
 
 use crate::cluster::{ClusterArgs, Rank};
 use crate::frame_args::FrameArgs;
-use crate::progress::LateProgress;
-use anyhow::{Context, Result, bail};
+use crate::progress::{LateProgress, Stages};
+use anyhow::{Result, bail};
 use clap::{Args, ValueEnum};
 use igi_render::image::output::{ImageFormat, check_writable, write_png_rgb8};
 use igi_render::sampling::MAX_SAMPLES;
 use igi_render::{
-    Estimator, Film, FrameDone, FrameImage, FrameRenderer, FrameSource, FrameState, PixelFormat,
-    PreparedScene, Progressive, Stopped, StoppingRule, ToneMap, ToneMapper, Until, write_exr, write_image,
+    Estimator, Film, FrameImage, FrameRenderer, FrameSource, FrameState, PixelFormat, PreparedScene,
+    Progressive, Stopped, StoppingRule, ToneMap, ToneMapper, Until, write_exr, write_image,
 };
 use std::path::Path;
 use std::path::PathBuf;
@@ -103,6 +103,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         check_writable(&args.output)?;
     }
 
+    // Nothing on a terminal before the render's bar; lines in a log while a large scene loads
+    // (not on a cluster, whose render nodes spend the whole job in `cluster::start`).
+    let stages = (!args.cluster.cluster).then(|| Stages::lines_only(format!("loading {}", args.scene)));
     let t_load = Instant::now();
     let (scene, source): (_, Option<Box<dyn FrameSource>>) = if args.cluster.cluster {
         match crate::cluster::start(&args.cluster, &args.scene, &args.frame)? {
@@ -113,13 +116,28 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             Rank::NodeDone => return Ok(()),
         }
     } else {
-        (igi_scene::load_named(&args.scene).context("cannot load scene")?, None)
+        (crate::scene_load::load_scene(&args.scene)?, None)
     };
     let load = t_load.elapsed();
 
-    let t_build = Instant::now();
+    let preparing = format!("preparing {} (BVH, shading tables, lights)", args.scene);
+    let stages = match stages {
+        Some(stages) => {
+            stages.stage(preparing);
+            stages
+        }
+        None => Stages::lines_only(preparing),
+    };
+    let t_prepare = Instant::now();
     let mut prepared = args.frame.prepare(scene);
-    let build = t_build.elapsed();
+    let prepare = t_prepare.elapsed();
+    drop(stages);
+    // The summary's "prepare" is this whole step; the log's BVH time is one part of it.
+    tracing::info!(
+        "{}: prepared in {:.3} s: the BVH, the shading tables, the lights and the default light's choice",
+        args.scene,
+        prepare.as_secs_f64()
+    );
 
     let mut frame = args.frame.frame_state(&prepared)?;
     if !args.moving_frame {
@@ -143,15 +161,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         Until::Frames(_) => None,
     });
     let start = Instant::now();
-    let totals = render_frames(
-        args,
-        until,
-        source.as_mut(),
-        &mut prepared,
-        &frame,
-        &|done, total| bar.tile_done(done, total),
-        &mut |f| bar.frame_done(f),
-    )?;
+    let totals = render_frames(args, until, source.as_mut(), &mut prepared, &frame, &bar)?;
     let elapsed = start.elapsed().as_secs_f64();
     bar.finish();
 
@@ -182,7 +192,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         format!("{summary} in {elapsed:.3} s (")
     };
     outln!(
-        "{}: {}x{}, {} triangles, {} thread(s){}: {what}load {:.3} s, build {:.3} s) -> {}",
+        "{}: {}x{}, {} triangles, {} thread(s){}: {what}load {:.3} s, prepare {:.3} s) -> {}",
         args.scene,
         s.width,
         s.height,
@@ -190,7 +200,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         source.threads(),
         if args.cluster.cluster { " on the cluster" } else { "" },
         load.as_secs_f64(),
-        build.as_secs_f64(),
+        prepare.as_secs_f64(),
         args.output.display()
     );
     if args.mode == Mode::Igi && args.sequence == 1 {
@@ -255,8 +265,8 @@ struct Totals {
 }
 
 /// Renders `--sequence` images (each a mean of frames until `until`) of `first`'s estimator
-/// through `source` and writes them; `progress` follows the tiles of each image and
-/// `on_frame` its frames. The first
+/// through `source` and writes them; `progress` follows the tiles and frames of each image.
+/// The first
 /// image, every accumulated one and EXR output come back as linear radiance (a PNG is then
 /// tone-mapped from the image's own statistics); later PNG images of a sequence come back as
 /// 8-bit pixels tone-mapped with the previous image's statistics, which is what a cluster
@@ -267,8 +277,7 @@ fn render_frames(
     source: &mut dyn FrameSource,
     scene: &mut PreparedScene,
     first: &FrameState,
-    progress: &(dyn Fn(u32, u32) + Sync),
-    on_frame: &mut dyn FnMut(&FrameDone),
+    progress: &LateProgress,
 ) -> Result<Totals> {
     let tone_map = ToneMap::from_exposure(args.exposure);
     let exr = ImageFormat::from_path(&args.output)? == ImageFormat::Exr;
@@ -283,8 +292,7 @@ fn render_frames(
                     Image::Srgb8(bytes) => write_png_rgb8(&bytes, width, height, &path),
                     Image::Exr(film) => write_exr(&film, &path),
                     Image::Png(film, mapper) => write_image(&film, &path, &mapper),
-                }
-                .with_context(|| format!("cannot write the image {}", path.display()))?;
+                }?;
             }
             Ok(())
         });
@@ -298,7 +306,15 @@ fn render_frames(
             let linear = exr || until != Until::Frames(1) || k == 0;
             frame.pixels = if linear { PixelFormat::Linear } else { PixelFormat::Srgb8 };
             let until = if linear { until } else { Until::Frames(1) };
-            let mean = source.accumulate(scene, &frame, until, &mut view, progress, on_frame)?;
+            progress.image(k, args.sequence);
+            let mean = source.accumulate(
+                scene,
+                &frame,
+                until,
+                &mut view,
+                &|done, total| progress.tile_done(done, total),
+                &mut |f| progress.frame_done(f),
+            )?;
             let out = mean.output;
             totals.rays += out.rays.total();
             totals.vpls += out.vpls;

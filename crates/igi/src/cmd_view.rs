@@ -3,7 +3,9 @@
 use crate::viewer_args::ViewerArgs;
 use anyhow::Result;
 use clap::Args;
-use igi_view::resolution::Resolution;
+use clap::ValueEnum;
+use clap::builder::{PossibleValuesParser, TypedValueParser};
+use igi_view::resolution::{AUTO_PIXELS, Resolution};
 use std::path::PathBuf;
 
 /// Arguments of `igi view`.
@@ -20,13 +22,31 @@ pub struct ViewArgs {
     /// beside the panel).
     #[arg(long, value_parser = crate::frame_args::parse_nxm, help_heading = "Viewer")]
     pub window_size: Option<[u32; 2]>,
-    /// Render size for the image area beside the panel (also in the panel): auto is full, or
-    /// less so that the image has at most 614,400 pixels.
-    #[arg(long, value_enum, default_value_t = Resolution::Auto, help_heading = "Viewer")]
+    /// Render size for the image area beside the panel (also in the panel).
+    #[arg(long, default_value = "auto", value_parser = resolutions(), help_heading = "Viewer")]
     pub resolution: Resolution,
     /// Scene and frame options.
     #[command(flatten)]
     pub viewer: ViewerArgs,
+}
+
+/// The values of `--resolution` with help written for the command line: clap would take each
+/// value's help from the documentation of `Resolution`'s variants, which is written for rustdoc
+/// (links such as [`AUTO_PIXELS`] printed as they are).
+fn resolutions() -> impl TypedValueParser<Value = Resolution> {
+    let help = |r: Resolution| match r {
+        Resolution::Auto => {
+            format!(
+                "full, or less so that the image has at most {AUTO_PIXELS} pixels (large windows stay interactive)"
+            )
+        }
+        Resolution::Full => "one image pixel per window pixel".into(),
+        Resolution::Half => "half the window's pixels along each axis".into(),
+        Resolution::Quarter => "a quarter along each axis".into(),
+    };
+    let values = Resolution::ALL.into_iter().filter_map(|r| r.to_possible_value().map(|v| v.help(help(r))));
+    PossibleValuesParser::new(values)
+        .map(|name| Resolution::from_str(&name, false).expect("one of the values listed"))
 }
 
 /// Runs `igi view`.

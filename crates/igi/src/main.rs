@@ -23,6 +23,7 @@ mod cmd_worker;
 mod cpu_check;
 mod frame_args;
 mod progress;
+mod scene_load;
 mod stdout;
 mod viewer_args;
 
@@ -41,10 +42,16 @@ fn run() -> ExitCode {
     match cli::dispatch(cli.command) {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {
-            eprintln!("igi: error: {}", one_line(&err));
+            print_error(one_line(&err));
             ExitCode::FAILURE
         }
     }
+}
+
+/// Prints an error on stderr the one way igi prints them: `error: MESSAGE`, the form clap gives
+/// a mistyped flag, so a user (and a script reading the log) sees one form whatever failed.
+pub(crate) fn print_error(message: impl std::fmt::Display) {
+    eprintln!("error: {message}");
 }
 
 /// The error and its causes on one line, `a: b: c`, without a backtrace. A cause whose text

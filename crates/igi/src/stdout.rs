@@ -10,7 +10,7 @@ pub fn write_stdout_line(args: std::fmt::Arguments) {
         if e.kind() == std::io::ErrorKind::BrokenPipe {
             std::process::exit(0);
         }
-        eprintln!("igi: error: cannot write to stdout: {e}");
+        crate::print_error(format_args!("cannot write to stdout: {e}"));
         std::process::exit(1);
     }
 }

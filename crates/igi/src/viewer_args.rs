@@ -3,7 +3,7 @@
 
 use crate::cluster::{ClusterArgs, Rank};
 use crate::frame_args::{FrameArgs, prepare_scene};
-use crate::progress::StageSpinner;
+use crate::progress::Stages;
 use anyhow::{Context, Result};
 use clap::Args;
 use igi_session::settings::DEFAULT_CONVERGE_FRAMES;
@@ -72,6 +72,7 @@ impl ViewerArgs {
                 false => name.to_string(),
             };
             let scene = igi_scene::load_named(&spec).map_err(|e| e.to_string())?;
+            crate::scene_load::warn_if_no_geometry(name, &scene);
             Ok(prepare_scene(scene, default_light))
         };
         Ok((SceneCatalog::new(names, Box::new(open)), current))
@@ -80,7 +81,8 @@ impl ViewerArgs {
     /// Loads the scene and starts a session with these options (errors name the flag).
     /// `None` on a render node of a cluster job, once the job is over.
     pub fn session(&self) -> Result<Option<Session>> {
-        let spinner = StageSpinner::new(format!("loading {}", self.scene));
+        // A render node spends the whole job in `cluster::start`: no stages there.
+        let stages = (!self.cluster.cluster).then(|| Stages::spinner(format!("loading {}", self.scene)));
         let (scene, source) = if self.cluster.cluster {
             match crate::cluster::start(&self.cluster, &self.scene, &self.frame)? {
                 Rank::Root(root) => {
@@ -89,11 +91,18 @@ impl ViewerArgs {
                 Rank::NodeDone => return Ok(None),
             }
         } else {
-            (igi_scene::load_named(&self.scene).context("cannot load scene")?, None)
+            (crate::scene_load::load_scene(&self.scene)?, None)
         };
-        spinner.stage(format!("building the BVH of {}", self.scene));
+        let preparing = format!("preparing {} (BVH, shading tables, lights)", self.scene);
+        let stages = match stages {
+            Some(stages) => {
+                stages.stage(preparing);
+                stages
+            }
+            None => Stages::spinner(preparing),
+        };
         let prepared = self.frame.prepare(scene);
-        drop(spinner);
+        drop(stages);
         let mut frame = self.frame.frame_state(&prepared)?;
         frame.settings.aa = self.frame.aa.unwrap_or(VIEWER_AA);
         let settings = ViewerSettings {

@@ -210,3 +210,95 @@ fn serve_listens_and_says_where_before_it_loads_the_scene() {
     let (address, loaded) = (at("open http://127.0.0.1:"), at("loaded in"));
     assert!(address.is_some() && loaded.is_some() && address < loaded, "{seen:#?}");
 }
+
+/// The subcommands' paths (`render`, `bench frame`, ...), from the top-level help and the
+/// help of `bench`.
+fn subcommands() -> Vec<Vec<String>> {
+    let listed = |args: &[&str]| -> Vec<String> {
+        let help = text(&igi(args).stdout);
+        let commands = &help[help.find("Commands:").expect("a list of commands")..];
+        let commands = &commands[..commands.find("\n\n").unwrap_or(commands.len())];
+        commands.lines().skip(1).filter_map(|l| l.split_whitespace().next()).map(str::to_string).collect()
+    };
+    let mut paths = Vec::new();
+    for command in listed(&["--help"]).into_iter().filter(|c| c != "help") {
+        paths.push(vec![command.clone()]);
+        if command == "bench" {
+            for bench in listed(&["bench", "--help"]).into_iter().filter(|c| c != "help") {
+                paths.push(vec![command.clone(), bench]);
+            }
+        }
+    }
+    paths
+}
+
+/// clap prints a flag's documentation comment as its help, so rustdoc's link syntax
+/// ("[`AUTO_PIXELS`] pixels", issue 34) must not be in any of it.
+#[test]
+fn no_help_prints_rustdoc_links() {
+    let paths = subcommands();
+    assert!(paths.iter().any(|p| p == &["bench", "quality"]), "{paths:?}");
+    for path in paths {
+        let mut args: Vec<&str> = path.iter().map(String::as_str).collect();
+        args.push("--help");
+        let help = text(&igi(&args).stdout);
+        assert!(help.contains("Usage:"), "{args:?}: {help}");
+        assert!(!help.contains("[`"), "igi {}: a rustdoc link:\n{help}", args.join(" "));
+    }
+}
+
+/// Every error igi prints starts as clap's own do ("error: "), whether the command line or
+/// the work failed.
+#[test]
+fn errors_have_one_prefix() {
+    let clap = igi(&["render", "cornell-box", "--no-such-flag"]);
+    let ours = igi(&["render", "/no/such/scene.obj", "-o", "x.png"]);
+    for out in [clap, ours] {
+        let err = text(&out.stderr);
+        assert!(!out.status.success() && err.starts_with("error: "), "{err}");
+    }
+}
+
+/// An output that is a folder is named as one, with the way out; an output folder that takes no
+/// files is named with the output, never by the hidden temporary file the check creates.
+#[test]
+fn output_folders_are_named_as_such() {
+    let dir = tempfile::tempdir().unwrap();
+    let renders = dir.path().join("renders");
+    std::fs::create_dir(&renders).unwrap();
+    let out = igi(&["render", "cornell-box", "-o", renders.to_str().unwrap()]);
+    let err = text(&out.stderr);
+    assert!(err.contains(&format!("{} is a folder: name a file in it", renders.display())), "{err}");
+    assert!(!err.contains("unknown image format"), "{err}");
+    // /proc takes no new files, not even root's.
+    let out = igi(&["render", "cornell-box", "-o", "/proc/igi-x.png"]);
+    let err = text(&out.stderr);
+    assert!(err.starts_with("error: /proc/igi-x.png: cannot create files in the folder /proc: "), "{err}");
+    assert!(!err.contains(".tmp"), "the temporary file is named: {err}");
+}
+
+/// A scene with nothing to see renders (the sky) with a warning naming the file.
+#[test]
+fn a_scene_without_geometry_warns() {
+    let dir = tempfile::tempdir().unwrap();
+    let empty = dir.path().join("empty.toml");
+    std::fs::write(&empty, "").unwrap();
+    let faceless = dir.path().join("points.obj");
+    std::fs::write(&faceless, "v 0 0 0\nv 1 0 0\nv 0 1 0\n").unwrap();
+    for scene in [&empty, &faceless] {
+        let png = dir.path().join("x.png");
+        let out =
+            igi(&["render", scene.to_str().unwrap(), "--width", "32", "--height", "24", "--frames", "1"]
+                .into_iter()
+                .chain(["-o", png.to_str().unwrap()])
+                .collect::<Vec<_>>());
+        let err = text(&out.stderr);
+        assert!(out.status.success(), "{err}");
+        assert!(err.contains(&format!("{}: no geometry", scene.display())), "{err}");
+    }
+    let out = igi(&["render", "cornell-box", "--width", "32", "--height", "24", "--frames", "1", "-o"]
+        .into_iter()
+        .chain([dir.path().join("y.png").to_str().unwrap()])
+        .collect::<Vec<_>>());
+    assert!(!text(&out.stderr).contains("no geometry"), "{}", text(&out.stderr));
+}

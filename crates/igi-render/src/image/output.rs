@@ -15,18 +15,24 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, thiserror::Error)]
 pub enum OutputError {
     /// The output's folder is missing or takes no new files.
-    #[error("cannot create files in the folder {}: {error}", folder.display())]
+    #[error("{}: cannot create files in the folder {}: {error}", path.display(), folder.display())]
     Folder {
-        /// The folder the output would go to.
+        /// The output file.
+        path: PathBuf,
+        /// The folder it would go to.
         folder: PathBuf,
         /// Why a file could not be created there.
         error: std::io::Error,
     },
     /// The output path names a folder.
-    #[error("{} is a folder; the output must be a file", .0.display())]
+    #[error(
+        "{} is a folder: name a file in it, such as {}",
+        .0.display(),
+        .0.join("image.png").display()
+    )]
     IsFolder(PathBuf),
     /// The extension names no supported format.
-    #[error("{}: unknown image format (use .png or .exr)", .0.display())]
+    #[error("{}: unknown image format: the name must end in .png (tone-mapped) or .exr (linear)", .0.display())]
     UnknownFormat(PathBuf),
     /// Encoding or writing the PNG failed.
     #[error("{}: cannot write PNG: {error}", path.display())]
@@ -56,11 +62,14 @@ pub enum ImageFormat {
 }
 
 impl ImageFormat {
-    /// The format named by `path`'s extension (case-insensitive `.png` or `.exr`).
+    /// The format named by `path`'s extension (case-insensitive `.png` or `.exr`). A path
+    /// without one that names a folder (`-o renders`) is refused as a folder, which is what
+    /// the user got wrong, not the format.
     pub fn from_path(path: &Path) -> Result<Self, OutputError> {
         match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
             Some("png") => Ok(Self::Png),
             Some("exr") => Ok(Self::Exr),
+            _ if path.is_dir() => Err(OutputError::IsFolder(path.to_owned())),
             _ => Err(OutputError::UnknownFormat(path.to_owned())),
         }
     }

@@ -603,7 +603,12 @@ mod tests {
     fn a_missing_json_folder_fails_before_the_scene_is_loaded() {
         let err =
             error_of(&["igi", "bench", "rays", "/no/such/scene.obj", "--json", "/nonexistent-igi/r.json"]);
-        assert!(err.contains("--json: cannot create files in the folder /nonexistent-igi"), "{err}");
+        assert!(
+            err.contains(
+                "--json: /nonexistent-igi/r.json: cannot create files in the folder /nonexistent-igi"
+            ),
+            "{err}"
+        );
     }
 
     /// The renderer's grouping (VPL by VPL, with the shadow cache) and the single-ray kernel

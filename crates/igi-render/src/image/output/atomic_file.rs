@@ -17,7 +17,10 @@ pub fn write_atomically<E: From<io::Error>>(
     write: impl FnOnce(&mut BufWriter<&File>) -> Result<(), E>,
 ) -> Result<(), E> {
     // Dropping the temporary file on an early return deletes it.
-    let temporary = temporary_next_to(path)?;
+    let temporary = temporary_next_to(path).map_err(|error| {
+        let message = format!("cannot create files in the folder {}: {error}", folder_of(path).display());
+        io::Error::new(error.kind(), message)
+    })?;
     let mut out = BufWriter::new(temporary.as_file());
     write(&mut out)?;
     out.flush()?;
@@ -34,20 +37,29 @@ pub fn check_writable(path: &Path) -> Result<(), OutputError> {
     if path.is_dir() {
         return Err(OutputError::IsFolder(path.to_owned()));
     }
-    temporary_next_to(path).map(drop).map_err(|error| OutputError::Folder { folder: folder_of(path), error })
+    temporary_next_to(path).map(drop).map_err(|error| OutputError::Folder {
+        path: path.to_owned(),
+        folder: folder_of(path),
+        error,
+    })
 }
 
 /// A new, empty file `.NAME.XXXXXX.tmp` in `path`'s folder (hidden, so a glob for the outputs
-/// does not match it), with the permissions a newly created `path` would get.
+/// does not match it), with the permissions a newly created `path` would get. Its error is the
+/// system's alone: `tempfile`'s own constructors append the temporary file's name, which means
+/// nothing to a user who asked for `path` (`make_in` returns the opener's error as it is).
 fn temporary_next_to(path: &Path) -> io::Result<tempfile::NamedTempFile> {
     let name = path.file_name().unwrap_or(path.as_os_str());
     let prefix = format!(".{}.", name.to_string_lossy());
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(&prefix).suffix(".tmp");
-    // tempfile's default is 0600; outputs are shared like any other new file (umask applies).
-    #[cfg(unix)]
-    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
-    builder.tempfile_in(folder_of(path))
+    tempfile::Builder::new().prefix(&prefix).suffix(".tmp").make_in(folder_of(path), |temporary| {
+        let mut options = File::options();
+        options.read(true).write(true).create_new(true);
+        // tempfile's default is 0600; outputs are shared like any other new file (umask
+        // applies).
+        #[cfg(unix)]
+        std::os::unix::fs::OpenOptionsExt::mode(&mut options, 0o666);
+        options.open(temporary)
+    })
 }
 
 /// The folder `path` is in (`.` for a bare file name).
@@ -130,8 +142,21 @@ mod tests {
 
     #[test]
     fn missing_and_read_only_folders_are_refused_by_name() {
-        let err = check_writable(Path::new("/nonexistent-igi-folder/x.png")).unwrap_err();
-        assert!(err.to_string().contains("/nonexistent-igi-folder"), "{err}");
+        let err = check_writable(Path::new("/nonexistent-igi-folder/x.png")).unwrap_err().to_string();
+        assert!(
+            err.contains(
+                "/nonexistent-igi-folder/x.png: cannot create files in the folder /nonexistent-igi-folder"
+            ),
+            "{err}"
+        );
+        assert!(!err.contains(".tmp"), "names the temporary file: {err}");
+        // A folder that vanishes between the check and the write: the same words, no
+        // temporary file's name.
+        let err = write_atomically(Path::new("/nonexistent-igi-folder/x.png"), |out| out.write_all(b"x"))
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("cannot create files in the folder /nonexistent-igi-folder"), "{err}");
+        assert!(!err.contains(".tmp"), "names the temporary file: {err}");
         let dir = folder("check");
         check_writable(&dir.join("x.png")).unwrap();
         assert_eq!(names_in(&dir), Vec::<String>::new(), "the check left a file");
