@@ -7,8 +7,11 @@
 //! [`PATIENCE`] times as long as the last finished frame took, its [`CancelToken`] stops it
 //! between tiles and the next frame, with the input, starts at once. Frames of the usual
 //! length finish (a user dragging the view still sees every frame), while a frame of minutes
-//! that new settings started gives way to the next input within a tile. Dropping the loop
-//! cancels the frame in progress the same way.
+//! that new settings started gives way to the next input within a tile. A frame cancelled
+//! that way makes the next one more patient: it may run [`PATIENCE`] times as long as the
+//! cancelled one ran, so under input that never stops (a drag from the moment a viewer
+//! connects, before any frame has finished) the patience doubles until a frame, with the
+//! newest input, finishes (issue 35). Dropping the loop cancels the frame in progress.
 //!
 //! Each viewer sends its inputs with its own [`Refusals`] ([`RenderLoop::refusals`]): why an
 //! input was refused goes to the viewer that sent it, and why a frame failed to every viewer.
@@ -233,7 +236,8 @@ impl Drop for RenderLoop {
 
 fn run(mut session: Session, shared: &Shared, latest: &LatestFrame) {
     let mut last = Instant::now();
-    // The wall time of the last finished frame: how long an input waits for the next one.
+    // How long an input waits for the frame in progress, over `PATIENCE`: the wall time of the
+    // last finished frame, or of the frame cancelled after it, whichever is longer.
     let mut frame_time = Duration::ZERO;
     // A frame failed: render again only once an input comes (a failure that repeats would
     // otherwise spin).
@@ -288,7 +292,9 @@ fn run(mut session: Session, shared: &Shared, latest: &LatestFrame) {
                 frame_time = start.elapsed();
                 latest.publish(frame);
             }
-            Err(FrameError::Cancelled(_)) => {}
+            // The next frame may run as long as this one did, times `PATIENCE`: frames that
+            // input keeps cancelling get twice the time each, until one finishes.
+            Err(FrameError::Cancelled(_)) => frame_time = frame_time.max(start.elapsed()),
             Err(e) => {
                 tracing::error!("a frame failed: {e}");
                 let viewers: Vec<_> = state.viewers.iter().filter_map(Weak::upgrade).collect();
