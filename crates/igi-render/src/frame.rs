@@ -5,7 +5,7 @@
 //! scene and derive the VPLs and every pixel deterministically.
 
 use crate::image::frame_image::PixelFormat;
-use crate::image::tonemap::ToneMapper;
+use crate::image::tonemap::{DEFAULT_KEY, ToneCurve, ToneMap, ToneMapper};
 use crate::prepared::scene_pose::ScenePose;
 use crate::sampling::hash_combine;
 use igi_scene::Camera;
@@ -62,6 +62,11 @@ pub struct FrameSettings {
     pub tile_size: u32,
     /// Base seed of every random decision (same seed, same image).
     pub seed: u32,
+    /// The curve of the automatic tone map of the frames' display images (`--tone-map`); their
+    /// exposure comes from the image statistics either way (paper 3.4). Settings written
+    /// before it existed read as the default.
+    #[serde(default)]
+    pub tone_curve: ToneCurve,
 }
 
 /// Thresholds of the discontinuity buffer: a neighbour's irradiance is averaged in only if its
@@ -108,6 +113,7 @@ impl Default for FrameSettings {
             bounces: limits::MAX_BOUNCES,
             tile_size: 128,
             seed: 0,
+            tone_curve: ToneCurve::default(),
         }
     }
 }
@@ -225,6 +231,12 @@ impl FrameSettings {
             }
         }
         Ok(())
+    }
+
+    /// The automatic tone map these settings choose: the log-average luminance at middle grey
+    /// ([`DEFAULT_KEY`]), then [`FrameSettings::tone_curve`].
+    pub fn tone_map(&self) -> ToneMap {
+        ToneMap::automatic(self.tone_curve, DEFAULT_KEY)
     }
 
     /// The thresholds of the discontinuity filter, `None` with the filter off.

@@ -99,6 +99,7 @@ fn validate_rejects_each_bad_setting_and_names_its_flag() {
         bounces: igi_render::frame::limits::MAX_BOUNCES,
         tile_size: limits::MAX_TILE,
         seed: u32::MAX,
+        tone_curve: Default::default(),
     };
     assert_eq!(edges.validate(), Ok(()));
 }

@@ -64,8 +64,8 @@ pub use resources::read_regular_file;
 pub use scene_files::{MAX_CATALOG_FILES, name_under, scene_files_under};
 pub use shader::{Pattern, ShaderDesc};
 pub use texels::{ColorSpace, Image, Texels, srgb_to_linear};
-pub use texture::{DEFAULT_TEXTURE_BUDGET, SKY_BYTES_PER_TEXEL};
 use texture::TextureSet;
+pub use texture::{DEFAULT_TEXTURE_BUDGET, SKY_BYTES_PER_TEXEL};
 pub use validate::MAX_INSTANCES;
 use validate::check_instance_count;
 
@@ -108,7 +108,36 @@ pub fn load_with(path: &Path, options: &LoadOptions) -> Result<(Scene, LoadRepor
         }
     })?;
     check_instance_count(path, scene.instances.len())?;
+    check_placed_bounds(path, &scene)?;
     Ok((scene, report))
+}
+
+/// The largest coordinate placed geometry may have, in scene units. The renderer squares
+/// distances and the scene's radius in 32-bit floats (a directional light's power is its
+/// irradiance times πR²), so coordinates far below f32's 3.4e38 already overflow: a
+/// `scale = 3e38` made the bounds infinite, and the renderer found no light paths and drew
+/// nothing, without a word.
+pub const MAX_COORDINATE: f32 = 1e15;
+
+/// Refuses a scene whose placed geometry reaches beyond [`MAX_COORDINATE`].
+fn check_placed_bounds(path: &Path, scene: &Scene) -> Result<(), SceneError> {
+    let bounds: Vec<igi_bvh::Aabb> = scene.meshes.iter().map(Mesh::bounds).collect();
+    for (k, instance) in scene.instances.iter().enumerate() {
+        let Some(b) = bounds.get(instance.mesh as usize).filter(|b| !b.is_empty()) else { continue };
+        let inside = |p: glam::Vec3| p.is_finite() && p.abs().max_element() <= MAX_COORDINATE;
+        if !b.corners().iter().all(|&p| inside(instance.transform.transform_point3(p))) {
+            return Err(SceneError::invalid(
+                path,
+                Location::File,
+                format!(
+                    "mesh `{}` (instance {k}) is placed beyond {MAX_COORDINATE:e} scene units, where \
+                     32-bit floats no longer hold its distances (a scale or translation too large)",
+                    scene.meshes[instance.mesh as usize].name
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Loads `spec`: a built-in scene if it is one of [`builtin_names`], otherwise a file as

@@ -285,3 +285,24 @@ fn huge_node_scales_are_named_for_what_they_are() {
     let (_, report) = gltf(zero.as_bytes()).unwrap();
     assert!(report.warnings.join("\n").contains("nodes[0]: scale is zero"), "{report:?}");
 }
+
+#[test]
+fn geometry_placed_beyond_the_float_range_is_refused() {
+    // A scale of 3e38 is finite, but the renderer squares the scene's size: the bounds became
+    // infinite and the image blank, without a word.
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("square.obj"), format!("{SQUARE}f 1 2 3 4\n")).unwrap();
+    let cases = [("scale = 3e38", false), ("translate = [2e15, 0, 0]", false), ("scale = 1e14", true)];
+    for (placement, ok) in cases {
+        let file = dir.path().join("huge.toml");
+        std::fs::write(&file, format!("[[mesh]]\nfile = \"square.obj\"\n{placement}\n")).unwrap();
+        match load(&file) {
+            Ok(_) => assert!(ok, "{placement} is refused"),
+            Err(err) => {
+                assert!(!ok, "{placement}: {err}");
+                let message = err.to_string();
+                assert!(message.contains("huge.toml") && message.contains("1e15 scene units"), "{message}");
+            }
+        }
+    }
+}

@@ -54,8 +54,9 @@ pub struct RenderArgs {
     /// Path tracer: samples per pixel.
     #[arg(long, default_value_t = 64, help_heading = "Sampling")]
     pub spp: u32,
-    /// Fixed exposure in stops for PNG output (default: automatic, Reinhard key 0.18).
-    #[arg(long, allow_hyphen_values = true, help_heading = "Output")]
+    /// Fixed exposure in stops for PNG output, linear with a clip at 1, instead of the tone
+    /// map (default: automatic, the log-average luminance at middle grey, then `--tone-map`).
+    #[arg(long, allow_hyphen_values = true, conflicts_with = "tone_map", help_heading = "Output")]
     pub exposure: Option<f32>,
     /// IGI: render this many frames of the scene's animation, `--fps` apart from `--time` on,
     /// into OUTPUT-0000.png, OUTPUT-0001.png, … Each PNG after the first is tone-mapped with
@@ -279,7 +280,7 @@ fn render_frames(
     first: &FrameState,
     progress: &LateProgress,
 ) -> Result<Totals> {
-    let tone_map = ToneMap::from_exposure(args.exposure);
+    let tone_map = ToneMap::chosen(first.settings.tone_curve, args.exposure);
     let exr = ImageFormat::from_path(&args.output)? == ImageFormat::Exr;
     let (width, height) = (first.settings.width, first.settings.height);
     // Files are written on their own thread, so frame k + 1 renders (on the cluster: the nodes

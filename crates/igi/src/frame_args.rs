@@ -4,9 +4,10 @@
 //! parsed once into a [`FrameState`] ([`FrameArgs::frame_state`]) that every consumer reads.
 
 use anyhow::Result;
-use clap::Args;
+use clap::{Args, ValueEnum};
 use igi_render::ScenePose;
 use igi_render::frame::{FilterSettings, FrameSettings, FrameState};
+use igi_render::image::tonemap::ToneCurve;
 use igi_render::{PreparedScene, add_default_light};
 use igi_scene::Scene;
 
@@ -25,6 +26,10 @@ pub struct FrameArgs {
     /// Image height in pixels.
     #[arg(long, default_value_t = 480, help_heading = "Output")]
     pub height: u32,
+    /// How radiance becomes display values in 8-bit images: the log-average luminance is
+    /// exposed at middle grey, then this curve compresses the range into the display's.
+    #[arg(long, value_enum, default_value_t = ToneMapArg::Filmic, help_heading = "Output")]
+    pub tone_map: ToneMapArg,
     /// VPLs per pixel: the size of one interleaved VPL set (point, spot and directional
     /// lights count towards it).
     #[arg(long, default_value_t = 12, help_heading = "Instant radiosity")]
@@ -109,6 +114,26 @@ pub fn prepare_scene(scene: Scene, default_light: bool) -> PreparedScene {
     prepared
 }
 
+/// The values of `--tone-map`: the tone curves ([`ToneCurve`]) as the help describes them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ToneMapArg {
+    /// The ACES filmic curve (Narkowicz's fit) on the luminance: middle grey a little lighter,
+    /// a white wall lit well near white, highlights rolling off to white with their hue kept.
+    Filmic,
+    /// Reinhard's operator (2002): softer, mid-tones darker (a white wall lit as the average
+    /// shows mid-grey), the brightest 0.5 % of the image white.
+    Reinhard,
+}
+
+impl From<ToneMapArg> for ToneCurve {
+    fn from(arg: ToneMapArg) -> Self {
+        match arg {
+            ToneMapArg::Filmic => Self::Filmic,
+            ToneMapArg::Reinhard => Self::Reinhard,
+        }
+    }
+}
+
 /// Parses `NxM` (an interleave pattern, a window size) into `[N, M]`.
 pub fn parse_nxm(s: &str) -> Result<[u32; 2], String> {
     let bad = || format!("{s:?} is not NxM with two whole numbers, e.g. 3x3");
@@ -160,6 +185,7 @@ impl FrameArgs {
             bounces: self.bounces,
             tile_size: self.tile_size,
             seed: self.seed,
+            tone_curve: self.tone_map.into(),
         };
         settings.validate()?;
         Ok(FrameState { pose: ScenePose::at(self.time), ..FrameState::new(camera, settings) })
@@ -177,6 +203,17 @@ impl FrameArgs {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Frame settings written before `tone_curve` existed (a viewer page's JSON) still read, with
+    /// the default curve; the flag's default is that default.
+    #[test]
+    fn settings_without_a_tone_curve_read_as_the_default() {
+        let mut json = serde_json::to_value(FrameSettings::default()).unwrap();
+        json.as_object_mut().unwrap().remove("tone_curve").expect("the field is serialised");
+        let settings: FrameSettings = serde_json::from_value(json).unwrap();
+        assert_eq!(settings.tone_curve, ToneCurve::default());
+        assert_eq!(ToneCurve::from(ToneMapArg::Filmic), ToneCurve::default());
+    }
 
     #[test]
     fn interleave_patterns() {

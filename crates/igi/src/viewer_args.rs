@@ -17,8 +17,8 @@ const VIEWER_AA: u32 = 1;
 pub struct ViewerArgs {
     /// Built-in scene (listed below) or scene file (.obj, .ply, .gltf, .glb, .toml).
     pub scene: String,
-    /// Fixed exposure in stops instead of Reinhard's operator.
-    #[arg(long, allow_hyphen_values = true, help_heading = "Output")]
+    /// Fixed exposure in stops, linear with a clip at 1, instead of the automatic tone map.
+    #[arg(long, allow_hyphen_values = true, conflicts_with = "tone_map", help_heading = "Output")]
     pub exposure: Option<f32>,
     /// Start with the animation clock stopped.
     #[arg(long, help_heading = "Animation")]

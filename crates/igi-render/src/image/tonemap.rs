@@ -1,7 +1,18 @@
 //! Tone mapping: from linear radiance to display values in [0, 1], then sRGB-encoded 8-bit.
 //!
-//! Two operators:
-//! - [`ToneMap::Reinhard`] (the default): the global operator of Reinhard et al. 2002,
+//! Three operators:
+//! - [`ToneMap::Filmic`] (the default): the log-average luminance L̄ maps to the middle grey
+//!   `key` (0.18), as for Reinhard, then the filmic curve [`filmic_curve`], Narkowicz's 2016
+//!   fit of the ACES reference rendering and output transforms, compresses the luminance with
+//!   a toe and a shoulder: middle grey shows at 0.27 (Reinhard: 0.15, so a white wall lit as
+//!   the image's average showed mid-grey), and a luminance 40 times the average (5.3 stops
+//!   above) reaches white. The curve acts on the luminance and colours are scaled by
+//!   L_d / L, so hue and saturation are kept; a colour whose brightest channel would pass 1
+//!   is mixed with the grey of its own luminance until it fits (a highlight rolls off toward
+//!   white along the line to white, its dominant wavelength kept), never clipped per channel,
+//!   which would turn an orange highlight yellow. The ACES curve applied per channel, as
+//!   games do, shifts hues in its shoulder the same way.
+//! - [`ToneMap::Reinhard`]: the global operator of Reinhard et al. 2002,
 //!   "Photographic Tone Reproduction for Digital Images", eq. 1-3. The log-average luminance
 //!   L̄ = exp(mean(ln(δ + L))) of the image maps to the middle grey `key` (0.18), then
 //!   L_d = L (1 + L / L_white²) / (1 + L) compresses highlights (eq. 4). Reinhard takes
@@ -145,9 +156,28 @@ fn luminance8([r, g, b]: [F32x8; 3]) -> F32x8 {
     F32x8::splat(0.2126) * r + F32x8::splat(0.7152) * g + F32x8::splat(0.0722) * b
 }
 
+/// The curve of an automatic tone map: how the exposed luminance is compressed into the
+/// display's range (`igi render --tone-map`, a frame setting the viewers share).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ToneCurve {
+    /// The ACES filmic curve (Narkowicz's fit) on the luminance, highlights rolling off to
+    /// white with their hue kept (module documentation).
+    #[default]
+    Filmic,
+    /// Reinhard's eq. 4 with the white point at the 99.5th percentile of the luminance.
+    Reinhard,
+}
+
 /// How linear radiance becomes a display value.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ToneMap {
+    /// The filmic curve after the log-average luminance is mapped to `key`, from image
+    /// statistics.
+    Filmic {
+        /// Luminance the log-average maps to before the curve (0.18 usual).
+        key: f32,
+    },
     /// Reinhard's global operator with the given key (middle grey), from image statistics.
     Reinhard {
         /// Display luminance the log-average maps to before compression (0.18 usual).
@@ -160,19 +190,28 @@ pub enum ToneMap {
     },
 }
 
-/// Reinhard's key of the default tone map: middle grey.
+/// The key of the automatic tone maps: middle grey.
 pub const DEFAULT_KEY: f32 = 0.18;
 
 impl Default for ToneMap {
     fn default() -> Self {
-        Self::Reinhard { key: DEFAULT_KEY }
+        Self::automatic(ToneCurve::default(), DEFAULT_KEY)
     }
 }
 
 impl ToneMap {
-    /// `Exposure` if `stops` is given, else the default Reinhard operator.
-    pub fn from_exposure(stops: Option<f32>) -> Self {
-        stops.map_or_else(Self::default, |stops| Self::Exposure { stops })
+    /// The automatic tone map of `curve` that maps the log-average luminance to `key`.
+    pub fn automatic(curve: ToneCurve, key: f32) -> Self {
+        match curve {
+            ToneCurve::Filmic => Self::Filmic { key },
+            ToneCurve::Reinhard => Self::Reinhard { key },
+        }
+    }
+
+    /// `Exposure` if `stops` is given, else the automatic tone map of `curve` with the
+    /// default key.
+    pub fn chosen(curve: ToneCurve, stops: Option<f32>) -> Self {
+        stops.map_or(Self::automatic(curve, DEFAULT_KEY), |stops| Self::Exposure { stops })
     }
 }
 
@@ -181,30 +220,99 @@ impl ToneMap {
 pub struct ToneMapper {
     /// Linear scale applied to radiance first.
     pub scale: f32,
-    /// Whether the Reinhard compression L (1 + L / L_white²) / (1 + L) follows.
-    pub compress: bool,
-    /// L_white of the compression after scaling, the smallest luminance shown as white; 0 for
-    /// none (plain L / (1 + L)).
+    /// The curve that compresses the scaled luminance; `None` for a plain clip at 1.
+    pub curve: Option<ToneCurve>,
+    /// L_white of the Reinhard compression after scaling, the smallest luminance shown as
+    /// white; 0 for none (plain L / (1 + L)), and unused by the other curves.
     pub white: f32,
 }
 
 impl ToneMapper {
     /// No tone mapping: radiance clipped to [0, 1] (for frames whose 8-bit output is unused).
-    pub const LINEAR: Self = Self { scale: 1.0, compress: false, white: 0.0 };
+    pub const LINEAR: Self = Self { scale: 1.0, curve: None, white: 0.0 };
+}
+
+/// Narkowicz's coefficients (2016, "ACES Filmic Tone Mapping Curve") of the rational fit
+/// x (a x + b) / (x (c x + d) + e) to the ACES reference rendering and output transforms.
+const FILMIC: [f32; 5] = [2.51, 0.03, 2.43, 0.59, 0.14];
+
+/// A scaled luminance at which [`filmic_curve`] has passed 1 (it does at 7.3), so larger ones
+/// are not evaluated (their squares could overflow).
+const FILMIC_SATURATED: f32 = 16.0;
+
+/// Largest channel of scaled radiance the filmic map evaluates: larger ones (a scale that
+/// overflows a huge but finite radiance) show as white, as a value of this size does.
+const FILMIC_CAP: f32 = 1e30;
+
+/// The filmic curve of a scaled luminance `l` ≥ 0, in [0, 1]: Narkowicz's fit of ACES, 0 at
+/// 0, increasing (its derivative's numerator 1.408 l² + 0.7028 l + 0.0042 is positive), 1 from
+/// l ≈ 7.3 on.
+#[inline]
+pub fn filmic_curve(l: f32) -> f32 {
+    let [a, b, c, d, e] = FILMIC;
+    let l = l.min(FILMIC_SATURATED);
+    ((l * (a * l + b)) / (l * (c * l + d) + e)).min(1.0)
+}
+
+/// [`filmic_curve`] of eight luminances, with its operations in its order.
+#[inline(always)]
+fn filmic_curve8(l: F32x8) -> F32x8 {
+    let [a, b, c, d, e] = FILMIC.map(F32x8::splat);
+    let l = l.min(F32x8::splat(FILMIC_SATURATED));
+    ((l * (a * l + b)) / (l * (c * l + d) + e)).min(F32x8::splat(1.0))
+}
+
+/// The filmic map of scaled radiance `rgb` (finite, ≥ 0): its luminance through
+/// [`filmic_curve`], the colour scaled alike, then mixed with the grey of its luminance just
+/// enough that no channel passes 1.
+#[inline]
+fn filmic(rgb: Vec3) -> Vec3 {
+    let rgb = rgb.min(Vec3::splat(FILMIC_CAP));
+    let l = luminance(rgb);
+    if l <= 0.0 {
+        return Vec3::ZERO;
+    }
+    let y = filmic_curve(l);
+    let c = rgb * (y / l);
+    let m = c.x.max(c.y).max(c.z);
+    // The share t of grey that brings the brightest channel to 1: m + t (y − m) = 1, with
+    // y < m since y is a weighted mean of the channels and not every channel is m.
+    let t = if m > 1.0 { (m - 1.0) / (m - y) } else { 0.0 };
+    c + (Vec3::splat(y) - c) * t
+}
+
+/// [`filmic`] of eight pixels, with its operations in its order (black lanes give 0).
+#[inline(always)]
+fn filmic8(rgb: [F32x8; 3]) -> [F32x8; 3] {
+    let (zero, one) = (F32x8::ZERO, F32x8::splat(1.0));
+    let rgb = rgb.map(|c| c.min(F32x8::splat(FILMIC_CAP)));
+    let l = luminance8(rgb);
+    let y = filmic_curve8(l);
+    let k = y / l;
+    let c = rgb.map(|c| c * k);
+    let m = c[0].max(c[1]).max(c[2]);
+    let t = F32x8::select(m.gt(one), (m - one) / (m - y), zero);
+    let lit = l.gt(zero);
+    c.map(|c| F32x8::select(lit, c + (y - c) * t, zero))
 }
 
 impl ToneMapper {
     /// Fixes the parameters of `op` for an image with statistics `stats`.
     pub fn new(op: ToneMap, stats: &LuminanceStats) -> Self {
+        let exposed =
+            |key: f32| stats.log_average().filter(|a| *a > 0.0 && a.is_finite()).map_or(1.0, |a| key / a);
         match op {
-            ToneMap::Exposure { stops } => Self { scale: stops.exp2(), compress: false, white: 0.0 },
+            ToneMap::Exposure { stops } => Self { scale: stops.exp2(), curve: None, white: 0.0 },
+            ToneMap::Filmic { key } => {
+                Self { scale: exposed(key), curve: Some(ToneCurve::Filmic), white: 0.0 }
+            }
             ToneMap::Reinhard { key } => {
-                let scale =
-                    stats.log_average().filter(|a| *a > 0.0 && a.is_finite()).map_or(1.0, |a| key / a);
+                let scale = exposed(key);
                 // Reinhard's eq. 4 with L_white the 99.5th percentile of the luminance (module
                 // documentation): everything below keeps more contrast than with L / (1 + L).
                 let white = stats.percentile(WHITE_PERCENTILE) * scale;
-                Self { scale, compress: true, white: if white.is_finite() { white } else { 0.0 } }
+                let white = if white.is_finite() { white } else { 0.0 };
+                Self { scale, curve: Some(ToneCurve::Reinhard), white }
             }
         }
     }
@@ -215,7 +323,7 @@ impl ToneMapper {
     pub fn adapted_toward(&self, target: &Self, a: f32) -> Self {
         let blend = |x: f32, y: f32| (x.ln() * (1.0 - a) + y.ln() * a).exp();
         let positive = |x: f32| x > 0.0 && x.is_finite();
-        if self.compress != target.compress || ![self.scale, target.scale].into_iter().all(positive) {
+        if self.curve != target.curve || ![self.scale, target.scale].into_iter().all(positive) {
             return *target;
         }
         let white = if positive(self.white) && positive(target.white) {
@@ -223,7 +331,7 @@ impl ToneMapper {
         } else {
             target.white
         };
-        Self { scale: blend(self.scale, target.scale), compress: target.compress, white }
+        Self { scale: blend(self.scale, target.scale), curve: target.curve, white }
     }
 
     /// The tone mapper of `op` for `film`.
@@ -236,12 +344,14 @@ impl ToneMapper {
     #[inline]
     pub fn map(&self, rgb: Vec3) -> Vec3 {
         let rgb = Vec3::select(rgb.cmpgt(Vec3::ZERO) & rgb.is_finite_mask(), rgb, Vec3::ZERO) * self.scale;
-        let out = if self.compress {
-            let l = luminance(rgb);
-            let burn = if self.white > 0.0 { 1.0 + l / (self.white * self.white) } else { 1.0 };
-            if l > 0.0 { rgb * (burn / (1.0 + l)) } else { Vec3::ZERO }
-        } else {
-            rgb
+        let out = match self.curve {
+            None => rgb,
+            Some(ToneCurve::Filmic) => filmic(rgb),
+            Some(ToneCurve::Reinhard) => {
+                let l = luminance(rgb);
+                let burn = if self.white > 0.0 { 1.0 + l / (self.white * self.white) } else { 1.0 };
+                if l > 0.0 { rgb * (burn / (1.0 + l)) } else { Vec3::ZERO }
+            }
         };
         out.clamp(Vec3::ZERO, Vec3::ONE)
     }
@@ -282,14 +392,17 @@ impl ToneMapper {
         let (zero, one) = (F32x8::ZERO, F32x8::splat(1.0));
         let valid = |c: F32x8| c.gt(zero) & c.lt(F32x8::splat(f32::INFINITY));
         let rgb = rgb.map(|c| F32x8::select(valid(c), c, zero) * F32x8::splat(self.scale));
-        let out = if self.compress {
-            let l = luminance8(rgb);
-            let burn = if self.white > 0.0 { one + l / F32x8::splat(self.white * self.white) } else { one };
-            let f = burn / (one + l);
-            let lit = l.gt(zero);
-            rgb.map(|c| F32x8::select(lit, c * f, zero))
-        } else {
-            rgb
+        let out = match self.curve {
+            None => rgb,
+            Some(ToneCurve::Filmic) => filmic8(rgb),
+            Some(ToneCurve::Reinhard) => {
+                let l = luminance8(rgb);
+                let burn =
+                    if self.white > 0.0 { one + l / F32x8::splat(self.white * self.white) } else { one };
+                let f = burn / (one + l);
+                let lit = l.gt(zero);
+                rgb.map(|c| F32x8::select(lit, c * f, zero))
+            }
         };
         out.map(|c| c.max(zero).min(one))
     }
@@ -386,7 +499,9 @@ mod tests {
     fn encoding_eight_pixels_at_once_equals_one_at_a_time() {
         let px = pixels();
         let stats = LuminanceStats::of_pixels(&px);
-        for op in [ToneMap::default(), ToneMap::Exposure { stops: 1.5 }] {
+        for op in
+            [ToneMap::Filmic { key: 0.18 }, ToneMap::Reinhard { key: 0.18 }, ToneMap::Exposure { stops: 1.5 }]
+        {
             for mapper in [ToneMapper::new(op, &stats), ToneMapper::LINEAR] {
                 let mut out = vec![0u8; 3 * px.len()];
                 mapper.encode_pixels(&px, &mut out);
@@ -436,5 +551,50 @@ mod tests {
         let merged = LuminanceStats::of_pixels(a).merge(LuminanceStats::of_pixels(b));
         assert_eq!((merged.histogram, merged.max, merged.count), (o.histogram, o.max, o.count));
         assert_eq!(LuminanceStats::default().percentile(0.99), 0.0);
+    }
+
+    /// The filmic curve maps 0 to 0, never decreases, passes middle grey brighter than
+    /// Reinhard's L / (1 + L) does, and saturates to exactly 1.
+    #[test]
+    fn the_filmic_curve_is_monotonic_from_0_to_1() {
+        assert_eq!(filmic_curve(0.0), 0.0);
+        let mut last = 0.0;
+        for i in 1..=100_000 {
+            let l = i as f32 * 1e-4;
+            let y = filmic_curve(l);
+            assert!(y >= last && y <= 1.0, "f({l}) = {y} after {last}");
+            last = y;
+        }
+        assert_eq!(filmic_curve(7.5), 1.0);
+        assert_eq!(filmic_curve(1e30), 1.0);
+        assert!(filmic_curve(7.0) > 0.99);
+        assert!(filmic_curve(0.18) > 0.18 / 1.18 + 0.1, "{}", filmic_curve(0.18));
+    }
+
+    /// Greys stay grey at every brightness; a colour keeps its hue (its direction away from
+    /// the grey of its luminance) while it brightens, and ends white, never clipped to a
+    /// more yellow or more saturated colour.
+    #[test]
+    fn filmic_keeps_greys_grey_and_hues_while_highlights_roll_off_to_white() {
+        let m = ToneMapper { scale: 1.0, curve: Some(ToneCurve::Filmic), white: 0.0 };
+        for i in 0..200 {
+            let v = 1e-4 * 1.1f32.powi(i);
+            let out = m.map(Vec3::splat(v));
+            assert!(out.x == out.y && out.y == out.z, "grey {v} -> {out}");
+        }
+        let hue = |c: Vec3| (c - Vec3::splat(luminance(c))).normalize();
+        for colour in [Vec3::new(1.0, 0.5, 0.1), Vec3::new(0.1, 0.2, 1.0), Vec3::new(0.9, 0.05, 0.3)] {
+            let mut last = 0.0;
+            for i in 0..120 {
+                let input = colour * 0.01 * 1.1f32.powi(i);
+                let out = m.map(input);
+                assert!(out.max_element() <= 1.0 && luminance(out) >= last, "{input} -> {out}");
+                last = luminance(out);
+                if out.min_element() < 0.999 {
+                    assert!(hue(out).dot(hue(colour)) > 0.9999, "{input} -> {out}: hue moved");
+                }
+            }
+            assert!(m.map(colour * 1e6).min_element() > 0.999, "{colour} x 1e6 is white");
+        }
     }
 }

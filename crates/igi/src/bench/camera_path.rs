@@ -130,7 +130,14 @@ pub fn measure(args: &FrameArgs, scene_name: &str, orbit: Orbit) -> Result<Orbit
                 references.push(reference);
             }
             let reference = &references[at];
-            let figures = Figures::of(reference, &display(reference), film, frame.stats.accumulated, 0.0);
+            let tone_map = settings.frame.tone_map();
+            let figures = Figures::of(
+                (reference, &display(reference, tone_map)),
+                film,
+                tone_map,
+                frame.stats.accumulated,
+                0.0,
+            );
             flip += figures.flip;
             blotch += figures.blotch10;
             ms += frame.stats.render_ms;

@@ -12,7 +12,7 @@ use crate::frame_args::FrameArgs;
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
 use igi_cluster::FrameJob;
-use igi_render::{PixelFormat, Progressive, ToneMap};
+use igi_render::{PixelFormat, Progressive};
 use serde::Serialize;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
@@ -134,7 +134,7 @@ pub fn run(args: &ClusterBenchArgs) -> Result<()> {
     let mut steps: Vec<Step> = Vec::new();
     for nodes in node_counts(master.nodes()) {
         master.use_nodes(nodes);
-        let mut view = Progressive::new(ToneMap::default());
+        let mut view = Progressive::new(state.settings.tone_map());
         let job = |i: u32, state: &igi_render::FrameState| {
             let mut frame = state.clone();
             frame.pose.time =

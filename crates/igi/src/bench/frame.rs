@@ -9,7 +9,7 @@ use clap::Args;
 use igi_render::image::tonemap::luminance;
 use igi_render::schedule::frame_renderer::FrameRenderer;
 use igi_render::{CancelToken, FrameSource};
-use igi_render::{FrameState, Phase, PreparedScene, Progressive, ToneMap};
+use igi_render::{FrameState, Phase, PreparedScene, Progressive};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -99,7 +99,7 @@ pub fn run(args: &FrameBenchArgs) -> Result<()> {
 
     // As a viewer in motion does: each frame is tone-mapped with the parameters from the
     // previous frame's statistics, and none is averaged.
-    let mut view = Progressive::new(ToneMap::default());
+    let mut view = Progressive::new(frame.settings.tone_map());
     let posing = std::cell::Cell::new(Duration::ZERO);
     let mut step = |f: &mut FrameState, index: u32| -> Result<igi_render::FrameOutput> {
         if args.animate {

@@ -5,7 +5,7 @@
 //! ([`super::camera_path`]), `--lag` a change of the light ([`super::light_lag`]).
 //!
 //! Every image is compared as a user sees it: its linear radiance tone-mapped with its own
-//! statistics (Reinhard, as `igi render` writes a PNG) and encoded as 8-bit sRGB. The figures
+//! statistics (`--tone-map`, as `igi render` writes a PNG) and encoded as 8-bit sRGB. The figures
 //! are the mean LDR-FLIP (Andersson et al. 2020, NVIDIA's implementation through the `nv-flip`
 //! crate, 67 pixels per degree), blotch10 on the linear images ([`Blotch`]) and the RMSE of the
 //! display values in [0, 1], the figures of `../shared/tools/compare` (its `ldr` mode on the
@@ -119,8 +119,15 @@ pub struct Figures {
 impl Figures {
     /// The figures of `film`, rendered in `seconds` from `frames` frames, against `reference`
     /// (`reference_display` its display image).
-    pub fn of(reference: &Film, reference_display: &[u8], film: &Film, frames: u32, seconds: f64) -> Self {
-        let test = display(film);
+    /// `tone_map` makes the display image of `film`, as it made `reference_display`.
+    pub fn of(
+        (reference, reference_display): (&Film, &[u8]),
+        film: &Film,
+        tone_map: ToneMap,
+        frames: u32,
+        seconds: f64,
+    ) -> Self {
+        let test = display(film, tone_map);
         Self {
             flip: mean_flip(reference_display, &test, film.width(), film.height()),
             rmse: rmse(reference_display, &test),
@@ -227,7 +234,7 @@ pub fn run(args: &QualityBenchArgs) -> Result<()> {
         args.reference.clone().unwrap_or_else(|| default_reference_path(args, digest, &frame, method));
     let (reference, reference_seconds) =
         reference(args, &mut prepared, &frame, method, &reference_path, &mut renderer)?;
-    let reference_display = display(&reference);
+    let reference_display = display(&reference, frame.settings.tone_map());
 
     let mut still = frame.clone();
     args.frame.still_image(&mut still, &prepared);
@@ -388,10 +395,10 @@ fn reference(
     Ok((film, seconds))
 }
 
-/// The 8-bit sRGB display image of `film`, tone-mapped with its own statistics (Reinhard), as
-/// `igi render` writes a PNG.
-pub fn display(film: &Film) -> Vec<u8> {
-    to_srgb8(film, &ToneMapper::for_film(ToneMap::default(), film))
+/// The 8-bit sRGB display image of `film`, tone-mapped by `tone_map` with its own statistics,
+/// as `igi render` writes a PNG.
+pub fn display(film: &Film, tone_map: ToneMap) -> Vec<u8> {
+    to_srgb8(film, &ToneMapper::for_film(tone_map, film))
 }
 
 /// Renders the mean of `frame`'s frames until `until` (in linear radiance) and measures it
@@ -406,7 +413,7 @@ fn figures(
     let start = Instant::now();
     let bar = LateProgress::new();
     let linear = FrameState { pixels: PixelFormat::Linear, ..frame.clone() };
-    let mut view = Progressive::new(ToneMap::default());
+    let mut view = Progressive::new(frame.settings.tone_map());
     let mean = renderer.accumulate(
         scene,
         &linear,
@@ -418,7 +425,7 @@ fn figures(
     bar.finish();
     let seconds = start.elapsed().as_secs_f64();
     let film = mean.output.image.into_film().context("an accumulated frame without its film")?;
-    Ok(Figures::of(reference, reference_display, &film, mean.frames, seconds))
+    Ok(Figures::of((reference, reference_display), &film, frame.settings.tone_map(), mean.frames, seconds))
 }
 
 /// Mean LDR-FLIP of two 8-bit sRGB images of the same size (67 pixels per degree: a 0.7 m wide
