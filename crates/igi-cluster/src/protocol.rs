@@ -15,7 +15,7 @@ use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
 /// The version of this protocol; a node of another build refuses to take part.
-pub const PROTOCOL_VERSION: u32 = 4;
+pub const PROTOCOL_VERSION: u32 = 5;
 
 /// What rank 0 tells a node before the first frame: which scene to load.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -33,6 +33,9 @@ pub struct Setup {
     /// ([`igi_render::add_default_light`], the same decision on every node), false for
     /// `--no-default-light`.
     pub default_light: bool,
+    /// The camera the user asked for (`--camera-*`, `--view`), from which every node judges
+    /// the default light as rank 0 does; `None`: the scene's start camera.
+    pub view: Option<igi_scene::Camera>,
 }
 
 /// A node's answer to [`Setup`].

@@ -65,7 +65,7 @@ pub fn run_worker<T: Transport>(
             let digest = scene.digest();
             let mut prepared = PreparedScene::new(scene);
             // Rank 0 says what this adds; the nodes add the same light silently.
-            add_default_light(&mut prepared, setup.default_light);
+            add_default_light(&mut prepared, setup.default_light, setup.view.as_ref());
             let ready = Ready::Loaded { digest, threads: renderer.threads() as u32 };
             transport.send(0, &Message::Ready(ready).encode())?;
             prepared

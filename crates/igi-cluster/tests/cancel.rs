@@ -64,6 +64,7 @@ fn a_node_abandons_a_frame_when_a_newer_job_or_a_shutdown_comes() {
         files: vec![],
         digest: igi_scene::builtin(SCENE).unwrap().digest(),
         default_light: true,
+        view: None,
     };
     root.send(1, &Message::Setup(setup).encode()).unwrap();
     let (_, ready) = root.recv(Duration::from_secs(60)).unwrap().expect("the node loads the scene");

@@ -26,6 +26,7 @@ fn setup(name: &str) -> Setup {
         files: vec![],
         digest: load(name).digest(),
         default_light: true,
+        view: None,
     }
 }
 

@@ -49,6 +49,7 @@ fn cluster(nodes: usize) -> (ClusterSource<InProcess>, Vec<JoinHandle<Result<Wor
         files: vec![],
         digest: igi_scene::builtin("cornell-box").unwrap().digest(),
         default_light: true,
+        view: None,
     };
     let master = Master::connect(root, &setup, MasterConfig::default()).unwrap();
     (ClusterSource::new(master, Box::new(|e| panic!("the cluster failed: {e}"))), nodes)

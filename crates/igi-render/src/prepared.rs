@@ -517,6 +517,15 @@ impl PreparedScene {
         self.environment = Some(EnvironmentLight::new(sky, &self.textures));
     }
 
+    /// Makes the equirectangular image of radiance `sky` (as [`Environment::Map`] reads it)
+    /// the scene's environment light, kept after the scene's own textures (first sight's
+    /// daylight, [`crate::first_sight::daylight_sky`]).
+    pub fn set_sky_image(&mut self, sky: Texture) {
+        self.textures.push(sky);
+        let texture = (self.textures.len() - 1) as u32;
+        self.set_sky(&Environment::Map { texture, intensity: 1.0, rotation_deg: 0.0 });
+    }
+
     /// The scene's own camera, if it had one, or the one [`PreparedScene::set_camera`] fixed.
     pub fn camera(&self) -> Option<&Camera> {
         self.camera.as_ref()

@@ -33,7 +33,7 @@ pub struct CameraArgs {
     #[arg(long, value_name = "NAME")]
     pub view: Option<String>,
     /// Camera position x,y,z (default: the scene's camera, else inside an interior at eye
-    /// height, or a three-quarter view of an object).
+    /// height, or a view of an object from a little above its front).
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub camera_position: Option<Vec3>,
     /// Camera target x,y,z.
@@ -48,6 +48,21 @@ pub struct CameraArgs {
 }
 
 impl CameraArgs {
+    /// True if any of these options is given: the camera differs from the scene's start.
+    pub fn asks(&self) -> bool {
+        self.view.is_some()
+            || self.camera_position.is_some()
+            || self.camera_target.is_some()
+            || self.camera_up.is_some()
+            || self.fov.is_some()
+    }
+
+    /// The camera these options ask for ([`CameraArgs::resolve`]), `None` if they ask for
+    /// none (the scene's start camera) or for one that frames no image.
+    pub fn requested(&self, scene: &PreparedScene) -> Option<Camera> {
+        self.asks().then(|| self.resolve(scene).ok()).flatten()
+    }
+
     /// The camera of `--view`, else the one the scene starts with ([`start_camera`]: its own,
     /// else where a person would stand), with the given fields replaced; an error naming the
     /// flag for an unknown view or a camera that frames no image ([`Camera::check`], the

@@ -9,7 +9,7 @@ use anyhow::Result;
 use clap::Args;
 use igi_cluster::protocol::PROTOCOL_VERSION;
 use igi_cluster::{ClusterError, ClusterSource, Master, MasterConfig, Setup, Transport};
-use igi_render::FrameSource;
+use igi_render::{FrameSource, PreparedScene};
 use igi_scene::Scene;
 use std::path::{Component, Path, PathBuf};
 
@@ -68,6 +68,13 @@ pub fn start(args: &ClusterArgs, spec: &str, frame: &FrameArgs) -> Result<Rank> 
         files,
         digest: scene.digest(),
         default_light: !frame.no_default_light,
+        // The nodes judge the default light from the camera the user asked for, as rank 0 will;
+        // options that leave fields to the start camera need the scene prepared to find it.
+        view: frame
+            .camera
+            .asks()
+            .then(|| frame.camera.requested(&PreparedScene::new(scene.clone())))
+            .flatten(),
     };
     let master =
         Master::connect(transport, &setup, MasterConfig::default()).unwrap_or_else(|e| fail(&e.to_string()));

@@ -131,7 +131,7 @@ pub fn run(args: &InfoArgs) -> Result<()> {
         per(g.bvh),
         per(g.shading)
     );
-    let default_light = add_default_light(&mut prepared, true);
+    let default_light = add_default_light(&mut prepared, true, None);
     let c = start_camera(&prepared);
     if own_camera {
         outln!("camera       the scene's:");

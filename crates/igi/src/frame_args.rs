@@ -3,6 +3,7 @@
 //! anti-aliasing, filter, clamp, seed, threads, tile size, the scene clock and the camera,
 //! parsed once into a [`FrameState`] ([`FrameArgs::frame_state`]) that every consumer reads.
 
+use crate::camera_args::CameraArgs;
 use anyhow::Result;
 use clap::{Args, ValueEnum};
 use igi_render::ScenePose;
@@ -105,10 +106,13 @@ pub struct FrameArgs {
 }
 
 /// `scene` prepared for rendering, with the default light it needs if `default_light` (one
-/// warning says what was added).
-pub fn prepare_scene(scene: Scene, default_light: bool) -> PreparedScene {
+/// warning says what was added), judged from the camera `camera` asks for (none: the one the
+/// scene starts with).
+pub fn prepare_scene(scene: Scene, default_light: bool, camera: Option<&CameraArgs>) -> PreparedScene {
     let mut prepared = PreparedScene::new(scene);
-    if let Some(warning) = add_default_light(&mut prepared, default_light) {
+    // A camera the options cannot make is refused by `FrameArgs::frame_state`, naming the flag.
+    let view = camera.and_then(|c| c.requested(&prepared));
+    if let Some(warning) = add_default_light(&mut prepared, default_light, view.as_ref()) {
         tracing::warn!("{warning}");
     }
     prepared
@@ -154,9 +158,10 @@ pub fn sets_label([n, m]: [u32; 2], coarse: u32) -> String {
 
 impl FrameArgs {
     /// `scene` prepared for rendering, with the default light it needs unless
-    /// `--no-default-light` (one warning says what was added).
+    /// `--no-default-light` (one warning says what was added), judged from the camera the
+    /// options ask for.
     pub fn prepare(&self, scene: Scene) -> PreparedScene {
-        prepare_scene(scene, !self.no_default_light)
+        prepare_scene(scene, !self.no_default_light, Some(&self.camera))
     }
 
     /// The first frame of `scene` with these options, checked (errors name the flag).

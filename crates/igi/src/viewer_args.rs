@@ -73,7 +73,7 @@ impl ViewerArgs {
             };
             let scene = igi_scene::load_named(&spec).map_err(|e| e.to_string())?;
             crate::scene_load::warn_if_no_geometry(name, &scene);
-            Ok(prepare_scene(scene, default_light))
+            Ok(prepare_scene(scene, default_light, None))
         };
         Ok((SceneCatalog::new(names, Box::new(open)), current))
     }

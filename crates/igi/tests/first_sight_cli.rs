@@ -75,3 +75,44 @@ fn render_says_which_light_it_added_and_the_flag_turns_it_off() {
     assert!(!log.contains("added"), "{log}");
     assert!(log.contains("--no-default-light leaves it dark"), "{log}");
 }
+
+/// A folder with an OBJ room 4 × 2 × 3 (walls facing in) lit by a lamp under its ceiling.
+fn lit_room(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("igi-first-sight-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut obj = String::from("mtllib room.mtl\n");
+    for x in [-2.0, 2.0] {
+        for y in [0.0, 2.0] {
+            for z in [-1.5, 1.5] {
+                obj += &format!("v {x} {y} {z}\n");
+            }
+        }
+    }
+    // The six faces wound inward (the box of `box_scene` turned inside out), then the lamp:
+    // a square facing down just under the ceiling.
+    obj += "usemtl wall\nf 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+    obj += "v -0.5 1.95 -0.5\nv 0.5 1.95 -0.5\nv 0.5 1.95 0.5\nv -0.5 1.95 0.5\n";
+    obj += "usemtl lamp\nf 9 10 11 12\n";
+    std::fs::write(dir.join("room.obj"), obj).unwrap();
+    std::fs::write(dir.join("room.mtl"), "newmtl wall\nKd 0.7 0.7 0.7\nnewmtl lamp\nKd 0 0 0\nKe 20 20 20\n")
+        .unwrap();
+    dir
+}
+
+#[test]
+fn the_default_light_is_judged_from_the_camera_the_options_ask_for() {
+    // Issue 34: the decision was made from the scene's start camera, so a camera asked for
+    // outside a lit room (Lost Empire's hill from outside) rendered black without a word.
+    let dir = lit_room("asked");
+    let obj = dir.join("room.obj");
+    let png = dir.join("out.png");
+    let cheap = ["--width", "32", "--height", "24", "--aa", "1", "--frames", "1"];
+    let mut args = vec!["render", obj.to_str().unwrap(), "-o", png.to_str().unwrap()];
+    args.extend(cheap);
+    let (_, log) = run(&args);
+    assert!(!log.contains("added"), "the lamp lights the room seen from inside: {log}");
+    args.extend(["--camera-position=0,6,12", "--camera-target=0,1,0"]);
+    let (_, log) = run(&args);
+    assert!(log.contains("reach little of what the camera sees: added a sun and a sky"), "{log}");
+}

@@ -16,10 +16,10 @@
 //!   median free distance along [`HORIZONTAL`] horizontal directions) times the height above
 //!   it. It steps back along the longest horizontal line through that point and looks down
 //!   the line, a little upwards: along the space's long axis.
-//! - **An object** (the armadillo, the glTF samples): a three-quarter view from above its
-//!   front, +Z for glTF (the specification's front), else the side its shape reaches toward
-//!   (a figure's arms and head: the armadillo faces −Z); what the view sees of the object
-//!   fills the image with a margin.
+//! - **An object** (the armadillo, the glTF samples): a view from a little above its front,
+//!   turned a little to one side, the front +Z for glTF (the specification's), else the side
+//!   its shape reaches toward (a figure's arms and head: the armadillo faces −Z); what the
+//!   view sees of the object fills the image with a margin.
 //!
 //! Every probe is deterministic, so every node of a cluster chooses the same camera.
 
@@ -75,18 +75,29 @@ const OBJECT_ASPECT: f32 = 4.0 / 3.0;
 /// Share of the image an object's box, then what the view sees of it, fills along the
 /// tighter axis.
 const OBJECT_FILL: f32 = 0.8;
-/// The elevation of an object's three-quarter view above its centre (degrees).
-const OBJECT_ELEVATION: f32 = 30.0;
+/// The elevation of an object's view above its centre (degrees): a person looks at a statue,
+/// an animal or a helmet on a table from a little above, from the side; from 30° the bunny
+/// showed its back and the helmet its crown more than its visor.
+const OBJECT_ELEVATION: f32 = 15.0;
+/// How far an object's view turns from its front toward a side (degrees): enough to show its
+/// depth, not so far that its front turns away.
+const OBJECT_AZIMUTH: f32 = 30.0;
 /// The share of its depth by which an object's surface centroid must lie off the centre of its
 /// box for its shape to tell its front ([`object_front`]).
 const SHAPE_FRONT_MARGIN: f32 = 0.005;
+/// The share of what a view of an object sees that must be front faces for the view to show
+/// it as it is meant to be seen: a closed object shows nothing else, an open box's inside
+/// seen through its opening nearly nothing else. An open box seen from a little off its open
+/// side also shows the outside of a wall (a box open at its front, turned 30°: 68 %).
+const CLOSED_SHARE: f32 = 0.9;
 /// The elevation of the view straight into an open box (degrees).
 const OPEN_SIDE_ELEVATION: f32 = 5.0;
 /// Rays per side of the grid that counts the triangles an object view sees.
 const VIEW_PROBE: u32 = 48;
 
 /// The camera for a scene without one: inside an interior at eye height looking along its
-/// long axis, or a three-quarter view of an object (see the module documentation).
+/// long axis, or a view of an object from a little above its front (see the module
+/// documentation).
 pub fn default_camera(scene: &PreparedScene) -> Camera {
     let bounds = scene.bounds();
     if bounds.is_empty() {
@@ -269,7 +280,7 @@ fn interior_camera(scene: &PreparedScene, bounds: &Aabb) -> Option<Camera> {
     Some(Camera { position: eye, target: eye + look * (0.5 * span), up: Vec3::Y, fov_y_deg: INTERIOR_FOV })
 }
 
-/// The three-quarter view from `dir` (unit, from the centre toward the eye) that fits
+/// The view from `dir` (unit, from the centre toward the eye) that fits
 /// `bounds` into the image.
 fn framing(bounds: &Aabb, dir: Vec3) -> Camera {
     let centre = bounds.centroid();
@@ -379,25 +390,28 @@ fn object_front(scene: &PreparedScene, bounds: &Aabb) -> Vec3 {
     if offset > SHAPE_FRONT_MARGIN { -Vec3::Z } else { Vec3::Z }
 }
 
-/// The view of an object: a three-quarter view from above its front-left or front-right
-/// (whichever shows more distinct front-facing triangles), the front as [`object_front`]
-/// finds it. An open box (the Cornell box) shows the backs of its walls from there: where
-/// less than half of what the three-quarter view sees are front faces, it is seen straight
-/// into its front.
+/// The view of an object: from [`OBJECT_ELEVATION`] above its front-left or front-right,
+/// [`OBJECT_AZIMUTH`] off its front (whichever shows more distinct front-facing triangles),
+/// the front as [`object_front`] finds it. An open box (the Cornell box) shows the backs of
+/// its walls from there: where less than [`CLOSED_SHARE`] of what that view sees are front
+/// faces and the view straight into its front sees more, it is seen from there.
 fn object_camera(scene: &PreparedScene, bounds: &Aabb) -> Camera {
     let front = object_front(scene, bounds);
     let side = Vec3::Y.cross(front);
-    let up = Vec3::Y * OBJECT_ELEVATION.to_radians().tan() * std::f32::consts::SQRT_2;
-    let (left, right) =
-        (framing(bounds, (front - side + up).normalize()), framing(bounds, (front + side + up).normalize()));
+    let (elevation, azimuth) = (OBJECT_ELEVATION.to_radians(), OBJECT_AZIMUTH.to_radians());
+    let from = |toward: f32| {
+        (front * azimuth.cos() + side * (toward * azimuth.sin())) * elevation.cos()
+            + Vec3::Y * elevation.sin()
+    };
+    let (left, right) = (framing(bounds, from(-1.0)), framing(bounds, from(1.0)));
     let (l, r) = (front_faces_seen(scene, &left), front_faces_seen(scene, &right));
-    let (three_quarter, (_, share)) = if r.0 >= l.0 { (right, r) } else { (left, l) };
-    let chosen = if share >= 0.5 {
-        three_quarter
+    let (turned, (_, share)) = if r.0 >= l.0 { (right, r) } else { (left, l) };
+    let chosen = if share >= CLOSED_SHARE {
+        turned
     } else {
         let straight =
             framing(bounds, (front + Vec3::Y * OPEN_SIDE_ELEVATION.to_radians().tan()).normalize());
-        if front_faces_seen(scene, &straight).1 > share { straight } else { three_quarter }
+        if front_faces_seen(scene, &straight).1 > share { straight } else { turned }
     };
     // Twice: the first move changes the perspective, the second corrects for it.
     fit_silhouette(scene, fit_silhouette(scene, chosen))
