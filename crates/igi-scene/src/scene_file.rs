@@ -247,13 +247,14 @@ pub(crate) fn is_scene_file(path: &Path) -> bool {
 /// Largest scene file. Scene files place and light meshes that live in files of their own;
 /// a scene of [`MAX_INSTANCES`] instances takes a few MiB.
 const MAX_SCENE_FILE_BYTES: usize = 16 << 20;
-/// Most inline tables (`{ ... }`) a scene file may hold: one per instance, and as many again
-/// for keyframes and materials.
-const MAX_INLINE_TABLES: usize = 2 * MAX_INSTANCES;
+/// Most tables a scene file may hold, inline (`{ ... }`) or in arrays (`[[light]]`): one per
+/// instance, and as many again for keyframes, materials, lights and views.
+const MAX_TABLES: usize = 2 * MAX_INSTANCES;
 
-/// Bounds what parsing `text` can take before it is parsed. `toml` holds each inline table of a
-/// document in a map of about a kilobyte, so a file of ten million short `{}` entries would
-/// take gigabytes before the instance count could be checked.
+/// Bounds what parsing `text` can take before it is parsed. `toml` holds each table of a
+/// document, inline or an array's element, in a map of about a kilobyte, so a file of ten
+/// million short `{}` or `[[x]]` entries would take gigabytes before the instance count or an
+/// unknown field could be checked.
 fn check_size(text: &str, file: &Path) -> Result<(), SceneError> {
     let refuse = |message: String| Err(SceneError::invalid(file, Location::File, message));
     if text.len() > MAX_SCENE_FILE_BYTES {
@@ -262,12 +263,15 @@ fn check_size(text: &str, file: &Path) -> Result<(), SceneError> {
             text.len()
         ));
     }
-    // Counting braces over-counts (a brace in a string), never under-counts.
-    let tables = text.bytes().filter(|&b| b == b'{').count();
-    if tables > MAX_INLINE_TABLES {
+    // Counting braces and lines that open with `[[` over-counts (a brace in a string, a
+    // multi-line string), never under-counts.
+    let inline = text.bytes().filter(|&b| b == b'{').count();
+    let arrays = text.lines().filter(|line| line.trim_start().starts_with("[[")).count();
+    if inline + arrays > MAX_TABLES {
         return refuse(format!(
-            "{tables} inline tables (`{{ ... }}`); a scene file may have at most {MAX_INLINE_TABLES} \
-             (a scene at most {MAX_INSTANCES} instances)"
+            "{} tables (`{{ ... }}` and `[[...]]`); a scene file may have at most {MAX_TABLES} \
+             (a scene at most {MAX_INSTANCES} instances)",
+            inline + arrays
         ));
     }
     Ok(())
