@@ -4,6 +4,7 @@
 
 use igi_render::ToneMap;
 use igi_render::frame::{FrameSettings, SettingsError};
+use igi_render::image::tonemap::check_exposure;
 use serde::{Deserialize, Serialize};
 
 /// Largest animation speed factor.
@@ -33,10 +34,12 @@ pub struct ViewerSettings {
     /// The settings of the frames (image size, VPLs, interleaving, filter, clamp, seed, …).
     #[serde(flatten)]
     pub frame: FrameSettings,
-    /// Fixed exposure in stops, or `None` for Reinhard's operator from the previous frame's
-    /// statistics with [`ViewerSettings::key`].
+    /// Fixed exposure in stops, or `None` for the frame's tone curve
+    /// ([`FrameSettings::tone_curve`]) from the previous frame's statistics with
+    /// [`ViewerSettings::key`].
     pub exposure: Option<f32>,
-    /// Reinhard key (middle grey), used without a fixed exposure.
+    /// The key (the display value of the log-average luminance, middle grey) of the automatic
+    /// tone map, used without a fixed exposure.
     pub key: f32,
     /// Render with the path tracer instead of instant radiosity: one path per pixel and
     /// frame, averaged like IGI frames (the progressive reference).
@@ -88,7 +91,7 @@ impl ViewerSettings {
     pub fn tone_map(&self) -> ToneMap {
         match self.exposure {
             Some(stops) => ToneMap::Exposure { stops },
-            None => ToneMap::Reinhard { key: self.key },
+            None => ToneMap::automatic(self.frame.tone_curve, self.key),
         }
     }
 
@@ -101,8 +104,8 @@ impl ViewerSettings {
             return err("width", format!("{width}x{height} is more than {MAX_PIXELS} pixels"));
         }
         if let Some(stops) = self.exposure {
-            if !(stops.is_finite() && stops.abs() <= 64.0) {
-                return err("exposure", format!("{stops} is not a number of stops in [-64, 64]"));
+            if let Err(message) = check_exposure(stops) {
+                return err("exposure", message);
             }
         }
         if !(self.key.is_finite() && self.key > 0.0 && self.key <= 1.0) {
@@ -147,7 +150,7 @@ impl ViewerSettings {
             "filter-normal" => "normal cosine",
             "filter-depth" => "depth ratio",
             "exposure" => "exposure (stops)",
-            "key" => "Reinhard key",
+            "key" => "key (middle grey)",
             "speed" => "speed",
             "sky" => "sky strength",
             "converge-frames" => "converged after frames",

@@ -549,3 +549,18 @@ fn a_still_view_compensates_the_clamp_and_a_moving_one_does_not() {
     assert_eq!(moved.stats.accumulated, 1);
     assert_eq!(compensation_ms(&moved), 0.0, "a moving frame skips the compensation");
 }
+
+#[test]
+fn the_viewers_tone_map_follows_the_frames_tone_curve() {
+    // `--tone-map` reaches the viewers: the automatic tone map is the frame's curve (filmic
+    // by default), with the panel's key; a fixed exposure replaces it.
+    use igi_render::ToneMap;
+    use igi_render::image::tonemap::ToneCurve;
+    let mut settings = ViewerSettings::for_scene(1.0);
+    assert_eq!(settings.tone_map(), ToneMap::Filmic { key: settings.key });
+    settings.frame.tone_curve = ToneCurve::Reinhard;
+    settings.key = 0.25;
+    assert_eq!(settings.tone_map(), ToneMap::Reinhard { key: 0.25 });
+    settings.exposure = Some(1.0);
+    assert_eq!(settings.tone_map(), ToneMap::Exposure { stops: 1.0 });
+}

@@ -7,6 +7,7 @@ use crate::progress::{LateProgress, Stages};
 use anyhow::{Result, bail};
 use clap::{Args, ValueEnum};
 use igi_render::image::output::{ImageFormat, check_writable, write_png_rgb8};
+use igi_render::image::tonemap::check_exposure;
 use igi_render::sampling::MAX_SAMPLES;
 use igi_render::{
     Estimator, Film, FrameImage, FrameRenderer, FrameSource, FrameState, PixelFormat, PreparedScene,
@@ -76,8 +77,8 @@ pub struct RenderArgs {
 
 /// Runs `igi render`.
 pub fn run(args: &RenderArgs) -> Result<()> {
-    if args.exposure.is_some_and(|e| !e.is_finite()) {
-        bail!("--exposure must be a finite number of stops");
+    if let Some(stops) = args.exposure {
+        check_exposure(stops).map_err(|e| anyhow::anyhow!("--exposure: {e}"))?;
     }
     if !(1..=MAX_SAMPLES).contains(&args.spp) {
         bail!("--spp must be between 1 and {MAX_SAMPLES}");

@@ -60,3 +60,33 @@ fn filmic_shows_the_white_wall_near_white_and_is_the_default() {
         .unwrap();
     assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
 }
+
+#[test]
+fn a_fixed_exposure_is_held_to_the_range_the_viewers_take() {
+    // `serve` refused stops outside [-64, 64] while `render` took 1e30 (issue 35).
+    for (stops, ok) in [("1e30", false), ("-65", false), ("64", true)] {
+        let folder = tempfile::tempdir().unwrap();
+        let out = Command::new(IGI)
+            .current_dir(folder.path())
+            .args([
+                "render",
+                "cornell-box",
+                "-o",
+                "x.png",
+                "--frames",
+                "1",
+                "--width",
+                "16",
+                "--height",
+                "12",
+            ])
+            .arg(format!("--exposure={stops}"))
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.success(), ok, "--exposure {stops}: {stderr}");
+        if !ok {
+            assert!(stderr.contains("--exposure") && stderr.contains("[-64, 64]"), "{stderr}");
+        }
+    }
+}

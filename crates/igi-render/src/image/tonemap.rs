@@ -193,6 +193,20 @@ pub enum ToneMap {
 /// The key of the automatic tone maps: middle grey.
 pub const DEFAULT_KEY: f32 = 0.18;
 
+/// The most stops a fixed exposure may take either way: 2^±64 spans every radiance a 32-bit
+/// float holds (and more brings only white or black), and 2^128 would overflow the scale.
+pub const MAX_EXPOSURE_STOPS: f32 = 64.0;
+
+/// `stops` if it is a fixed exposure igi takes ([`MAX_EXPOSURE_STOPS`] either way), else
+/// what is wrong with it.
+pub fn check_exposure(stops: f32) -> Result<f32, String> {
+    if stops.is_finite() && stops.abs() <= MAX_EXPOSURE_STOPS {
+        Ok(stops)
+    } else {
+        Err(format!("{stops} is not a number of stops in [-{MAX_EXPOSURE_STOPS}, {MAX_EXPOSURE_STOPS}]"))
+    }
+}
+
 impl Default for ToneMap {
     fn default() -> Self {
         Self::automatic(ToneCurve::default(), DEFAULT_KEY)
