@@ -97,7 +97,8 @@ pub struct FrameArgs {
     #[arg(long, default_value_t = 0.0, help_heading = "Animation")]
     pub time: f32,
     /// Do not add a light to a scene whose own lights show nothing of the view (by default a
-    /// sun and a sky where the camera stands in the open, else a light at the camera).
+    /// sun and a daylight sky where the camera stands in the open, else lamps under the
+    /// ceiling of the space it looks into).
     #[arg(long, help_heading = "Instant radiosity")]
     pub no_default_light: bool,
     /// Camera overrides.
