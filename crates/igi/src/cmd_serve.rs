@@ -5,15 +5,16 @@ use crate::viewer_args::ViewerArgs;
 use anyhow::Result;
 use clap::Args;
 use igi_serve::{FrameBudget, Limits};
-use std::net::{SocketAddr, ToSocketAddrs};
+use std::net::{IpAddr, SocketAddr};
 
 /// Arguments of `igi serve`.
 #[derive(Debug, Args)]
 #[command(after_help = crate::cli::scenes_help())]
 pub struct ServeArgs {
-    /// Address to listen on: a port (8080, on this machine), host:port (localhost:8080) or
-    /// address:port (0.0.0.0:8080). The default serves this machine only; another address lets
-    /// anyone who can reach it watch and steer the session.
+    /// Address to listen on: a port (8080, on this machine), an address with or without a port
+    /// (0.0.0.0:8080, ::1, [::1]:8080) or localhost[:PORT]; names are not resolved. The default
+    /// serves this machine only; another address lets anyone who can reach it watch and steer
+    /// the session.
     #[arg(long, default_value = "127.0.0.1:8080", value_parser = parse_listen, help_heading = "Server")]
     pub listen: SocketAddr,
     /// The most one frame may cost, in millions of rays: width × height × (AA samples + VPLs
@@ -41,23 +42,36 @@ pub struct ServeArgs {
     pub viewer: ViewerArgs,
 }
 
-/// Parses `--listen`: a bare port means this machine (127.0.0.1), a host name is resolved
-/// (its first IPv4 address if it has one, as `localhost` should mean 127.0.0.1).
+/// The port `--listen` takes when it names only a host.
+const DEFAULT_PORT: u16 = 8080;
+
+/// Parses `--listen`: a port (on 127.0.0.1), an IPv4 or IPv6 address with or without a port
+/// (`0.0.0.0:8080`, `::1`, `[::1]:8080`), or `localhost` with or without one. Nothing goes to
+/// a name resolver: a listening address is this machine's own, and a name that resolves
+/// elsewhere (or differently tomorrow) should not decide who can steer the session.
 fn parse_listen(s: &str) -> Result<SocketAddr, String> {
+    let usage = "expected a port (8080), an address with or without a port (127.0.0.1:8080, \
+                 0.0.0.0, ::1, [::1]:8080) or localhost[:PORT]";
     if let Ok(port) = s.parse::<u16>() {
         return Ok(SocketAddr::from(([127, 0, 0, 1], port)));
     }
     if let Ok(addr) = s.parse::<SocketAddr>() {
         return Ok(addr);
     }
-    let usage = "expected a port (8080), host:port (localhost:8080) or address:port (0.0.0.0:8080)";
-    let addrs: Vec<SocketAddr> = s.to_socket_addrs().map_err(|e| format!("{usage}; {s}: {e}"))?.collect();
-    addrs
-        .iter()
-        .find(|a| a.is_ipv4())
-        .or(addrs.first())
-        .copied()
-        .ok_or_else(|| format!("{usage}; {s} has no address"))
+    let bare = s.strip_prefix('[').and_then(|s| s.strip_suffix(']')).unwrap_or(s);
+    if let Ok(ip) = bare.parse::<IpAddr>() {
+        return Ok(SocketAddr::new(ip, DEFAULT_PORT));
+    }
+    let (host, port) = match s.rsplit_once(':') {
+        Some((host, port)) => {
+            (host, port.parse::<u16>().map_err(|_| format!("{usage}; `{port}` is not a port"))?)
+        }
+        None => (s, DEFAULT_PORT),
+    };
+    if host.eq_ignore_ascii_case("localhost") {
+        return Ok(SocketAddr::from(([127, 0, 0, 1], port)));
+    }
+    Err(format!("{usage}; `{host}` is neither an address nor localhost"))
 }
 
 /// Runs `igi serve` until SIGINT (Ctrl-C) or SIGTERM. A local session listens before its
@@ -84,14 +98,21 @@ mod tests {
     use super::*;
 
     #[test]
-    fn listen_takes_a_port_a_host_or_an_address() {
-        assert_eq!(parse_listen("8080"), Ok(SocketAddr::from(([127, 0, 0, 1], 8080))));
-        assert_eq!(parse_listen("localhost:8081"), Ok(SocketAddr::from(([127, 0, 0, 1], 8081))));
-        assert_eq!(parse_listen("0.0.0.0:80"), Ok(SocketAddr::from(([0, 0, 0, 0], 80))));
-        assert_eq!(parse_listen("[::1]:8080"), Ok("[::1]:8080".parse().unwrap()));
-        for bad in ["", "80800", "localhost", "http://localhost:8080"] {
+    fn listen_takes_addresses_and_localhost_and_resolves_no_names() {
+        let ok = |s: &str| parse_listen(s).unwrap().to_string();
+        assert_eq!(ok("8081"), "127.0.0.1:8081");
+        assert_eq!(ok("0.0.0.0:80"), "0.0.0.0:80");
+        assert_eq!(ok("0.0.0.0"), "0.0.0.0:8080");
+        assert_eq!(ok("::1"), "[::1]:8080");
+        assert_eq!(ok("[::1]"), "[::1]:8080");
+        assert_eq!(ok("[::1]:9000"), "[::1]:9000");
+        assert_eq!(ok("localhost"), "127.0.0.1:8080");
+        assert_eq!(ok("LOCALHOST:9000"), "127.0.0.1:9000");
+        // A URL is not an address: it asks for a name after the scheme.
+        assert!(parse_listen("http://localhost:8080").is_err());
+        for bad in ["example.com", "example.com:80", "localhost:http", "127.0.0.1:99999", "80800", ""] {
             let err = parse_listen(bad).unwrap_err();
-            assert!(err.starts_with("expected a port (8080)"), "{bad}: {err}");
+            assert!(err.starts_with("expected a port"), "{bad}: {err}");
         }
     }
 }
