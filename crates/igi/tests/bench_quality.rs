@@ -134,3 +134,27 @@ fn an_accumulated_reference_is_closer_to_many_frames_than_to_one() {
     assert!(r["accumulated"]["flip"].as_f64() < r["one_frame"]["flip"].as_f64(), "{r}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_reference_that_is_not_radiance_is_refused() {
+    // An all-NaN, an infinite or a negative EXR used to be measured (FLIP 0.887).
+    let dir = tempfile::tempdir().unwrap();
+    for (name, value) in [("nan", f32::NAN), ("inf", f32::INFINITY), ("negative", -1.0)] {
+        let path = dir.path().join(format!("{name}.exr"));
+        image::Rgb32FImage::from_pixel(16, 16, image::Rgb([0.5, value, 0.5])).save(&path).unwrap();
+        let out = igi(&[
+            "bench",
+            "quality",
+            "cornell-box",
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "--reference",
+            path.to_str().unwrap(),
+        ]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{name}: {err}");
+        assert!(err.contains("is not radiance: pixel (0, 0)"), "{name}: {err}");
+    }
+}

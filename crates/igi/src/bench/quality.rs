@@ -365,7 +365,21 @@ fn reference(
                 image.height()
             );
         }
-        let pixels = image.to_rgb32f().pixels().map(|p| glam::Vec3::from_array(p.0)).collect();
+        let pixels: Vec<glam::Vec3> =
+            image.to_rgb32f().pixels().map(|p| glam::Vec3::from_array(p.0)).collect();
+        // Radiance is finite and not negative; a reference that is not would make every
+        // figure against it meaningless (an all-NaN file measured FLIP 0.887).
+        if let Some(i) = pixels.iter().position(|p| !(p.is_finite() && p.min_element() >= 0.0)) {
+            let (x, y) = (i as u32 % width, i as u32 / width);
+            bail!(
+                "the reference {} is not radiance: pixel ({x}, {y}) is {} (values must be finite and not negative)",
+                path.display(),
+                pixels[i]
+            );
+        }
+        if pixels.iter().all(|p| *p == glam::Vec3::ZERO) {
+            bail!("the reference {} is black: every figure against it would be meaningless", path.display());
+        }
         return Ok((Film::from_pixels(width, height, pixels), 0.0));
     }
     tracing::info!("rendering the reference ({method}) into {}", path.display());
