@@ -6,7 +6,7 @@
 //! of the new size.
 
 use crate::ViewOptions;
-use crate::panel::{self, Panel};
+use crate::panel::Panel;
 use eframe::egui::{self, ColorImage, Key, PointerButton, Sense, TextureHandle, TextureOptions};
 use igi_session::{Button, Frame, Input, Refusals, RenderLoop};
 use std::path::Path;
@@ -325,16 +325,14 @@ impl eframe::App for ViewerApp {
         for error in self.refusals.take() {
             self.panel.refused(error);
         }
-        egui::SidePanel::right("panel").exact_width(panel::WIDTH).resizable(false).show(ctx, |ui| {
-            if let Some(input) = self.panel.show(ui, self.shown.as_deref()) {
-                // A refused value's message goes with the next edit (and comes back if the
-                // value is still wrong).
-                if matches!(input, Input::Settings { .. }) {
-                    self.panel.message.clear();
-                }
-                self.render_loop.send(input, &self.refusals);
+        if let Some(input) = self.panel.show(ctx, self.shown.as_deref()) {
+            // A refused value's message goes with the next edit (and comes back if the value
+            // is still wrong).
+            if matches!(input, Input::Settings { .. }) {
+                self.panel.message.clear();
             }
-        });
+            self.render_loop.send(input, &self.refusals);
+        }
         let mut image_rect = egui::Rect::NOTHING;
         let mut area = egui::Vec2::ZERO;
         egui::CentralPanel::default().frame(egui::Frame::NONE).show(ctx, |ui| {

@@ -6,7 +6,9 @@
 //! frame-time plot.
 //!
 //! - [`app`]: the eframe application (image, input, screenshots, F12 snapshots).
-//! - [`panel`]: the side panel (settings widgets, statistics, plot).
+//! - [`panel`]: the side panel (settings widgets, and the statistics and plot in sight
+//!   under them).
+//! - [`statistics`]: the frames' figures and the frame-time plot.
 //! - [`resolution`]: the render size for the image area.
 //! - `signals` (Unix): SIGINT and SIGTERM close the window.
 
@@ -15,6 +17,7 @@ pub mod panel;
 pub mod resolution;
 #[cfg(unix)]
 pub mod signals;
+pub mod statistics;
 
 use anyhow::{Context, Result, bail};
 use igi_session::{RenderLoop, Session};

@@ -1,18 +1,20 @@
-//! [`Panel`]: the window's side panel: the settings of the session (edited on a copy; a
-//! change goes out as one [`Input::Settings`]), the camera mode, the statistics of the shown
-//! frame and a plot of the last frame times.
+//! [`Panel`]: the window's side panel: the scene, the camera and the settings of the session
+//! (edited on a copy; a change goes out as one [`Input::Settings`]), and under them a line for
+//! the user, the frame's figures and a plot of the last frame times ([`Statistics`]).
+//!
+//! The plot keeps the panel's bottom edge, and the figures the room above it (at most half
+//! the panel, scrolling beyond); the scene and the settings scroll in what is left. So the
+//! plot, the figures and a refusal stay in sight at any window height (issue 34: in one
+//! scrolled list, at the window's default 1200x760, the plot lay below the list's visible end).
 
 use crate::resolution::Resolution;
+use crate::statistics::Statistics;
 use eframe::egui::{self, DragValue, Ui};
 use igi_render::frame::limits::MAX_BOUNCES;
 use igi_session::{CameraMode, Frame, FrameStats, Input, LightKind};
-use std::collections::VecDeque;
-use std::time::Instant;
 
 /// Width of the panel, points.
 pub const WIDTH: f32 = 280.0;
-/// Frame times kept for the plot.
-const HISTORY: usize = 120;
 
 /// The panel's state.
 #[derive(Debug, Default)]
@@ -21,12 +23,24 @@ pub struct Panel {
     pub message: String,
     /// The render size for the image area (the window's, not the session's).
     pub resolution: Resolution,
-    frame_ms: VecDeque<f32>,
-    shown_at: VecDeque<Instant>,
+    statistics: Statistics,
     /// The scenes the session may open instead.
     scenes: Vec<String>,
     /// The scene asked for and not shown yet.
     opening: Option<String>,
+}
+
+/// A section of the panel that folds, open at first or not.
+fn section(title: &str, open: bool) -> egui::CollapsingHeader {
+    egui::CollapsingHeader::new(title).default_open(open)
+}
+
+/// A labelled number field.
+fn row(ui: &mut Ui, label: &str, widget: DragValue) {
+    ui.horizontal(|ui| {
+        ui.label(label);
+        ui.add(widget);
+    });
 }
 
 impl Panel {
@@ -37,12 +51,7 @@ impl Panel {
 
     /// Records a newly shown frame (for the plot and the window's frame rate).
     pub fn frame_shown(&mut self, stats: &FrameStats) {
-        if self.frame_ms.len() == HISTORY {
-            self.frame_ms.pop_front();
-            self.shown_at.pop_front();
-        }
-        self.frame_ms.push_back(stats.render_ms as f32);
-        self.shown_at.push_back(Instant::now());
+        self.statistics.frame_shown(stats);
         if self.opening.is_some() && self.opening == stats.scene {
             self.opening = None;
             self.message.clear();
@@ -55,93 +64,142 @@ impl Panel {
         self.opening = None;
     }
 
-    /// Frames shown per second over the recorded ones.
-    fn shown_fps(&self) -> f64 {
-        match (self.shown_at.front(), self.shown_at.back()) {
-            (Some(a), Some(b)) if self.shown_at.len() > 1 => {
-                (self.shown_at.len() - 1) as f64 / b.duration_since(*a).as_secs_f64().max(1e-9)
-            }
-            _ => 0.0,
-        }
+    /// Draws the panel at the right edge of the window for the shown frame; returns the input
+    /// a widget produced.
+    pub fn show(&mut self, ctx: &egui::Context, frame: Option<&Frame>) -> Option<Input> {
+        egui::SidePanel::right("panel")
+            .exact_width(WIDTH)
+            .resizable(false)
+            .show(ctx, |ui| {
+                let Some(frame) = frame else {
+                    ui.label("rendering the first frame…");
+                    return None;
+                };
+                let stats = &frame.stats;
+                // Bottom up: the plot, then the figures, then the settings in what is left.
+                let flat = egui::Frame::NONE.inner_margin(egui::Margin::symmetric(0, 4));
+                egui::TopBottomPanel::bottom("plot")
+                    .frame(flat)
+                    .resizable(false)
+                    .show_inside(ui, |ui| self.statistics.plot(ui));
+                // As tall as the figures, up to half the panel: the panel takes the height its
+                // content had the pass before, so the scroll area asks for its own.
+                let half = ui.available_height() / 2.0;
+                egui::TopBottomPanel::bottom("figures").frame(flat).resizable(false).show_inside(ui, |ui| {
+                    egui::ScrollArea::vertical()
+                        .id_salt("figures")
+                        .max_height(half)
+                        .min_scrolled_height(half)
+                        .show(ui, |ui| self.figures(ui, stats));
+                });
+                egui::CentralPanel::default()
+                    .frame(egui::Frame::NONE)
+                    .show_inside(ui, |ui| {
+                        egui::ScrollArea::vertical()
+                            .id_salt("settings")
+                            .show(ui, |ui| self.settings(ui, stats))
+                            .inner
+                    })
+                    .inner
+            })
+            .inner
     }
 
-    /// Draws the panel for the shown frame; returns the input a widget produced.
-    pub fn show(&mut self, ui: &mut Ui, frame: Option<&Frame>) -> Option<Input> {
-        let Some(frame) = frame else {
-            ui.label("rendering the first frame…");
-            return None;
-        };
-        let stats = &frame.stats;
-        let mut input = None;
-        egui::ScrollArea::vertical().show(ui, |ui| {
-            if !self.scenes.is_empty() {
-                // Another scene, from the session's list (built-ins, files under the start
-                // folder); the view stays until it is loaded.
-                let mut chosen = None;
-                let current = stats.scene.as_deref().unwrap_or("");
-                egui::ComboBox::from_label("scene").selected_text(current).show_ui(ui, |ui| {
-                    for name in &self.scenes {
-                        if ui.selectable_label(name == current, name).clicked() && name != current {
-                            chosen = Some(name.clone());
-                        }
-                    }
-                });
-                if let Some(name) = chosen {
-                    self.message = format!("opening {name}…");
-                    self.opening = Some(name.clone());
-                    input = Some(Input::Open { name });
-                }
-            }
-            ui.heading("Camera");
-            let mut mode = stats.mode;
-            ui.horizontal(|ui| {
-                ui.selectable_value(&mut mode, CameraMode::Fly, "fly");
-                ui.selectable_value(&mut mode, CameraMode::Orbit, "orbit");
-            });
-            if mode != stats.mode {
-                input = Some(Input::Mode { mode });
-            }
-            ui.horizontal(|ui| {
-                if ui.button("reset camera and objects").clicked() {
-                    input = Some(Input::Reset);
-                }
-                if ui.button("save view").on_hover_text("the camera as a scene-file snippet, printed and copied").clicked() {
-                    let snippet = stats.camera.scene_file_snippet();
-                    println!("{snippet}");
-                    ui.ctx().copy_text(snippet.clone());
-                    self.message = format!("view printed and copied, for a scene file:\n{snippet}");
-                }
-            });
-            if !stats.views.is_empty() {
-                // The scene's named cameras; choosing one moves the camera there.
-                let mut chosen = None;
-                egui::ComboBox::from_label("scene views").selected_text("look from…").show_ui(ui, |ui| {
-                    for name in &stats.views {
-                        if ui.selectable_label(false, name).clicked() {
-                            chosen = Some(name.clone());
-                        }
-                    }
-                });
-                if let Some(name) = chosen {
-                    input = Some(Input::View { name });
-                }
-            }
-            ui.small("H or ?: keys and mouse; F12 saves the image");
-
-            let mut s = stats.settings.clone();
-            ui.checkbox(&mut s.path_tracer, "path tracer (reference; slow)").on_hover_text(
-                "one path per pixel and frame, averaged while still: the ground truth IGI approximates",
+    /// The line for the user, the convergence and the frame's figures.
+    fn figures(&self, ui: &mut Ui, stats: &FrameStats) {
+        if !self.message.is_empty() {
+            ui.colored_label(egui::Color32::LIGHT_RED, &self.message);
+        }
+        if stats.converged {
+            ui.colored_label(
+                egui::Color32::LIGHT_GREEN,
+                format!("converged: {} frames in {:.1} s", stats.accumulated, stats.accumulated_seconds),
             );
-            // Sections fold, so that the statistics and the plot show at the window's default
-            // size; the ones changed least start folded.
-            let section = |title: &str, open: bool| egui::CollapsingHeader::new(title).default_open(open);
-            let row = |ui: &mut Ui, label: &str, widget: DragValue| {
-                ui.horizontal(|ui| {
-                    ui.label(label);
-                    ui.add(widget);
-                });
-            };
-            section("Lighting", true).show(ui, |ui| {
+        } else if stats.settings.accumulate && stats.accumulated > 1 {
+            ui.label(format!(
+                "converging: {} of {} frames, {:.1} s",
+                stats.accumulated, stats.settings.converge_frames, stats.accumulated_seconds
+            ));
+        }
+        match stats.history_kept {
+            Some(0.0) => {
+                ui.label("history refused (a cut): the frame stands alone");
+            }
+            Some(kept) if kept < 0.999 => {
+                ui.label(format!("history kept in {:.0} % of the image", 100.0 * kept));
+            }
+            _ => {}
+        }
+        section("Statistics", true).show(ui, |ui| self.statistics.show(ui, stats));
+    }
+
+    /// The scene, the camera and the settings; returns the input a widget produced.
+    fn settings(&mut self, ui: &mut Ui, stats: &FrameStats) -> Option<Input> {
+        let mut input = None;
+        if !self.scenes.is_empty() {
+            // Another scene, from the session's list (built-ins, files under the start
+            // folder); the view stays until it is loaded.
+            let mut chosen = None;
+            let current = stats.scene.as_deref().unwrap_or("");
+            egui::ComboBox::from_label("scene").selected_text(current).show_ui(ui, |ui| {
+                for name in &self.scenes {
+                    if ui.selectable_label(name == current, name).clicked() && name != current {
+                        chosen = Some(name.clone());
+                    }
+                }
+            });
+            if let Some(name) = chosen {
+                self.message = format!("opening {name}…");
+                self.opening = Some(name.clone());
+                input = Some(Input::Open { name });
+            }
+        }
+        ui.heading("Camera");
+        let mut mode = stats.mode;
+        ui.horizontal(|ui| {
+            ui.selectable_value(&mut mode, CameraMode::Fly, "fly");
+            ui.selectable_value(&mut mode, CameraMode::Orbit, "orbit");
+        });
+        if mode != stats.mode {
+            input = Some(Input::Mode { mode });
+        }
+        ui.horizontal(|ui| {
+            if ui.button("reset camera and objects").clicked() {
+                input = Some(Input::Reset);
+            }
+            if ui
+                .button("save view")
+                .on_hover_text("the camera as a scene-file snippet, printed and copied")
+                .clicked()
+            {
+                let snippet = stats.camera.scene_file_snippet();
+                println!("{snippet}");
+                ui.ctx().copy_text(snippet.clone());
+                self.message = format!("view printed and copied, for a scene file:\n{snippet}");
+            }
+        });
+        if !stats.views.is_empty() {
+            // The scene's named cameras; choosing one moves the camera there.
+            let mut chosen = None;
+            egui::ComboBox::from_label("scene views").selected_text("look from…").show_ui(ui, |ui| {
+                for name in &stats.views {
+                    if ui.selectable_label(false, name).clicked() {
+                        chosen = Some(name.clone());
+                    }
+                }
+            });
+            if let Some(name) = chosen {
+                input = Some(Input::View { name });
+            }
+        }
+        ui.small("H or ?: keys and mouse; F12 saves the image");
+
+        let mut s = stats.settings.clone();
+        ui.checkbox(&mut s.path_tracer, "path tracer (reference; slow)").on_hover_text(
+            "one path per pixel and frame, averaged while still: the ground truth IGI approximates",
+        );
+        // The sections changed least start folded.
+        section("Lighting", true).show(ui, |ui| {
             row(ui, "VPLs per pixel", DragValue::new(&mut s.frame.vpls_per_pixel).range(1..=4096));
             ui.horizontal(|ui| {
                 ui.label("interleave");
@@ -158,19 +216,27 @@ impl Panel {
                 "sky strength (0: off)",
                 DragValue::new(&mut s.sky).range(0.0..=igi_session::settings::MAX_SKY).speed(0.05),
             );
-            });
-            section(&format!("Lights ({})", stats.lights.len()), false).show(ui, |ui| {
-                if let Some(light) = self.lights(ui, stats) {
-                    input = Some(light);
-                }
-            });
-            section("Filter", false).show(ui, |ui| {
+        });
+        section(&format!("Lights ({})", stats.lights.len()), false).show(ui, |ui| {
+            if let Some(light) = self.lights(ui, stats) {
+                input = Some(light);
+            }
+        });
+        section("Filter", false).show(ui, |ui| {
             ui.checkbox(&mut s.frame.filter, "discontinuity filter");
-            row(ui, "coarse interleave K (1: off)", DragValue::new(&mut s.frame.coarse_interleave).range(1..=4));
-            row(ui, "normal cosine ≥", DragValue::new(&mut s.frame.filter_normal).range(-1.0..=1.0).speed(0.01));
+            row(
+                ui,
+                "coarse interleave K (1: off)",
+                DragValue::new(&mut s.frame.coarse_interleave).range(1..=4),
+            );
+            row(
+                ui,
+                "normal cosine ≥",
+                DragValue::new(&mut s.frame.filter_normal).range(-1.0..=1.0).speed(0.01),
+            );
             row(ui, "depth ratio ≤", DragValue::new(&mut s.frame.filter_depth).range(0.0..=10.0).speed(0.01));
-            });
-            section("Display", true).show(ui, |ui| {
+        });
+        section("Display", true).show(ui, |ui| {
             let mut fixed = s.exposure.is_some();
             ui.checkbox(&mut fixed, "fixed exposure");
             let mut stops = s.exposure.unwrap_or(0.0);
@@ -208,68 +274,18 @@ impl Panel {
             })
             .response
             .on_hover_text("the image is rendered at the size of the area beside the panel times this; auto: full, or less so that it has at most 614,400 pixels");
-            });
-            section("Animation", false).show(ui, |ui| {
+        });
+        section("Animation", false).show(ui, |ui| {
             ui.checkbox(&mut s.playing, "play");
             row(
                 ui,
                 "speed",
                 DragValue::new(&mut s.speed).range(0.0..=igi_session::settings::MAX_SPEED).speed(0.05),
             );
-            });
-            if s != stats.settings && input.is_none() {
-                input = Some(Input::Settings { settings: s });
-            }
-
-            if stats.converged {
-                ui.colored_label(
-                    egui::Color32::LIGHT_GREEN,
-                    format!("converged: {} frames in {:.1} s", stats.accumulated, stats.accumulated_seconds),
-                );
-            } else if stats.settings.accumulate && stats.accumulated > 1 {
-                ui.label(format!(
-                    "converging: {} of {} frames, {:.1} s",
-                    stats.accumulated, stats.settings.converge_frames, stats.accumulated_seconds
-                ));
-            }
-            match stats.history_kept {
-                Some(0.0) => {
-                    ui.label("history refused (a cut): the frame stands alone");
-                }
-                Some(kept) if kept < 0.999 => {
-                    ui.label(format!("history kept in {:.0} % of the image", 100.0 * kept));
-                }
-                _ => {}
-            }
-            section("Statistics", true).show(ui, |ui| {
-            let text = format!(
-                "render fps   {:.1}\nwindow fps   {:.1}\nframe        {:.1} ms\nMrays/s      {:.1}\n\
-                 VPLs         {}\ntriangles    {}\naccumulated  {}\ntime         {:.2} s\nselected     {}\n\
-                 image        {}x{}\n",
-                stats.fps,
-                self.shown_fps(),
-                stats.render_ms,
-                stats.mrays_per_s,
-                stats.vpls,
-                stats.triangles,
-                stats.accumulated,
-                stats.time,
-                stats.selected.as_ref().map_or("none", |s| s.name.as_str()),
-                stats.width,
-                stats.height,
-            );
-            ui.monospace(text);
-            self.plot(ui);
-            section("ms per phase", false).show(ui, |ui| {
-                let phases: String =
-                    stats.phases_ms.iter().map(|(name, ms)| format!("{name:<15} {ms:.2} ms\n")).collect();
-                ui.monospace(phases);
-            });
-            });
-            if !self.message.is_empty() {
-                ui.colored_label(egui::Color32::LIGHT_RED, &self.message);
-            }
         });
+        if s != stats.settings && input.is_none() {
+            input = Some(Input::Settings { settings: s });
+        }
         input
     }
 
@@ -306,32 +322,5 @@ impl Panel {
             }
         }
         input
-    }
-
-    /// The frame times as a line, scaled to the largest.
-    fn plot(&self, ui: &mut Ui) {
-        let (rect, _) = ui.allocate_exact_size(egui::vec2(ui.available_width(), 70.0), egui::Sense::hover());
-        let painter = ui.painter_at(rect);
-        painter.rect_filled(rect, 0.0, egui::Color32::from_gray(20));
-        let top = self.frame_ms.iter().copied().fold(1.0f32, f32::max) * 1.1;
-        let points: Vec<egui::Pos2> = self
-            .frame_ms
-            .iter()
-            .enumerate()
-            .map(|(i, ms)| {
-                egui::pos2(
-                    rect.left() + rect.width() * i as f32 / HISTORY as f32,
-                    rect.bottom() - rect.height() * ms / top,
-                )
-            })
-            .collect();
-        painter.add(egui::Shape::line(points, egui::Stroke::new(1.5, egui::Color32::LIGHT_GREEN)));
-        painter.text(
-            rect.left_top() + egui::vec2(4.0, 2.0),
-            egui::Align2::LEFT_TOP,
-            format!("frame time, max {top:.0} ms"),
-            egui::FontId::monospace(10.0),
-            egui::Color32::GRAY,
-        );
     }
 }
