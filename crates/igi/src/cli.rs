@@ -46,6 +46,9 @@ pub fn scenes_help() -> String {
 
 /// Runs one subcommand.
 pub fn dispatch(command: Command) -> Result<()> {
+    if matches!(command, Command::Render(_) | Command::Bench(_)) {
+        crate::interrupt::end_writes_on_signal()?;
+    }
     match command {
         Command::Render(args) => cmd_render::run(&args),
         Command::Info(args) => cmd_info::run(&args),

@@ -22,6 +22,7 @@ mod cmd_view;
 mod cmd_worker;
 mod cpu_check;
 mod frame_args;
+mod interrupt;
 mod progress;
 mod scene_load;
 mod stdout;

@@ -4,7 +4,7 @@
 
 mod atomic_file;
 
-pub use atomic_file::{check_writable, write_atomically};
+pub use atomic_file::{check_writable, end_writes, write_atomically};
 
 use crate::image::film::Film;
 use crate::image::tonemap::ToneMapper;

@@ -2,12 +2,48 @@
 //! benchmark reports) goes first to a temporary file in the same folder, which is flushed,
 //! synced and then renamed over the target: a reader, a crash, Ctrl-C or a full disk sees the
 //! earlier file or the whole new one, never a truncated mix (a rename within one file system is
-//! atomic). A write that fails removes its temporary file and leaves the target as it was.
+//! atomic). A write that fails removes its temporary file and leaves the target as it was, and
+//! so does a process ended by a signal whose handler calls [`end_writes`] first.
 
 use super::OutputError;
 use std::fs::File;
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::sync::{Mutex, MutexGuard, PoisonError};
+
+/// The temporary files of the writes under way, for [`end_writes`].
+static WRITING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// A temporary file's place in [`WRITING`], given up when the write ends either way.
+struct Writing(PathBuf);
+
+impl Writing {
+    fn register(path: &Path) -> Self {
+        WRITING.lock().unwrap_or_else(PoisonError::into_inner).push(path.to_owned());
+        Self(path.to_owned())
+    }
+}
+
+impl Drop for Writing {
+    fn drop(&mut self) {
+        let mut writing = WRITING.lock().unwrap_or_else(PoisonError::into_inner);
+        if let Some(i) = writing.iter().position(|p| *p == self.0) {
+            writing.swap_remove(i);
+        }
+    }
+}
+
+/// Removes the temporary files of the writes under way and holds back new ones while the
+/// returned guard lives: for a signal handler that then ends the process, which would
+/// otherwise leave them behind (a write in progress at Ctrl-C left a hidden `.NAME.*.tmp`).
+/// Each target stays as it was, or is already the whole new file.
+pub fn end_writes() -> MutexGuard<'static, Vec<PathBuf>> {
+    let writing = WRITING.lock().unwrap_or_else(PoisonError::into_inner);
+    for path in writing.iter() {
+        let _ = std::fs::remove_file(path);
+    }
+    writing
+}
 
 /// Writes `path` through `write`, which receives a buffered writer on a temporary file next to
 /// it; the file replaces `path` only once `write` succeeded and its bytes are on the disk. On
@@ -21,6 +57,8 @@ pub fn write_atomically<E: From<io::Error>>(
         let message = format!("cannot create files in the folder {}: {error}", folder_of(path).display());
         io::Error::new(error.kind(), message)
     })?;
+    // Registered before a byte is written; given up after the rename or the removal.
+    let _writing = Writing::register(temporary.path());
     let mut out = BufWriter::new(temporary.as_file());
     write(&mut out)?;
     out.flush()?;
