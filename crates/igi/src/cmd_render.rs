@@ -99,6 +99,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         bail!("--fps must be a positive number");
     }
     ImageFormat::from_path(&args.output)?;
+    crate::render_memory::check(args.frame.width, args.frame.height, args.frame.threads)?;
     // A render can take hours: a folder that takes no files fails now, not at the end. On a
     // cluster only rank 0 writes, so there the check waits until this process knows its rank.
     if !args.cluster.cluster {

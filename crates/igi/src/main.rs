@@ -24,6 +24,7 @@ mod cpu_check;
 mod frame_args;
 mod interrupt;
 mod progress;
+mod render_memory;
 mod scene_load;
 mod stdout;
 mod viewer_args;

@@ -302,3 +302,17 @@ fn a_scene_without_geometry_warns() {
         .collect::<Vec<_>>());
     assert!(!text(&out.stderr).contains("no geometry"), "{}", text(&out.stderr));
 }
+
+#[test]
+fn a_render_larger_than_the_machine_is_refused_before_it_starts() {
+    // 16384x16384 grew past 8 GB with no estimate beforehand (issue 35); it needs about 96 GiB.
+    let dir = tempfile::tempdir().unwrap();
+    let out = Command::new(IGI)
+        .current_dir(dir.path())
+        .args(["render", "cornell-box", "--width", "16384", "--height", "16384", "-o", "x.png"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = text(&out.stderr);
+    assert!(err.contains("a 16384x16384 image needs about") && err.contains("render it smaller"), "{err}");
+}

@@ -55,6 +55,18 @@ pub enum FrameError {
     Failed(String),
 }
 
+/// The most bytes a frame holds per pixel while it renders, beyond the prepared scene: every
+/// tile's lit points until the second pass composes them (ARCHITECTURE.md, "A frame in two
+/// passes"; a pixel whose samples see different surfaces has a point per sample), the image
+/// and, while frames accumulate, their mean. With [`FRAME_BYTES_PER_THREAD`] it bounds what a
+/// frame takes (`tests/frame_memory.rs` holds frames to it), from which `igi render` says what
+/// an image will need before it starts.
+pub const FRAME_BYTES_PER_PIXEL: u64 = 384;
+
+/// The most bytes a frame holds per render thread whatever its size: the thread's scratch
+/// memory for a tile and its apron.
+pub const FRAME_BYTES_PER_THREAD: u64 = 32 << 20;
+
 /// Renders frames on a pool of persistent worker threads.
 #[derive(Debug)]
 pub struct FrameRenderer {
