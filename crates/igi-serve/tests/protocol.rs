@@ -232,8 +232,10 @@ async fn thousands_of_refused_inputs_are_answered_in_a_few_short_messages() {
     assert!(!errors.is_empty(), "the refusals are answered");
     assert!(most <= igi_session::refusals::MAX_KEPT, "{most} errors in one frame");
     for error in &errors {
-        assert!(error.starts_with("view: the scene has no view \"vvv"), "{error}");
-        assert!(error.ends_with("…\" (15500 bytes)"), "the name is cut: {error}");
+        // Refused by the session with the name cut, or at once if too many names waited.
+        let view =
+            error.starts_with("view: the scene has no view \"vvv") && error.ends_with("…\" (15500 bytes)");
+        assert!(view || error.starts_with("busy: "), "{error}");
     }
 }
 

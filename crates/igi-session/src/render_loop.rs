@@ -15,6 +15,9 @@
 //!
 //! Each viewer sends its inputs with its own [`Refusals`] ([`RenderLoop::refusals`]): why an
 //! input was refused goes to the viewer that sent it, and why a frame failed to every viewer.
+//! Inputs wait while a frame renders or a scene loads; at most [`MAX_WAITING`] of them, with
+//! at most [`MAX_WAITING_NAME_BYTES`] of names, so that a client sending faster than the
+//! session takes its inputs cannot grow the process: one more is refused at once.
 //!
 //! A loop started with [`RenderLoop::spawn_on_demand`] renders only while someone watches
 //! ([`RenderLoop::watch`]): a server with no browser connected does not spend its cores.
@@ -30,6 +33,13 @@ use std::time::{Duration, Instant};
 
 /// How many times the last finished frame's duration a frame may run while an input waits.
 pub const PATIENCE: u32 = 2;
+
+/// The most inputs that wait to be handled: at a 120 Hz pointer, more than 30 s of a scene
+/// that loads.
+pub const MAX_WAITING: usize = 4096;
+/// The most bytes of scene and view names the waiting inputs hold (a browser may name 16 KiB
+/// at a time; a person picks a name from a list).
+pub const MAX_WAITING_NAME_BYTES: usize = 1 << 20;
 
 /// How long dropping a [`RenderLoop`] waits for the render threads to finish their tiles; a
 /// longer tile is left to finish on its own (or to the end of the process), so that a viewer
@@ -86,6 +96,8 @@ struct State {
     /// Inputs not yet handled, oldest first, each with where its refusal goes (nowhere once
     /// its viewer has gone).
     inputs: Vec<(Input, Weak<Mailbox>)>,
+    /// Bytes of names held by `inputs`.
+    name_bytes: usize,
     /// Inputs posted so far.
     sent: u64,
     /// Every viewer's messages, for a frame that failed; viewers that have gone are dropped
@@ -184,9 +196,24 @@ impl RenderLoop {
     /// Posts an input from the viewer of `from`, where its refusal goes if the session
     /// refuses it; returns its sequence number: the first frame whose
     /// [`FrameStats::input_seq`](crate::FrameStats::input_seq) is at least this number
-    /// includes it. A frame in progress that has run out of patience is cancelled.
+    /// includes it. A frame in progress that has run out of patience is cancelled. With
+    /// [`MAX_WAITING`] inputs or [`MAX_WAITING_NAME_BYTES`] of names waiting, the input is
+    /// refused at once (said to `from`) and gets the number of the input before it.
     pub fn send(&self, input: Input, from: &Refusals) -> u64 {
+        let name_bytes = match &input {
+            Input::Open { name } | Input::View { name } => name.len(),
+            _ => 0,
+        };
         let mut state = self.shared.lock();
+        if state.inputs.len() >= MAX_WAITING || state.name_bytes + name_bytes > MAX_WAITING_NAME_BYTES {
+            let (waiting, sent) = (state.inputs.len(), state.sent);
+            drop(state);
+            from.push(&format!(
+                "busy: {waiting} inputs wait for the session (a frame or a scene load); this one was dropped"
+            ));
+            return sent;
+        }
+        state.name_bytes += name_bytes;
         state.inputs.push((input, from.downgrade()));
         state.sent += 1;
         if let Some(frame) = &state.frame {
@@ -247,6 +274,7 @@ fn run(mut session: Session, shared: &Shared, latest: &LatestFrame) {
         // Every pending input goes into the next frame; when nothing needs rendering, sleep
         // until one comes.
         let inputs = std::mem::take(&mut state.inputs);
+        state.name_bytes = 0;
         if !inputs.is_empty() {
             drop(state);
             failed = false;

@@ -1,26 +1,35 @@
 //! Refused inputs are answered to the viewer that sent them and to no other, stay few and
 //! short for a viewer that never reads them, and go with the viewer (issue 35: 30,000 refused
 //! `view` messages with 15.5 KB names took `igi serve` from 22 MB to 470 MB, stored for nobody
-//! and never freed).
+//! and never freed); inputs that come faster than the session takes them wait in a bounded
+//! queue, and the rest are refused at once.
 
 use igi_render::PreparedScene;
 use igi_session::refusals::{MAX_CHARS, MAX_KEPT};
+use igi_session::render_loop::{MAX_WAITING, MAX_WAITING_NAME_BYTES};
 use igi_session::{Button, Input, RenderLoop, SceneCatalog, Session, ViewerSettings};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Duration;
 
+/// How long `slow.toml` takes to fail to load.
+const SLOW_LOAD: Duration = Duration::from_secs(3);
+
 /// The Cornell box, 40x40, still and not accumulating, with a list of scenes in which
-/// `missing_mesh.toml` does not open.
+/// `missing_mesh.toml` does not open, nor `slow.toml`, after [`SLOW_LOAD`].
 fn render_loop() -> RenderLoop {
     let scene = PreparedScene::new(igi_scene::builtin("cornell-box").unwrap());
     let camera = *scene.camera().unwrap();
     let mut settings = ViewerSettings::for_scene(scene.bounds().diagonal());
     (settings.frame.width, settings.frame.height, settings.accumulate) = (40, 40, false);
     let mut session = Session::new(scene, camera, settings, 1).unwrap();
-    let names = vec!["cornell-box".to_string(), "missing_mesh.toml".to_string()];
+    let names: Vec<String> = ["cornell-box", "missing_mesh.toml", "slow.toml"].map(String::from).into();
     let open = |name: &str| match igi_scene::builtin(name) {
         Some(scene) => Ok(PreparedScene::new(scene)),
+        None if name == "slow.toml" => {
+            std::thread::sleep(SLOW_LOAD);
+            Err("slow.toml: took its time and failed".to_string())
+        }
         None => Err("mesh file missing.obj: No such file or directory (os error 2)".to_string()),
     };
     session.set_catalog(SceneCatalog::new(names, Box::new(open)), "cornell-box");
@@ -84,12 +93,19 @@ fn refusals_nobody_reads_stay_few_and_short_and_go_with_their_viewer() {
     let (count, chars) = unread.kept();
     assert_eq!(count, MAX_KEPT, "the newest few are kept");
     assert!(chars <= MAX_KEPT * MAX_CHARS, "{chars} characters kept");
-    let messages = unread.take();
-    assert!(messages.iter().all(|m| m.chars().count() <= MAX_CHARS));
-    let view = messages.iter().find(|m| m.starts_with("view: ")).unwrap();
-    assert!(view.ends_with("…\" (15500 bytes)"), "a long name is cut and its length said: {view}");
-    let open = messages.iter().find(|m| m.starts_with("open: ")).unwrap();
-    assert!(open.ends_with(" (15500 bytes) is not in the list of scenes"), "{open}");
+    // What the newest are depends on how many waited at once (beyond the queue's bound they
+    // are refused as "busy"); a long name is cut and its length said.
+    for message in unread.take() {
+        assert!(message.chars().count() <= MAX_CHARS, "{message}");
+        let said = match message.split_once(": ").map(|(what, _)| what) {
+            Some("view") => message.ends_with("…\" (15500 bytes)"),
+            Some("open") => message.ends_with(" (15500 bytes) is not in the list of scenes"),
+            Some("light") => message.contains(" light sources, not "),
+            Some("busy") => message.ends_with("this one was dropped"),
+            _ => false,
+        };
+        assert!(said, "{message}");
+    }
 
     // A viewer that goes with inputs still waiting: what it would be told is freed with it
     // (its wake function, holding `alive`, is dropped at once), and nothing is kept for it.
@@ -106,4 +122,32 @@ fn refusals_nobody_reads_stay_few_and_short_and_go_with_their_viewer() {
     drop(gone);
     assert_eq!(Arc::strong_count(&alive), 1, "the viewer's messages are freed with it");
     handled(&render_loop);
+}
+
+#[test]
+fn inputs_that_come_while_a_scene_loads_wait_in_a_bounded_queue() {
+    let render_loop = render_loop();
+    let viewer = render_loop.refusals(|| {});
+    let opened = render_loop.send(Input::Open { name: "slow.toml".into() }, &viewer);
+    // The render thread is in the load from here on.
+    std::thread::sleep(SLOW_LOAD / 10);
+    let name = "v".repeat(15_500);
+    let mut last = opened;
+    for _ in 0..3_000 {
+        last = render_loop.send(Input::View { name: name.clone() }, &viewer);
+    }
+    let names_waiting = last - opened;
+    assert_eq!(names_waiting, (MAX_WAITING_NAME_BYTES / name.len()) as u64, "1 MiB of names wait");
+    let key = Input::Key { key: igi_session::Key::W, down: false };
+    for _ in 0..2 * MAX_WAITING {
+        last = render_loop.send(key.clone(), &viewer);
+    }
+    assert_eq!(last - opened, MAX_WAITING as u64, "so many inputs wait, no more");
+    let busy = viewer.take();
+    assert!(busy.iter().all(|m| m.starts_with("busy: ") && m.ends_with("this one was dropped")), "{busy:?}");
+    // Once the load has failed, the names that waited are handled (and refused).
+    handled(&render_loop);
+    let after = viewer.take();
+    assert_eq!(after.len(), MAX_KEPT);
+    assert!(after.iter().all(|m| m.starts_with("view: the scene has no view \"vvv")), "{after:?}");
 }
