@@ -2,7 +2,7 @@
 //! waits for the render loop's next frame and asks egui to repaint, and a repaint uploads the
 //! newest frame into one texture. So the window shows every frame it can and the renderer
 //! never waits for the display. The frame fills the area beside the panel; when that area or
-//! the resolution changes and stays so for [`RESIZE_SETTLE`], the session is asked for frames
+//! the resolution changes and stays so for `RESIZE_SETTLE` (120 ms), the session is asked for frames
 //! of the new size.
 
 use crate::ViewOptions;
