@@ -31,7 +31,8 @@ use std::sync::{Arc, Condvar, Mutex, MutexGuard, Weak};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-/// How many times the last finished frame's duration a frame may run while an input waits.
+/// How many times the last finished frame's duration (or, if longer, that of a frame cancelled
+/// since) a frame may run while an input waits.
 pub const PATIENCE: u32 = 2;
 
 /// The most inputs that wait to be handled: at a 120 Hz pointer, more than 30 s of a scene
