@@ -112,6 +112,16 @@ const narrow = await pixels();
 assert.notEqual(narrow.sum, wide.sum, "the frame with one filter level differs");
 console.log(`coarse interleave K 3 -> 1: pixel sum ${wide.sum} -> ${narrow.sum}`);
 
+// The tone curve: filmic by default, Reinhard chosen in the panel comes back in the frames'
+// settings and darkens the mid-tones.
+assert.equal(await page.locator("#tone_curve").inputValue(), "filmic");
+await page.locator("#tone_curve").selectOption("reinhard");
+await waitFor(() => window.__igi.header.stats.settings.tone_curve === "reinhard");
+await page.waitForTimeout(200);
+const reinhard = await pixels();
+assert.ok(reinhard.sum < narrow.sum, `Reinhard is darker than filmic: ${reinhard.sum} against ${narrow.sum}`);
+console.log(`tone curve filmic -> Reinhard: pixel sum ${narrow.sum} -> ${reinhard.sum}`);
+
 // Once still, the frame comes losslessly.
 await waitFor(() => window.__igi.kind === "png");
 console.log("still view: lossless PNG frame received");

@@ -293,7 +293,7 @@ impl ViewerApp {
                 shot.size[1],
                 path.display()
             ),
-            Err(e) => eprintln!("igi: error: cannot write the screenshot {}: {e}", path.display()),
+            Err(e) => eprintln!("error: cannot write the screenshot {}: {e}", path.display()),
         }
         ctx.send_viewport_cmd(egui::ViewportCommand::Close);
     }

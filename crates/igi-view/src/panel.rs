@@ -11,6 +11,7 @@ use crate::resolution::Resolution;
 use crate::statistics::Statistics;
 use eframe::egui::{self, DragValue, Ui};
 use igi_render::frame::limits::MAX_BOUNCES;
+use igi_render::image::tonemap::ToneCurve;
 use igi_session::{CameraMode, Frame, FrameStats, Input, LightKind};
 
 /// Width of the panel, points.
@@ -243,7 +244,16 @@ impl Panel {
             if fixed {
                 row(ui, "exposure (stops)", DragValue::new(&mut stops).range(-64.0..=64.0).speed(0.1));
             } else {
-                row(ui, "Reinhard key", DragValue::new(&mut s.key).range(0.01..=1.0).speed(0.01));
+                ui.horizontal(|ui| {
+                    ui.label("tone curve");
+                    let curve = &mut s.frame.tone_curve;
+                    egui::ComboBox::from_id_salt("tone curve").selected_text(curve_name(*curve)).show_ui(ui, |ui| {
+                        for c in [ToneCurve::Filmic, ToneCurve::Reinhard] {
+                            ui.selectable_value(curve, c, curve_name(c));
+                        }
+                    });
+                });
+                row(ui, "key (middle grey)", DragValue::new(&mut s.key).range(0.01..=1.0).speed(0.01));
             }
             s.exposure = fixed.then_some(stops);
             ui.checkbox(&mut s.accumulate, "accumulate while still");
@@ -322,5 +332,13 @@ impl Panel {
             }
         }
         input
+    }
+}
+
+/// How the panel names a tone curve.
+fn curve_name(curve: ToneCurve) -> &'static str {
+    match curve {
+        ToneCurve::Filmic => "filmic",
+        ToneCurve::Reinhard => "Reinhard",
     }
 }
