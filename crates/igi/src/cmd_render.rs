@@ -99,12 +99,12 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         bail!("--fps must be a positive number");
     }
     ImageFormat::from_path(&args.output)?;
-    crate::render_memory::check(args.frame.width, args.frame.height, args.frame.threads)?;
     // A render can take hours: a folder that takes no files fails now, not at the end. On a
     // cluster only rank 0 writes, so there the check waits until this process knows its rank.
     if !args.cluster.cluster {
         check_writable(&args.output)?;
     }
+    crate::render_memory::check(args.frame.width, args.frame.height, args.frame.threads)?;
 
     // Nothing on a terminal before the render's bar; lines in a log while a large scene loads
     // (not on a cluster, whose render nodes spend the whole job in `cluster::start`).
