@@ -434,11 +434,18 @@ impl Session {
             Some((camera.right * dx - camera.up * dy) * per_pixel)
                 .filter(|o| o.is_finite() && *o != Vec3::ZERO)
         };
+        // Each step is finite, but steps add up: a move that would take an object or a light
+        // beyond the coordinates a scene may have (where 32-bit floats no longer hold its
+        // distances, and repeated drags of 3.4e38 pixels made it vanish) is refused.
+        let within = |p: Vec3| p.is_finite() && p.abs().max_element() <= igi_scene::MAX_COORDINATE;
         match selected {
             Selected::Instance { instance, distance } => {
                 if let Some(offset) = in_view_plane(distance) {
-                    *self.moved.entry(instance).or_insert(Vec3::ZERO) += offset;
-                    self.changed = true;
+                    let moved = self.moved.get(&instance).copied().unwrap_or(Vec3::ZERO) + offset;
+                    if within(moved) {
+                        self.moved.insert(instance, moved);
+                        self.changed = true;
+                    }
                 }
             }
             Selected::Light { index, distance } => {
@@ -454,8 +461,11 @@ impl Session {
                     LightKind::Emissive => None,
                 };
                 if let Some(step) = step {
-                    light.transform = step * light.transform;
-                    self.cut_here();
+                    let transform = step * light.transform;
+                    if within(transform.translation.into()) && transform.matrix3.is_finite() {
+                        light.transform = transform;
+                        self.cut_here();
+                    }
                 }
             }
         }

@@ -105,6 +105,23 @@ fn the_clock_moves_the_animation_and_every_frame_is_instant() {
 }
 
 #[test]
+fn an_object_dragged_by_the_largest_floats_stays_where_floats_hold_it() {
+    // Repeated right-drags of ±3.4e38 pixels moved the statue to infinity, where it vanished.
+    let mut session = session("animated-room", |_| {});
+    session.render(0.0).unwrap();
+    let centre = SIZE as f32 / 2.0;
+    session.handle(&Input::Pick { x: centre, y: centre }).unwrap();
+    session.render(0.0).unwrap();
+    let statue = |s: &Session| s.scene().accel().instance_transform(1).transform_point3(Vec3::ZERO);
+    for dx in [3.4e38, 3.4e38, -3.4e38, 3.4e38, 3.4e38] {
+        session.handle(&Input::Drag { dx, dy: -3.4e38, button: Button::Secondary }).unwrap();
+        session.render(0.0).unwrap();
+        let p = statue(&session);
+        assert!(p.is_finite() && p.abs().max_element() <= igi_scene::MAX_COORDINATE, "{p}");
+    }
+}
+
+#[test]
 fn picking_and_dragging_moves_the_object_under_the_pointer() {
     let mut session = session("animated-room", |_| {});
     let before = session.render(0.0).unwrap();
@@ -482,6 +499,22 @@ fn lights_are_listed_edited_dragged_and_reset() {
     let right = session.camera().forward().cross(Vec3::Y).normalize();
     let moved = position(&session) - before;
     assert!(moved.dot(right) > 0.05 && moved.y.abs() < 1e-4, "moved {moved}");
+    // Drags of the largest floats add up to no more than a scene's coordinates may reach: the
+    // light stays where floats hold it instead of vanishing at infinity.
+    for dx in [3.4e38, 3.4e38, -3.4e38, 3.4e38, 3.4e38] {
+        session.handle(&Input::Drag { dx, dy: 3.4e38, button: Button::Secondary }).unwrap();
+        session.render(0.0).unwrap();
+        let p = position(&session);
+        assert!(p.is_finite() && p.abs().max_element() <= igi_scene::MAX_COORDINATE, "{p}");
+    }
+    // Drags of the largest floats add up to no more than a scene's coordinates may reach: the
+    // light stays where floats hold it instead of vanishing at infinity.
+    for dx in [3.4e38, 3.4e38, -3.4e38, 3.4e38, 3.4e38] {
+        session.handle(&Input::Drag { dx, dy: 3.4e38, button: Button::Secondary }).unwrap();
+        session.render(0.0).unwrap();
+        let p = position(&session);
+        assert!(p.is_finite() && p.abs().max_element() <= igi_scene::MAX_COORDINATE, "{p}");
+    }
 
     // Bad values are refused in the panel's words; reset puts every light back.
     let err = session.handle(&Input::EditLight { index: 1, intensity: -1.0, colour: [1.0; 3] }).unwrap_err();
