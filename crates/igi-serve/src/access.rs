@@ -22,22 +22,37 @@ pub fn check(headers: &HeaderMap, loopback: bool) -> Result<(), Refusal> {
     }
     let Some(origin) = headers.get(ORIGIN) else { return Ok(()) };
     let origin = origin.to_str().map_err(|_| "the Origin header is not text")?;
-    let authority = origin.strip_prefix("http://").or_else(|| origin.strip_prefix("https://"));
+    // The server speaks plain HTTP, so its own pages come from `http://` only.
+    let authority = origin.strip_prefix("http://");
     match authority {
         Some(authority) if authority.eq_ignore_ascii_case(host) => Ok(()),
         _ => Err("the page comes from another origin"),
     }
 }
 
-/// `localhost`, `127.x.y.z` or `[::1]`, with or without a port.
+/// `localhost`, `127.x.y.z` or `[::1]`, with or without a port, and nothing else: a `Host`
+/// such as `[::1]evil.example:8080` or `127.0.0.1:8080@evil.example` names another host.
 fn is_loopback_name(host: &str) -> bool {
-    let name = if let Some(rest) = host.strip_prefix('[') {
-        rest.split(']').next().unwrap_or_default()
+    let port_ok =
+        |port: Option<&str>| port.is_none_or(|p| !p.is_empty() && p.bytes().all(|b| b.is_ascii_digit()));
+    let (name, port) = if let Some(rest) = host.strip_prefix('[') {
+        let Some((name, after)) = rest.split_once(']') else { return false };
+        match after {
+            "" => (name, None),
+            _ => match after.strip_prefix(':') {
+                Some(port) => (name, Some(port)),
+                None => return false,
+            },
+        }
     } else {
-        host.rsplit_once(':').map_or(host, |(name, _)| name)
+        match host.split_once(':') {
+            Some((name, port)) => (name, Some(port)),
+            None => (host, None),
+        }
     };
-    name.eq_ignore_ascii_case("localhost")
-        || name.parse::<std::net::IpAddr>().is_ok_and(|ip| ip.is_loopback())
+    port_ok(port)
+        && (name.eq_ignore_ascii_case("localhost")
+            || name.parse::<std::net::IpAddr>().is_ok_and(|ip| ip.is_loopback()))
 }
 
 #[cfg(test)]
@@ -69,5 +84,12 @@ mod tests {
         assert!(check(&headers("evil.example:8080", Some("http://evil.example:8080")), true).is_err());
         assert!(check(&headers("render.example", Some("http://evil.example")), false).is_err());
         assert!(check(&HeaderMap::new(), true).is_err());
+        // Names with a loopback prefix, and an https page for this http server (issue 35).
+        assert!(check(&headers("[::1]evil.example:8080", None), true).is_err());
+        assert!(check(&headers("127.0.0.1:8080@evil.example", None), true).is_err());
+        assert!(check(&headers("localhost:80x", None), true).is_err());
+        assert!(check(&headers("127.0.0.1:8080", Some("https://127.0.0.1:8080")), true).is_err());
+        assert_eq!(check(&headers("[::1]", None), true), Ok(()));
+        assert_eq!(check(&headers("localhost", None), true), Ok(()));
     }
 }

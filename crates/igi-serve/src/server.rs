@@ -185,8 +185,22 @@ impl AsyncWrite for Counted {
     }
 }
 
-async fn page() -> Html<&'static str> {
-    Html(PAGE)
+/// The page, with headers that keep other sites from framing it and the browser from
+/// loading anything but the page's own script, style and stream: its script and style are
+/// inline in the one file, the frames arrive over the WebSocket and are drawn from blobs.
+async fn page() -> Response {
+    const POLICY: &str = "default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; \
+                          connect-src 'self'; img-src 'self' blob: data:; frame-ancestors 'none'; \
+                          base-uri 'none'; form-action 'none'";
+    (
+        [
+            (axum::http::header::CONTENT_SECURITY_POLICY, POLICY),
+            (axum::http::header::X_FRAME_OPTIONS, "DENY"),
+            (axum::http::header::X_CONTENT_TYPE_OPTIONS, "nosniff"),
+        ],
+        Html(PAGE),
+    )
+        .into_response()
 }
 
 /// The names of the scenes the page may ask to open, as a JSON array (a page names one of

@@ -251,6 +251,21 @@ fn get(address: std::net::SocketAddr, path: &str) -> (String, String) {
 }
 
 #[test]
+fn the_page_forbids_framing_sniffing_and_loads_from_elsewhere() {
+    // It had no Content-Security-Policy, X-Frame-Options or X-Content-Type-Options (issue 35).
+    let server = common::start(32, 24);
+    let mut stream = std::net::TcpStream::connect(server.address).unwrap();
+    write!(stream, "GET / HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n").unwrap();
+    let mut response = String::new();
+    stream.read_to_string(&mut response).unwrap();
+    let head = response.split_once("\r\n\r\n").map_or("", |(h, _)| h).to_ascii_lowercase();
+    assert!(head.contains("x-frame-options: deny"), "{head}");
+    assert!(head.contains("x-content-type-options: nosniff"), "{head}");
+    let policy = head.lines().find(|l| l.starts_with("content-security-policy:")).expect("a policy");
+    assert!(policy.contains("default-src 'none'") && policy.contains("frame-ancestors 'none'"), "{policy}");
+}
+
+#[test]
 fn only_the_page_the_stream_and_the_scene_list_are_served() {
     let server = common::start(32, 24);
     let (status, body) = get(server.address, "/");
