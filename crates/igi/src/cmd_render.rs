@@ -123,14 +123,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     };
     let load = t_load.elapsed();
 
-    let preparing = format!("preparing {} (BVH, shading tables, lights)", args.scene);
-    let stages = match stages {
-        Some(stages) => {
-            stages.stage(preparing);
-            stages
-        }
-        None => Stages::lines_only(preparing),
-    };
+    let stages = Stages::preparing(stages, &args.scene, Stages::lines_only);
     let t_prepare = Instant::now();
     let mut prepared = args.frame.prepare(scene);
     let prepare = t_prepare.elapsed();

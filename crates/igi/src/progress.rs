@@ -211,6 +211,19 @@ impl Stages {
         Self { spinner: None, current, lines: Some((stop, thread)) }
     }
 
+    /// Moves `stages` (the loading's, if it had any) on to preparing `scene`, or starts there
+    /// through `start` ([`Stages::spinner`] or [`Stages::lines_only`]) where there were none.
+    pub fn preparing(stages: Option<Self>, scene: &str, start: fn(String) -> Self) -> Self {
+        let preparing = format!("preparing {scene} (BVH, shading tables, lights)");
+        match stages {
+            Some(stages) => {
+                stages.stage(preparing);
+                stages
+            }
+            None => start(preparing),
+        }
+    }
+
     /// Moves on to `stage`.
     pub fn stage(&self, stage: String) {
         if let Some(spinner) = &self.spinner {

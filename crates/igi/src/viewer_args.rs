@@ -93,14 +93,7 @@ impl ViewerArgs {
         } else {
             (crate::scene_load::load_scene(&self.scene)?, None)
         };
-        let preparing = format!("preparing {} (BVH, shading tables, lights)", self.scene);
-        let stages = match stages {
-            Some(stages) => {
-                stages.stage(preparing);
-                stages
-            }
-            None => Stages::spinner(preparing),
-        };
+        let stages = Stages::preparing(stages, &self.scene, Stages::spinner);
         let prepared = self.frame.prepare(scene);
         drop(stages);
         let mut frame = self.frame.frame_state(&prepared)?;
