@@ -57,6 +57,24 @@ struct Closing {
     reason: String,
 }
 
+impl Closing {
+    /// Why a message could not be read, with the close code RFC 6455 (section 7.4.1) gives to
+    /// it: a broken frame is a protocol error (1002), text that is not UTF-8 inconsistent data
+    /// (1007), a message over [`MAX_MESSAGE_BYTES`] too big (1009).
+    fn unreadable(error: axum::Error) -> Self {
+        use tungstenite::Error;
+        let reason = format!("bad message: {error}");
+        let code = match error.into_inner().downcast::<Error>().map(|e| *e) {
+            Ok(Error::Capacity(_)) => close_code::SIZE,
+            Ok(Error::Utf8(_)) => close_code::INVALID,
+            Ok(Error::Protocol(_) | Error::AttackAttempt) => close_code::PROTOCOL,
+            // The socket failed: no close frame will reach the client.
+            _ => close_code::ERROR,
+        };
+        Self { code, reason }
+    }
+}
+
 /// Serves one WebSocket until it closes or misbehaves.
 pub async fn handle(
     socket: WebSocket,
@@ -91,7 +109,7 @@ pub async fn handle(
                     }
                     Ok(Message::Ping(_) | Message::Pong(_)) => continue,
                     Ok(Message::Close(_)) => break,
-                    Err(e) => return Closing { code: close_code::SIZE, reason: format!("bad message: {e}") },
+                    Err(e) => return Closing::unreadable(e),
                 };
                 let message: ClientMessage = match serde_json::from_str(&text) {
                     Ok(m) => m,

@@ -9,7 +9,9 @@
 //! `{"id": 17, "input": {"type": "drag", "dx": 4, "dy": 0, "button": "primary"}}`, where
 //! `input` is an [`igi_session::Input`] and `id` an optional number of the client's choosing.
 //! A message that is not such JSON, a binary message, or one longer than
-//! [`MAX_MESSAGE_BYTES`] closes that connection (and nothing else).
+//! [`MAX_MESSAGE_BYTES`] closes that connection (and nothing else), with the close code
+//! RFC 6455 gives to the fault: 1002 a broken frame, 1003 a binary message, 1007 text that is
+//! not UTF-8 or not an input, 1009 a message too long.
 //!
 //! Server → client: binary messages, one per frame: one byte of image kind (0 JPEG, 1 PNG),
 //! a little-endian `u32` length n, n bytes of JSON ([`FrameHeader`]: the frame's statistics

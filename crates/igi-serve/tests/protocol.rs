@@ -310,3 +310,88 @@ async fn pages_of_other_sites_and_rebound_names_cannot_open_the_stream() {
     let rebound_origin = format!("http://{rebound}");
     assert!(refused(tokio_tungstenite::connect_async(request(Some(&rebound), Some(&rebound_origin))).await));
 }
+
+/// Opens the stream over a plain socket, so that frames no WebSocket library would send can
+/// be written to it.
+fn raw_websocket(address: std::net::SocketAddr) -> std::net::TcpStream {
+    let mut stream = std::net::TcpStream::connect(address).unwrap();
+    stream.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
+    write!(
+        stream,
+        "GET /ws HTTP/1.1\r\nHost: localhost\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n\
+         Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n"
+    )
+    .unwrap();
+    let mut head = Vec::new();
+    let mut byte = [0u8];
+    while !head.ends_with(b"\r\n\r\n") {
+        stream.read_exact(&mut byte).unwrap();
+        head.push(byte[0]);
+    }
+    assert!(head.starts_with(b"HTTP/1.1 101"), "{}", String::from_utf8_lossy(&head));
+    stream
+}
+
+/// The code of the close frame the server sends after reading `frame`, skipping the frames
+/// it sends before; `None` if the connection ends without one.
+fn close_code_after(address: std::net::SocketAddr, frame: &[u8]) -> Option<u16> {
+    let mut stream = raw_websocket(address);
+    stream.write_all(frame).unwrap();
+    loop {
+        // Server frames are not masked: opcode, length (7, 16 or 64 bits), payload.
+        let mut head = [0u8; 2];
+        stream.read_exact(&mut head).ok()?;
+        let length = match head[1] & 0x7f {
+            126 => {
+                let mut l = [0u8; 2];
+                stream.read_exact(&mut l).ok()?;
+                u64::from(u16::from_be_bytes(l))
+            }
+            127 => {
+                let mut l = [0u8; 8];
+                stream.read_exact(&mut l).ok()?;
+                u64::from_be_bytes(l)
+            }
+            l => u64::from(l),
+        };
+        let mut payload = vec![0u8; usize::try_from(length).unwrap()];
+        stream.read_exact(&mut payload).ok()?;
+        if head[0] & 0x0f == 0x8 {
+            return payload.get(..2).map(|c| u16::from_be_bytes([c[0], c[1]]));
+        }
+    }
+}
+
+/// A client frame: FIN, `opcode`, masked with a zero key (so the payload reads as is).
+fn client_frame(opcode: u8, payload: &[u8]) -> Vec<u8> {
+    let mut frame = vec![0x80 | opcode];
+    match payload.len() {
+        l @ 0..=125 => frame.push(0x80 | l as u8),
+        l => {
+            frame.push(0x80 | 126);
+            frame.extend_from_slice(&u16::try_from(l).unwrap().to_be_bytes());
+        }
+    }
+    frame.extend_from_slice(&[0; 4]);
+    frame.extend_from_slice(payload);
+    frame
+}
+
+#[test]
+fn unreadable_messages_close_with_the_code_rfc_6455_gives_them() {
+    // Every one of them closed with 1009, "too big" (issue 35).
+    let server = common::start(32, 24);
+    // Protocol errors (1002): an unmasked client frame, reserved bits, an unknown opcode.
+    assert_eq!(close_code_after(server.address, &[0x81, 0x02, b'h', b'i']), Some(1002));
+    assert_eq!(close_code_after(server.address, &[0xf1, 0x80, 0, 0, 0, 0]), Some(1002));
+    assert_eq!(close_code_after(server.address, &client_frame(0x3, b"")), Some(1002));
+    // Text that is not UTF-8 (1007).
+    assert_eq!(close_code_after(server.address, &client_frame(0x1, &[0xff, 0xfe, 0xfd])), Some(1007));
+    // A frame announcing 1 MiB, over the 16 KiB a message may have (1009).
+    let mut big = vec![0x81, 0x80 | 127];
+    big.extend_from_slice(&(1u64 << 20).to_be_bytes());
+    big.extend_from_slice(&[0; 4]);
+    assert_eq!(close_code_after(server.address, &big), Some(1009));
+    // A well-formed message that is not an input stays inconsistent data (1007).
+    assert_eq!(close_code_after(server.address, &client_frame(0x1, b"{not json")), Some(1007));
+}
