@@ -10,6 +10,7 @@
 
 use crate::budget::FrameBudget;
 use crate::encoder::EncodedFrame;
+use crate::places::Tenure;
 use axum::extract::ws::{CloseFrame, Message, WebSocket, close_code};
 use futures_util::{SinkExt, StreamExt};
 use igi_session::{FrameStats, Input, RenderLoop, ViewerSettings};
@@ -75,12 +76,13 @@ impl Closing {
     }
 }
 
-/// Serves one WebSocket until it closes or misbehaves.
+/// Serves one WebSocket until it closes, misbehaves or is replaced ([`Tenure`]).
 pub async fn handle(
     socket: WebSocket,
     render_loop: Arc<RenderLoop>,
     mut frames: watch::Receiver<Option<Arc<EncodedFrame>>>,
     budget: FrameBudget,
+    tenure: Tenure,
 ) {
     // The session renders while at least one viewer is connected.
     let _watching = render_loop.watch();
@@ -96,11 +98,14 @@ pub async fn handle(
     frames.mark_changed();
 
     let receive = {
-        let (pending, refusals) = (pending.clone(), &refusals);
+        let (pending, refusals, tenure) = (pending.clone(), &refusals, &tenure);
         async move {
             while let Some(message) = stream.next().await {
                 let text = match message {
-                    Ok(Message::Text(text)) => text,
+                    Ok(Message::Text(text)) => {
+                        tenure.input();
+                        text
+                    }
                     Ok(Message::Binary(_)) => {
                         return Closing {
                             code: close_code::UNSUPPORTED,
@@ -176,6 +181,10 @@ pub async fn handle(
     let closing = tokio::select! {
         closing = receive => Some(closing),
         () = send => None,
+        () = tenure.replaced() => Some(Closing {
+            code: close_code::AGAIN,
+            reason: "every place is taken: a newcomer replaced this viewer, the longest idle".into(),
+        }),
     };
     if let Some(Closing { code, reason }) = closing {
         if code != close_code::NORMAL {

@@ -29,13 +29,14 @@
 //! [`igi_session::refusals::MAX_CHARS`] characters waiting for a client that reads none.
 //!
 //! Modules: [`encoder`] (frames to JPEG/PNG once for all connections), [`connection`] (one
-//! WebSocket), [`budget`] (the most a frame may cost), [`server`] (routes, connection limits,
-//! start and shutdown).
+//! WebSocket), [`budget`] (the most a frame may cost), [`places`] (how many connections may be
+//! open, and who gives way), [`server`] (routes, start and shutdown).
 
 pub mod access;
 pub mod budget;
 pub mod connection;
 pub mod encoder;
+pub mod places;
 pub mod server;
 
 pub use budget::FrameBudget;

@@ -5,15 +5,15 @@
 //!
 //! Connections are bounded ([`Limits`]): a client has [`Limits::header_timeout`] to send a
 //! request's headers, and as long between requests on a kept-alive connection (hyper's header
-//! read timeout covers both), and at most [`Limits::max_connections`] sockets are open at once,
-//! WebSockets included; one more is closed as soon as it is accepted. So half-open requests
-//! cannot take every file descriptor of the process. An open WebSocket has no timeout: a
-//! viewer may watch a still image for hours.
+//! read timeout covers both), and [`places`](crate::places) holds the number of open sockets
+//! to [`Limits::max_connections`]. An open WebSocket has no timeout: a viewer may watch a
+//! still image for hours, unless every place is taken and a newcomer replaces it.
 
 use crate::access;
 use crate::budget::FrameBudget;
 use crate::connection::{self, MAX_MESSAGE_BYTES};
 use crate::encoder::{EncodedFrame, Encoder};
+use crate::places::Places;
 use anyhow::Context;
 use axum::Router;
 use axum::extract::State;
@@ -27,13 +27,10 @@ use igi_session::{RenderLoop, Session};
 use std::future::Future;
 use std::io;
 use std::net::SocketAddr;
-use std::pin::Pin;
 use std::sync::Arc;
-use std::task::{Context as TaskContext, Poll};
 use std::time::Duration;
-use tokio::io::{AsyncRead, AsyncWrite, ReadBuf};
-use tokio::net::{TcpListener, TcpStream};
-use tokio::sync::{OwnedSemaphorePermit, Semaphore, watch};
+use tokio::net::TcpListener;
+use tokio::sync::watch;
 
 /// How long the server waits before accepting again after `accept` failed (out of file
 /// descriptors, say), instead of spinning.
@@ -49,6 +46,9 @@ pub struct Limits {
     /// How long a client may take to send a request's headers, and may leave an HTTP
     /// connection idle between requests.
     pub header_timeout: Duration,
+    /// How long a viewer may send no input before a newcomer who finds every place taken
+    /// may take its place.
+    pub viewer_idle: Duration,
 }
 
 impl Limits {
@@ -57,6 +57,8 @@ impl Limits {
     pub const MAX_CONNECTIONS: usize = 64;
     /// Default of [`Limits::header_timeout`].
     pub const HEADER_TIMEOUT: Duration = Duration::from_secs(10);
+    /// Default of [`Limits::viewer_idle`]: as long as a half-open request keeps its place.
+    pub const VIEWER_IDLE: Duration = Self::HEADER_TIMEOUT;
 }
 
 impl Default for Limits {
@@ -65,6 +67,7 @@ impl Default for Limits {
             frame: FrameBudget::DEFAULT,
             max_connections: Self::MAX_CONNECTIONS,
             header_timeout: Self::HEADER_TIMEOUT,
+            viewer_idle: Self::VIEWER_IDLE,
         }
     }
 }
@@ -81,6 +84,7 @@ struct AppState {
     budget: FrameBudget,
     /// The names of the scenes the session may open (`GET /scenes`).
     scenes: Arc<Vec<String>>,
+    places: Arc<Places>,
 }
 
 /// Serves the viewer of `render_loop` on `listener` within `limits` until `shutdown`
@@ -94,12 +98,14 @@ pub async fn serve(
 ) -> io::Result<()> {
     let loopback = listener.local_addr()?.ip().is_loopback();
     let encoder = Encoder::spawn(render_loop.clone());
+    let places = Places::new(&limits);
     let state = AppState {
         render_loop,
         frames: encoder.subscribe(),
         loopback,
         budget: limits.frame,
         scenes: Arc::new(scenes),
+        places: places.clone(),
     };
     let app = Router::new()
         .route("/", get(page))
@@ -108,15 +114,14 @@ pub async fn serve(
         .with_state(state);
     // Open WebSockets would hold a graceful shutdown forever: stop serving at once instead.
     tokio::select! {
-        () = accept(listener, app, limits) => Ok(()),
+        () = accept(listener, app, places, limits) => Ok(()),
         () = shutdown => Ok(()),
     }
 }
 
 /// Accepts connections and serves each on its own task, HTTP/1.1 with upgrades (the
 /// WebSocket), within `limits`.
-async fn accept(listener: TcpListener, app: Router, limits: Limits) {
-    let places = Arc::new(Semaphore::new(limits.max_connections));
+async fn accept(listener: TcpListener, app: Router, places: Arc<Places>, limits: Limits) {
     let mut http = hyper::server::conn::http1::Builder::new();
     http.timer(TokioTimer::new()).header_read_timeout(limits.header_timeout);
     loop {
@@ -128,60 +133,18 @@ async fn accept(listener: TcpListener, app: Router, limits: Limits) {
                 continue;
             }
         };
-        let Ok(place) = places.clone().try_acquire_owned() else {
-            tracing::debug!("closing a connection from {peer}: {} are open", limits.max_connections);
-            continue;
-        };
-        let io = TokioIo::new(Counted { stream, _place: place });
-        let connection = http.serve_connection(io, TowerToHyperService::new(app.clone())).with_upgrades();
+        let (places, app, http) = (places.clone(), app.clone(), http.clone());
         tokio::spawn(async move {
+            let Some(stream) = places.take(stream).await else {
+                tracing::debug!("closing a connection from {peer}: {} are open", limits.max_connections);
+                return;
+            };
+            let connection =
+                http.serve_connection(TokioIo::new(stream), TowerToHyperService::new(app)).with_upgrades();
             if let Err(e) = connection.await {
                 tracing::debug!("connection from {peer}: {e}");
             }
         });
-    }
-}
-
-/// A connection's socket, holding its place among [`Limits::max_connections`] until it
-/// closes. A WebSocket keeps the socket it was upgraded from, and so the place.
-struct Counted {
-    stream: TcpStream,
-    _place: OwnedSemaphorePermit,
-}
-
-impl AsyncRead for Counted {
-    fn poll_read(
-        self: Pin<&mut Self>,
-        cx: &mut TaskContext<'_>,
-        buf: &mut ReadBuf<'_>,
-    ) -> Poll<io::Result<()>> {
-        Pin::new(&mut self.get_mut().stream).poll_read(cx, buf)
-    }
-}
-
-impl AsyncWrite for Counted {
-    fn poll_write(self: Pin<&mut Self>, cx: &mut TaskContext<'_>, buf: &[u8]) -> Poll<io::Result<usize>> {
-        Pin::new(&mut self.get_mut().stream).poll_write(cx, buf)
-    }
-
-    fn poll_write_vectored(
-        self: Pin<&mut Self>,
-        cx: &mut TaskContext<'_>,
-        bufs: &[io::IoSlice<'_>],
-    ) -> Poll<io::Result<usize>> {
-        Pin::new(&mut self.get_mut().stream).poll_write_vectored(cx, bufs)
-    }
-
-    fn is_write_vectored(&self) -> bool {
-        self.stream.is_write_vectored()
-    }
-
-    fn poll_flush(self: Pin<&mut Self>, cx: &mut TaskContext<'_>) -> Poll<io::Result<()>> {
-        Pin::new(&mut self.get_mut().stream).poll_flush(cx)
-    }
-
-    fn poll_shutdown(self: Pin<&mut Self>, cx: &mut TaskContext<'_>) -> Poll<io::Result<()>> {
-        Pin::new(&mut self.get_mut().stream).poll_shutdown(cx)
     }
 }
 
@@ -220,7 +183,9 @@ async fn stream(upgrade: WebSocketUpgrade, headers: HeaderMap, State(state): Sta
     upgrade
         .max_message_size(MAX_MESSAGE_BYTES)
         .max_frame_size(MAX_MESSAGE_BYTES)
-        .on_upgrade(move |socket| connection::handle(socket, state.render_loop, state.frames, state.budget))
+        .on_upgrade(move |socket| {
+            connection::handle(socket, state.render_loop, state.frames, state.budget, state.places.viewer())
+        })
         .into_response()
 }
 

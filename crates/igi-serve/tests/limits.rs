@@ -1,7 +1,8 @@
 //! The server's bounds on its clients: a request whose headers do not come within the header
 //! timeout is closed, so is a kept-alive connection that idles that long, while a WebSocket
 //! lives on; connections beyond the cap are closed at once, and the cap frees as connections
-//! close. So half-open requests cannot exhaust the process's file descriptors.
+//! close. So half-open requests cannot exhaust the process's file descriptors, and viewers
+//! that send nothing cannot lock everyone out: a newcomer replaces the one idle longest.
 
 mod common;
 
@@ -87,16 +88,62 @@ fn connections_beyond_the_cap_are_closed_at_once() {
     // A closed connection frees its place: a page load succeeds again.
     drop(silent.pop());
     let deadline = Instant::now() + Duration::from_secs(10);
-    loop {
-        let mut client = TcpStream::connect(server.address).unwrap();
-        client.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
-        let _ = client.write_all(b"GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n");
-        let mut response = String::new();
-        let _ = client.read_to_string(&mut response);
-        if response.starts_with("HTTP/1.1 200") {
-            break;
-        }
+    while !page_loads(server.address) {
         assert!(Instant::now() < deadline, "no place freed 10 s after a connection closed");
         std::thread::sleep(Duration::from_millis(50));
     }
+}
+
+/// True if `GET /` answers with the page.
+fn page_loads(address: std::net::SocketAddr) -> bool {
+    let mut client = TcpStream::connect(address).unwrap();
+    client.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+    let _ = client.write_all(b"GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n");
+    let mut response = String::new();
+    let _ = client.read_to_string(&mut response);
+    response.starts_with("HTTP/1.1 200")
+}
+
+#[test]
+fn a_newcomer_replaces_the_viewer_idle_longest_when_every_place_is_taken() {
+    // 64 WebSockets that sent nothing locked out everyone, the page included (issue 35).
+    let (cap, idle) = (3, Duration::from_millis(500));
+    let server =
+        common::start_with(64, 48, Limits { max_connections: cap, viewer_idle: idle, ..Limits::default() });
+    let runtime = tokio::runtime::Builder::new_multi_thread().worker_threads(2).enable_all().build().unwrap();
+    let url = format!("ws://{}/ws", server.address);
+    let mut viewers: Vec<_> = (0..cap)
+        .map(|_| {
+            let viewer = runtime.block_on(tokio_tungstenite::connect_async(url.as_str())).unwrap().0;
+            std::thread::sleep(Duration::from_millis(20));
+            viewer
+        })
+        .collect();
+    // Every place is taken by viewers that were active a moment ago: a newcomer is refused.
+    assert!(!page_loads(server.address), "a page loaded beyond the cap");
+
+    // Once they are idle, the oldest viewer sends input, so the second is the one idle longest.
+    std::thread::sleep(idle + Duration::from_millis(100));
+    let input = json!({"id": 1, "input": {"type": "drag", "dx": 3, "dy": 0, "button": "primary"}});
+    runtime.block_on(viewers[0].send(Message::Text(input.to_string().into()))).unwrap();
+    std::thread::sleep(Duration::from_millis(100));
+    assert!(page_loads(server.address), "the page did not replace an idle viewer");
+
+    // The second viewer was told why it closed; the others stay open.
+    let close_code = |viewer: &mut tokio_tungstenite::WebSocketStream<_>| {
+        runtime.block_on(async {
+            let read = async {
+                while let Some(Ok(message)) = viewer.next().await {
+                    if let Message::Close(frame) = message {
+                        return frame.map(|f| u16::from(f.code));
+                    }
+                }
+                None
+            };
+            tokio::time::timeout(Duration::from_millis(500), read).await.ok()
+        })
+    };
+    assert_eq!(close_code(&mut viewers[1]), Some(Some(1013)));
+    assert_eq!(close_code(&mut viewers[0]), None, "the active viewer was closed");
+    assert_eq!(close_code(&mut viewers[2]), None, "two viewers were replaced for one newcomer");
 }

@@ -27,9 +27,10 @@ pub struct ServeArgs {
         help_heading = "Server"
     )]
     pub max_frame_mrays: u64,
-    /// Connections open at once (page loads and viewers); more are closed when accepted. A
-    /// client also has 10 s to send a request's headers, and an HTTP connection closes after
-    /// 10 s without a request (an open viewer's WebSocket does not).
+    /// Connections open at once (page loads and viewers); more are closed when accepted,
+    /// unless a viewer has sent no input for 10 s: the newcomer takes its place. A client
+    /// also has 10 s to send a request's headers, and an HTTP connection closes after 10 s
+    /// without a request (an open viewer's WebSocket does not).
     #[arg(
         long,
         default_value_t = Limits::MAX_CONNECTIONS as u64,
