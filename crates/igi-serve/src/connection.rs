@@ -21,6 +21,8 @@ use tokio::sync::{Notify, watch};
 
 /// Longest message a client may send; input messages are a few hundred bytes.
 pub const MAX_MESSAGE_BYTES: usize = 16 * 1024;
+/// How long a close frame may take to go out before the socket is dropped without it.
+const CLOSE_WAIT: std::time::Duration = std::time::Duration::from_secs(1);
 /// Inputs of one connection waiting for the frame that includes them; a client that sends
 /// faster than frames come loses the oldest acknowledgements, not memory.
 const MAX_PENDING: usize = 1024;
@@ -192,7 +194,9 @@ pub async fn handle(
         }
         // The reason of a close frame is limited to 123 bytes.
         let reason: String = reason.chars().take(100).collect();
-        let _ = sink.send(Message::Close(Some(CloseFrame { code, reason: reason.into() }))).await;
+        // A client that reads nothing would hold the place while the close frame waits.
+        let close = sink.send(Message::Close(Some(CloseFrame { code, reason: reason.into() })));
+        let _ = tokio::time::timeout(CLOSE_WAIT, close).await;
     }
 }
 
