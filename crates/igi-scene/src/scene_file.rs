@@ -247,14 +247,15 @@ pub(crate) fn is_scene_file(path: &Path) -> bool {
 /// Largest scene file. Scene files place and light meshes that live in files of their own;
 /// a scene of [`MAX_INSTANCES`] instances takes a few MiB.
 const MAX_SCENE_FILE_BYTES: usize = 16 << 20;
-/// Most tables a scene file may hold, inline (`{ ... }`) or in arrays (`[[light]]`): one per
-/// instance, and as many again for keyframes, materials, lights and views.
+/// Most tables a scene file may hold, inline (`{ ... }`), in arrays (`[[light]]`), headed
+/// (`[camera]`) or made by a dotted key (`a.b = 1` makes the table `a`): one per instance, and
+/// as many again for keyframes, materials, lights and views.
 const MAX_TABLES: usize = 2 * MAX_INSTANCES;
 
 /// Bounds what parsing `text` can take before it is parsed. `toml` holds each table of a
-/// document, inline or an array's element, in a map of about a kilobyte, so a file of ten
-/// million short `{}` or `[[x]]` entries would take gigabytes before the instance count or an
-/// unknown field could be checked.
+/// document in a map of about a kilobyte, so a file of ten million short `{}`, `[[x]]` or
+/// `a.b = 1` entries would take gigabytes before the instance count or an unknown field could
+/// be checked. The tables are counted by `toml`'s own event parser, which builds nothing.
 fn check_size(text: &str, file: &Path) -> Result<(), SceneError> {
     let refuse = |message: String| Err(SceneError::invalid(file, Location::File, message));
     if text.len() > MAX_SCENE_FILE_BYTES {
@@ -263,18 +264,46 @@ fn check_size(text: &str, file: &Path) -> Result<(), SceneError> {
             text.len()
         ));
     }
-    // Counting braces and lines that open with `[[` over-counts (a brace in a string, a
-    // multi-line string), never under-counts.
-    let inline = text.bytes().filter(|&b| b == b'{').count();
-    let arrays = text.lines().filter(|line| line.trim_start().starts_with("[[")).count();
-    if inline + arrays > MAX_TABLES {
+    let tables = count_tables(text);
+    if tables > MAX_TABLES {
         return refuse(format!(
-            "{} tables (`{{ ... }}` and `[[...]]`); a scene file may have at most {MAX_TABLES} \
-             (a scene at most {MAX_INSTANCES} instances)",
-            inline + arrays
+            "{tables} tables (`{{ ... }}`, `[...]`, `[[...]]` and each `.` of a dotted key); a scene \
+             file may have at most {MAX_TABLES} (a scene at most {MAX_INSTANCES} instances)"
         ));
     }
     Ok(())
+}
+
+/// The tables parsing `text` makes at most: one per header, inline table and array-of-tables
+/// element, and one per key separator (each dot of a dotted key names a table). Syntax errors
+/// are left to the parse that follows.
+fn count_tables(text: &str) -> usize {
+    use toml_parser::parser::EventReceiver;
+    use toml_parser::{ErrorSink, Span};
+    struct Count(usize);
+    impl EventReceiver for Count {
+        fn std_table_open(&mut self, _: Span, _: &mut dyn ErrorSink) {
+            self.0 += 1;
+        }
+        fn array_table_open(&mut self, _: Span, _: &mut dyn ErrorSink) {
+            self.0 += 1;
+        }
+        fn inline_table_open(&mut self, _: Span, _: &mut dyn ErrorSink) -> bool {
+            self.0 += 1;
+            true
+        }
+        fn key_sep(&mut self, _: Span, _: &mut dyn ErrorSink) {
+            self.0 += 1;
+        }
+    }
+    // `toml`'s own nesting limit: deeper arrays and inline tables are its error to report,
+    // and a parser without the guard recurses until the stack overflows (10,000 `[`).
+    const MAX_DEPTH: u32 = 80;
+    let tokens = toml_parser::Source::new(text).lex().into_vec();
+    let mut count = Count(0);
+    let mut guarded = toml_parser::parser::RecursionGuard::new(&mut count, MAX_DEPTH);
+    toml_parser::parser::parse_document(&tokens, &mut guarded, &mut ());
+    count.0
 }
 
 #[cfg(test)]
@@ -284,6 +313,19 @@ mod tests {
     /// `text` parsed from memory as `s.toml`.
     pub(super) fn parse_str(text: &str) -> Result<Scene, SceneError> {
         parse(text, "s.toml", None, &mut LoadReport::default())
+    }
+
+    #[test]
+    fn tables_are_counted_where_toml_makes_them() {
+        // `a` (a dotted key's), `d`, `e`, the inline table and `g` (one dot each).
+        assert_eq!(count_tables("a.b = 1\n[d.e]\nf = { g.h = 1.5 }\n"), 5);
+        // A float's dot and a dot in a string make none; each `[[x]]` element makes one.
+        assert_eq!(count_tables("x = 1.25\ny = \"a.b.c\"\n[[z]]\n[[z]]\n"), 2);
+        // Deep nesting is toml's error to report, not a stack overflow.
+        let deep = format!("a = {}{}\n", "[".repeat(100_000), "]".repeat(100_000));
+        assert!(count_tables(&deep) == 0 && parse_str(&deep).unwrap_err().to_string().contains("recursion"));
+        let deep = format!("a = {}1{}\n", "{b = ".repeat(100_000), "}".repeat(100_000));
+        assert!(count_tables(&deep) <= 82 && parse_str(&deep).unwrap_err().to_string().contains("recursion"));
     }
 
     #[test]

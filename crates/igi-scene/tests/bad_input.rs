@@ -265,6 +265,11 @@ fn instance_counts_are_capped() {
     // And so are two million elements of table arrays (a 16 MiB file took 850 MB to refuse).
     let err = toml(&"[[x]]\n".repeat(2_000_000)).unwrap_err().to_string();
     assert!(err.contains("2000000 tables"), "{err}");
+    // And so are the tables dotted keys make: 120,000 lines of `tN.a.a. ... .a = 1` (60 dots)
+    // took 5.9 GB and aborted (issue 35).
+    let text: String = (0..120_000).map(|i| format!("t{i}{} = 1\n", ".a".repeat(60))).collect();
+    let err = toml(&text).unwrap_err().to_string();
+    assert!(err.contains("7200000 tables"), "{err}");
     let err = toml(&" ".repeat(17 << 20)).unwrap_err().to_string();
     assert!(err.contains("a scene file may have at most 16777216"), "{err}");
     // On disk, a file that large is refused by its size before it is read.
