@@ -17,7 +17,8 @@
 //! input was refused goes to the viewer that sent it, and why a frame failed to every viewer.
 //! Inputs wait while a frame renders or a scene loads; at most [`MAX_WAITING`] of them, with
 //! at most [`MAX_WAITING_NAME_BYTES`] of names, so that a client sending faster than the
-//! session takes its inputs cannot grow the process: one more is refused at once.
+//! session takes its inputs cannot grow the process: one more is refused at once. Of several
+//! scenes asked for while they wait, only the last is opened.
 //!
 //! A loop started with [`RenderLoop::spawn_on_demand`] renders only while someone watches
 //! ([`RenderLoop::watch`]): a server with no browser connected does not spend its cores.
@@ -274,8 +275,9 @@ fn run(mut session: Session, shared: &Shared, latest: &LatestFrame) {
     while !state.stop {
         // Every pending input goes into the next frame; when nothing needs rendering, sleep
         // until one comes.
-        let inputs = std::mem::take(&mut state.inputs);
+        let mut inputs = std::mem::take(&mut state.inputs);
         state.name_bytes = 0;
+        drop_superseded_opens(&mut inputs);
         if !inputs.is_empty() {
             drop(state);
             failed = false;
@@ -335,5 +337,35 @@ fn run(mut session: Session, shared: &Shared, latest: &LatestFrame) {
                 failed = true;
             }
         }
+    }
+}
+
+/// Of several scenes asked for in one batch of inputs only the last is opened: a load takes
+/// seconds, and each earlier scene would be replaced as soon as it had loaded, so a client
+/// asking for twenty scenes at once held every viewer's frames for twenty loads (issue 35).
+/// The other inputs stay, in order.
+fn drop_superseded_opens(inputs: &mut Vec<(Input, Weak<Mailbox>)>) {
+    let is_open = |input: &Input| matches!(input, Input::Open { .. });
+    if let Some(last) = inputs.iter().rposition(|(input, _)| is_open(input)) {
+        let mut index = 0;
+        inputs.retain(|(input, _)| {
+            index += 1;
+            !is_open(input) || index - 1 == last
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_the_last_scene_asked_for_in_a_batch_is_opened() {
+        let open = |name: &str| (Input::Open { name: name.into() }, Weak::new());
+        let mut inputs = vec![open("a.toml"), (Input::Reset, Weak::new()), open("b.toml"), open("c.toml")];
+        inputs.push((Input::Reset, Weak::new()));
+        drop_superseded_opens(&mut inputs);
+        let left: Vec<_> = inputs.iter().map(|(input, _)| input.clone()).collect();
+        assert_eq!(left, [Input::Reset, Input::Open { name: "c.toml".into() }, Input::Reset]);
     }
 }
