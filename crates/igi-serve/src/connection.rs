@@ -115,7 +115,9 @@ pub async fn handle(
                         };
                     }
                     Ok(Message::Ping(_) | Message::Pong(_)) => continue,
-                    Ok(Message::Close(_)) => break,
+                    // The WebSocket answers the client's close (RFC 6455, section 5.5.1) when it is
+                    // read once more, and then ends.
+                    Ok(Message::Close(_)) => continue,
                     Err(e) => return Closing::unreadable(e),
                 };
                 let message: ClientMessage = match serde_json::from_str(&text) {

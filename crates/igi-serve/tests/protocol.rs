@@ -392,6 +392,10 @@ fn unreadable_messages_close_with_the_code_rfc_6455_gives_them() {
     big.extend_from_slice(&(1u64 << 20).to_be_bytes());
     big.extend_from_slice(&[0; 4]);
     assert_eq!(close_code_after(server.address, &big), Some(1009));
+    // A client's close is answered with its code (it was met by a dropped socket), and a code
+    // no endpoint may send (999) is a protocol error.
+    assert_eq!(close_code_after(server.address, &client_frame(0x8, &1000u16.to_be_bytes())), Some(1000));
+    assert_eq!(close_code_after(server.address, &client_frame(0x8, &999u16.to_be_bytes())), Some(1002));
     // A well-formed message that is not an input stays inconsistent data (1007).
     assert_eq!(close_code_after(server.address, &client_frame(0x1, b"{not json")), Some(1007));
 }
