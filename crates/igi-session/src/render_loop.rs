@@ -275,13 +275,20 @@ fn run(mut session: Session, shared: &Shared, latest: &LatestFrame) {
     while !state.stop {
         // Every pending input goes into the next frame; when nothing needs rendering, sleep
         // until one comes.
-        let mut inputs = std::mem::take(&mut state.inputs);
+        let inputs = std::mem::take(&mut state.inputs);
         state.name_bytes = 0;
-        drop_superseded_opens(&mut inputs);
         if !inputs.is_empty() {
             drop(state);
             failed = false;
-            for (input, from) in &inputs {
+            // Of several scenes asked for at once only the last is opened: a load takes seconds,
+            // and each earlier scene would be replaced as soon as it had loaded (twenty opens
+            // from one client held every viewer's frames for twenty loads, issue 35).
+            let last_open = inputs.iter().rposition(|(input, _)| matches!(input, Input::Open { .. }));
+            for (k, (input, from)) in inputs.iter().enumerate() {
+                if matches!(input, Input::Open { .. }) && Some(k) != last_open {
+                    session.pass_over();
+                    continue;
+                }
                 if let Err(e) = session.handle(input) {
                     // A viewer that has gone is told nothing, and nothing is kept for it.
                     if let Some(mailbox) = from.upgrade() {
@@ -337,35 +344,5 @@ fn run(mut session: Session, shared: &Shared, latest: &LatestFrame) {
                 failed = true;
             }
         }
-    }
-}
-
-/// Of several scenes asked for in one batch of inputs only the last is opened: a load takes
-/// seconds, and each earlier scene would be replaced as soon as it had loaded, so a client
-/// asking for twenty scenes at once held every viewer's frames for twenty loads (issue 35).
-/// The other inputs stay, in order.
-fn drop_superseded_opens(inputs: &mut Vec<(Input, Weak<Mailbox>)>) {
-    let is_open = |input: &Input| matches!(input, Input::Open { .. });
-    if let Some(last) = inputs.iter().rposition(|(input, _)| is_open(input)) {
-        let mut index = 0;
-        inputs.retain(|(input, _)| {
-            index += 1;
-            !is_open(input) || index - 1 == last
-        });
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn only_the_last_scene_asked_for_in_a_batch_is_opened() {
-        let open = |name: &str| (Input::Open { name: name.into() }, Weak::new());
-        let mut inputs = vec![open("a.toml"), (Input::Reset, Weak::new()), open("b.toml"), open("c.toml")];
-        inputs.push((Input::Reset, Weak::new()));
-        drop_superseded_opens(&mut inputs);
-        let left: Vec<_> = inputs.iter().map(|(input, _)| input.clone()).collect();
-        assert_eq!(left, [Input::Reset, Input::Open { name: "c.toml".into() }, Input::Reset]);
     }
 }

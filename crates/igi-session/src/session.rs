@@ -319,6 +319,12 @@ impl Session {
         }
     }
 
+    /// Counts an input the caller chose not to apply (an open that a later one replaces), so
+    /// that the next frame's [`FrameStats::input_seq`] still includes it.
+    pub fn pass_over(&mut self) {
+        self.inputs += 1;
+    }
+
     /// Applies an input. An input it cannot apply (invalid settings, a view or light the scene
     /// does not have, a scene that does not open) is refused with the reason and changes
     /// nothing.

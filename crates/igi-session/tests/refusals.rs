@@ -8,8 +8,8 @@ use igi_render::PreparedScene;
 use igi_session::refusals::{MAX_CHARS, MAX_KEPT};
 use igi_session::render_loop::{MAX_WAITING, MAX_WAITING_NAME_BYTES};
 use igi_session::{Button, Input, RenderLoop, SceneCatalog, Session, ViewerSettings};
-use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 /// How long `slow.toml` takes to fail to load.
@@ -18,19 +18,27 @@ const SLOW_LOAD: Duration = Duration::from_secs(3);
 /// The Cornell box, 40x40, still and not accumulating, with a list of scenes in which
 /// `missing_mesh.toml` does not open, nor `slow.toml`, after [`SLOW_LOAD`].
 fn render_loop() -> RenderLoop {
+    render_loop_logging_opens(Arc::default())
+}
+
+/// [`render_loop`], noting in `opened` each scene it opens (or tries to).
+fn render_loop_logging_opens(opened: Arc<Mutex<Vec<String>>>) -> RenderLoop {
     let scene = PreparedScene::new(igi_scene::builtin("cornell-box").unwrap());
     let camera = *scene.camera().unwrap();
     let mut settings = ViewerSettings::for_scene(scene.bounds().diagonal());
     (settings.frame.width, settings.frame.height, settings.accumulate) = (40, 40, false);
     let mut session = Session::new(scene, camera, settings, 1).unwrap();
     let names: Vec<String> = ["cornell-box", "missing_mesh.toml", "slow.toml"].map(String::from).into();
-    let open = |name: &str| match igi_scene::builtin(name) {
-        Some(scene) => Ok(PreparedScene::new(scene)),
-        None if name == "slow.toml" => {
-            std::thread::sleep(SLOW_LOAD);
-            Err("slow.toml: took its time and failed".to_string())
+    let open = move |name: &str| {
+        opened.lock().unwrap().push(name.to_string());
+        match igi_scene::builtin(name) {
+            Some(scene) => Ok(PreparedScene::new(scene)),
+            None if name == "slow.toml" => {
+                std::thread::sleep(SLOW_LOAD);
+                Err("slow.toml: took its time and failed".to_string())
+            }
+            None => Err("mesh file missing.obj: No such file or directory (os error 2)".to_string()),
         }
-        None => Err("mesh file missing.obj: No such file or directory (os error 2)".to_string()),
     };
     session.set_catalog(SceneCatalog::new(names, Box::new(open)), "cornell-box");
     RenderLoop::spawn(session)
@@ -150,4 +158,23 @@ fn inputs_that_come_while_a_scene_loads_wait_in_a_bounded_queue() {
     let after = viewer.take();
     assert_eq!(after.len(), MAX_KEPT);
     assert!(after.iter().all(|m| m.starts_with("view: the scene has no view \"vvv")), "{after:?}");
+}
+
+#[test]
+fn of_the_scenes_asked_for_while_one_loads_only_the_last_opens() {
+    // Twenty opens from one client held every viewer's frames for twenty loads (issue 35).
+    let opened = Arc::new(Mutex::new(Vec::new()));
+    let render_loop = render_loop_logging_opens(opened.clone());
+    let viewer = render_loop.refusals(|| {});
+    render_loop.send(Input::Open { name: "slow.toml".into() }, &viewer);
+    // The render thread is in the load from here on.
+    std::thread::sleep(SLOW_LOAD / 10);
+    for name in ["slow.toml", "missing_mesh.toml", "slow.toml", "cornell-box"] {
+        render_loop.send(Input::Open { name: name.into() }, &viewer);
+        render_loop.send(Input::Drag { dx: 1.0, dy: 0.0, button: Button::Primary }, &viewer);
+    }
+    // The passed-over opens count as handled: the frame after them comes.
+    handled(&render_loop);
+    assert_eq!(*opened.lock().unwrap(), ["slow.toml", "cornell-box"]);
+    assert_eq!(viewer.take(), ["open: slow.toml: took its time and failed"]);
 }
