@@ -124,6 +124,15 @@ pub enum Input {
     },
 }
 
+impl Input {
+    /// True if this input's effect outlasts opening another scene ([`Input::Open`]): the
+    /// settings and the camera mode stay, while the camera, the lights, the selection and
+    /// moved objects start anew with the scene.
+    pub fn outlasts_open(&self) -> bool {
+        matches!(self, Self::Settings { .. } | Self::Mode { .. })
+    }
+}
+
 /// Why a session refused an input; the refused input changes nothing.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum InputError {

@@ -18,13 +18,14 @@
 //! Inputs wait while a frame renders or a scene loads; at most [`MAX_WAITING`] of them, with
 //! at most [`MAX_WAITING_NAME_BYTES`] of names, so that a client sending faster than the
 //! session takes its inputs cannot grow the process: one more is refused at once. Of several
-//! scenes asked for while they wait, only the last is opened.
+//! scenes asked for while they wait, only the last is opened, and the inputs before it that
+//! the new scene would undo are passed over ([`Input::outlasts_open`]).
 //!
 //! A loop started with [`RenderLoop::spawn_on_demand`] renders only while someone watches
 //! ([`RenderLoop::watch`]): a server with no browser connected does not spend its cores.
 
-use crate::input::Input;
-use crate::refusals::{Mailbox, Refusals};
+use crate::input::{Input, InputError};
+use crate::refusals::{Mailbox, Refusals, quote_name};
 use crate::session::{Frame, Session};
 use igi_render::CancelToken;
 use igi_render::FrameError;
@@ -282,11 +283,19 @@ fn run(mut session: Session, shared: &Shared, latest: &LatestFrame) {
             failed = false;
             // Of several scenes asked for at once only the last is opened: a load takes seconds,
             // and each earlier scene would be replaced as soon as it had loaded (twenty opens
-            // from one client held every viewer's frames for twenty loads, issue 35).
+            // from one client held every viewer's frames for twenty loads, issue 35). What the
+            // inputs before it did to the scene it replaces would be undone as well, and a view
+            // or light of a scene passed over would be refused by the current one.
             let last_open = inputs.iter().rposition(|(input, _)| matches!(input, Input::Open { .. }));
             for (k, (input, from)) in inputs.iter().enumerate() {
-                if matches!(input, Input::Open { .. }) && Some(k) != last_open {
+                if last_open.is_some_and(|last| k < last) && !input.outlasts_open() {
                     session.pass_over();
+                    // The viewer that asked for a scene passed over is told, so that its page
+                    // does not wait for it.
+                    if let (Input::Open { name }, Some(mailbox)) = (input, from.upgrade()) {
+                        let why = format!("{}: not opened, a later request replaced it", quote_name(name));
+                        mailbox.push(&InputError::Open(why).panel_message());
+                    }
                     continue;
                 }
                 if let Err(e) = session.handle(input) {
