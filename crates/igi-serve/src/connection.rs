@@ -63,18 +63,20 @@ struct Closing {
 impl Closing {
     /// Why a message could not be read, with the close code RFC 6455 (section 7.4.1) gives to
     /// it: a broken frame is a protocol error (1002), text that is not UTF-8 inconsistent data
-    /// (1007), a message over [`MAX_MESSAGE_BYTES`] too big (1009).
-    fn unreadable(error: axum::Error) -> Self {
+    /// (1007), a message over [`MAX_MESSAGE_BYTES`] too big (1009). `None` if the connection
+    /// is gone (reset or failed): no close frame would reach the client.
+    fn unreadable(error: axum::Error) -> Option<Self> {
         use tungstenite::Error;
+        use tungstenite::error::ProtocolError;
         let reason = format!("bad message: {error}");
         let code = match error.into_inner().downcast::<Error>().map(|e| *e) {
             Ok(Error::Capacity(_)) => close_code::SIZE,
             Ok(Error::Utf8(_)) => close_code::INVALID,
-            Ok(Error::Protocol(_) | Error::AttackAttempt) => close_code::PROTOCOL,
-            // The socket failed: no close frame will reach the client.
-            _ => close_code::ERROR,
+            Ok(Error::Protocol(ProtocolError::ResetWithoutClosingHandshake)) => return None,
+            Ok(Error::Protocol(_)) => close_code::PROTOCOL,
+            _ => return None,
         };
-        Self { code, reason }
+        Some(Self { code, reason })
     }
 }
 
@@ -109,10 +111,10 @@ pub async fn handle(
                         text
                     }
                     Ok(Message::Binary(_)) => {
-                        return Closing {
+                        return Some(Closing {
                             code: close_code::UNSUPPORTED,
                             reason: "binary messages are not accepted".into(),
-                        };
+                        });
                     }
                     Ok(Message::Ping(_) | Message::Pong(_)) => continue,
                     // The WebSocket answers the client's close (RFC 6455, section 5.5.1) when it is
@@ -123,10 +125,10 @@ pub async fn handle(
                 let message: ClientMessage = match serde_json::from_str(&text) {
                     Ok(m) => m,
                     Err(e) => {
-                        return Closing {
+                        return Some(Closing {
                             code: close_code::INVALID,
                             reason: format!("malformed input: {e}"),
-                        };
+                        });
                     }
                 };
                 if let Input::Settings { settings } = &message.input {
@@ -149,7 +151,8 @@ pub async fn handle(
                     p.push_back((seq, id));
                 }
             }
-            Closing { code: close_code::NORMAL, reason: String::new() }
+            // The client closed (its close answered) or went away: nothing more to say.
+            None
         }
     };
 
@@ -183,7 +186,7 @@ pub async fn handle(
     };
 
     let closing = tokio::select! {
-        closing = receive => Some(closing),
+        closing = receive => closing,
         () = send => None,
         () = tenure.replaced() => Some(Closing {
             code: close_code::AGAIN,
@@ -191,9 +194,7 @@ pub async fn handle(
         }),
     };
     if let Some(Closing { code, reason }) = closing {
-        if code != close_code::NORMAL {
-            tracing::info!("closing a viewer connection: {reason}");
-        }
+        tracing::info!("closing a viewer connection: {reason}");
         // The reason of a close frame is limited to 123 bytes.
         let reason: String = reason.chars().take(100).collect();
         // A client that reads nothing would hold the place while the close frame waits.

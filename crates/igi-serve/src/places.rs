@@ -1,12 +1,14 @@
 //! The server's places for connections: at most [`Limits::max_connections`] sockets are open
 //! at once, WebSockets included, so half-open requests cannot take every file descriptor of
-//! the process. A request's place frees when its socket closes (hyper's header timeout closes
-//! the idle and the slow ones). A WebSocket keeps the socket it was upgraded from, and so the
-//! place, for as long as the viewer watches: hours, on a still image. So that viewers that
-//! send nothing cannot lock everyone out, the page included (issue 35), a newcomer who finds
-//! every place taken takes the place of the viewer that has sent no input for longest, if
-//! that is at least [`Limits::viewer_idle`]; that viewer is closed with 1013 ("try again
-//! later") and its page says why.
+//! the process (beyond them, at most [`MAX_NEWCOMERS`] wait a moment for a place, below). A
+//! request's place frees when its socket closes (hyper's header timeout closes the idle and
+//! the slow ones). A WebSocket keeps the socket it was upgraded from, and so the place, for as
+//! long as the viewer watches: hours, on a still image. So that viewers that send nothing
+//! cannot lock everyone out, the page included (issue 35), a newcomer who finds every place
+//! taken and sends a request takes the place of the viewer that has sent no input for
+//! longest, if that is at least [`Limits::viewer_idle`]; that viewer is closed with 1013 ("try
+//! again later") and its page says why. A socket that sends nothing (a port scan, a browser's
+//! speculative connection) replaces no one.
 
 use crate::server::Limits;
 use std::io;
@@ -22,10 +24,17 @@ use tokio::time::Instant;
 
 /// How long a newcomer waits for the place of the viewer it replaces to free.
 const REPLACE_WAIT: Duration = Duration::from_secs(2);
+/// How long a newcomer who finds every place taken may take to send the first byte of its
+/// request.
+const REQUEST_WAIT: Duration = Duration::from_secs(2);
+/// Newcomers who find every place taken that may wait at once (for their request, then for a
+/// viewer's place); more are closed at once.
+pub const MAX_NEWCOMERS: usize = 8;
 
 /// The places of one server.
 pub struct Places {
     free: Arc<Semaphore>,
+    newcomers: Semaphore,
     viewers: Mutex<Vec<Viewer>>,
     next_viewer: AtomicU64,
     viewer_idle: Duration,
@@ -43,18 +52,26 @@ impl Places {
     pub fn new(limits: &Limits) -> Arc<Self> {
         Arc::new(Self {
             free: Arc::new(Semaphore::new(limits.max_connections)),
+            newcomers: Semaphore::new(MAX_NEWCOMERS),
             viewers: Mutex::new(Vec::new()),
             next_viewer: AtomicU64::new(0),
             viewer_idle: limits.viewer_idle,
         })
     }
 
-    /// A place for `stream`: a free one, else the place of the viewer idle longest (if at least
-    /// [`Limits::viewer_idle`]) once it has closed. `None` if every place is taken by a
-    /// request or a viewer that sent input lately: the caller closes `stream`.
+    /// A place for `stream`: a free one, else, once it has sent a request, the place of the
+    /// viewer idle longest (if at least [`Limits::viewer_idle`]) once that has closed. `None`
+    /// if every place is taken by a request or a viewer that sent input lately, or `stream`
+    /// sends nothing: the caller closes `stream`.
     pub async fn take(&self, stream: TcpStream) -> Option<Counted> {
         if let Ok(place) = self.free.clone().try_acquire_owned() {
             return Some(Counted { stream, _place: place });
+        }
+        let _waiting = self.newcomers.try_acquire().ok()?;
+        let mut first = [0u8];
+        match tokio::time::timeout(REQUEST_WAIT, stream.peek(&mut first)).await {
+            Ok(Ok(n)) if n > 0 => {}
+            _ => return None,
         }
         let leave = {
             let mut viewers = lock(&self.viewers);
@@ -69,7 +86,11 @@ impl Places {
             viewers.swap_remove(longest).leave
         };
         leave.notify_one();
-        let place = tokio::time::timeout(REPLACE_WAIT, self.free.clone().acquire_owned()).await.ok()?.ok()?;
+        let Ok(Ok(place)) = tokio::time::timeout(REPLACE_WAIT, self.free.clone().acquire_owned()).await
+        else {
+            tracing::warn!("a viewer was closed for a newcomer, but no place freed within {REPLACE_WAIT:?}");
+            return None;
+        };
         Some(Counted { stream, _place: place })
     }
 

@@ -27,8 +27,8 @@ pub struct ServeArgs {
         help_heading = "Server"
     )]
     pub max_frame_mrays: u64,
-    /// Connections open at once (page loads and viewers); more are closed when accepted,
-    /// unless a viewer has sent no input for 10 s: the newcomer takes its place. A client
+    /// Connections open at once (page loads and viewers); more are closed, unless a viewer
+    /// has sent no input for 10 s: a newcomer that sends a request takes its place. A client
     /// also has 10 s to send a request's headers, and an HTTP connection closes after 10 s
     /// without a request (an open viewer's WebSocket does not).
     #[arg(
