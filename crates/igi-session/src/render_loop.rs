@@ -292,7 +292,9 @@ fn run(mut session: Session, shared: &Shared, latest: &LatestFrame) {
                     session.pass_over();
                     // The viewer that asked for a scene passed over is told, so that its page
                     // does not wait for it.
-                    if let (Input::Open { name }, Some(mailbox)) = (input, from.upgrade()) {
+                    if let Input::Open { name } = input
+                        && let Some(mailbox) = from.upgrade()
+                    {
                         let why = format!("{}: not opened, a later request replaced it", quote_name(name));
                         mailbox.push(&InputError::Open(why).panel_message());
                     }
