@@ -513,19 +513,24 @@ impl Session {
 
         // Linear radiance where it is averaged: a cluster sends 8-bit pixels otherwise.
         let averaged = (self.settings.accumulate && !changed) || temporal;
-        // A still view's frames after the first of its mean are still images, with the
-        // viewer's clamp: the clamp's bias is compensated, so the mean converges to the
-        // unclamped solution as `igi render --frames N` does. The first frame of a mean is the
-        // moving frame shown at once after a change, which keeps the speed (ARCHITECTURE.md,
-        // "Still images are bias-compensated"); on a cluster, whose moving frames come as 8-bit
-        // pixels outside the mean, the mean's first frame is thereby the same as a local
-        // session's.
+        // A still view's frames after the first of its mean are still images, by the rule of
+        // `igi render --frames N`: the clamp's bias is compensated, so the mean converges to
+        // the unclamped solution, and the scene's default clamp (not one the user chose)
+        // becomes the larger clamp of compensation, which keeps the VPLs' near-field spots
+        // out of the mean (ARCHITECTURE.md, "Still images are bias-compensated"). The first
+        // frame of a mean is the moving frame shown at once after a change, which keeps the
+        // speed; on a cluster, whose moving frames come as 8-bit pixels outside the mean, the
+        // mean's first frame is thereby the same as a local session's.
         let still = match temporal {
             true => !changed && since_cut > 0,
             false => self.progressive.frames() > 0,
         };
         let settings = match self.settings.accumulate && still {
-            true => self.settings.frame.still_image(None),
+            true => {
+                let diagonal = self.scene.bounds().diagonal();
+                let default_clamp = self.settings.frame.clamp == FrameSettings::clamp_for(diagonal);
+                self.settings.frame.still_image(default_clamp.then_some(diagonal))
+            }
             false => self.settings.frame,
         };
         let frame = FrameState {
