@@ -40,7 +40,7 @@ pub struct RenderArgs {
     pub mode: Mode,
     /// IGI: average exactly this many frames, each with fresh VPLs; 1 is the fast single
     /// frame. Default: average frames until the image is clean (the estimated share of
-    /// 9×9-pixel windows more than 10 % off, from the frames' own variance, reaches 1 %) or
+    /// 9×9-pixel windows more than 10 % off, from the frames' own variance, reaches 0.5 %) or
     /// the time budget runs out.
     #[arg(long, help_heading = "Sampling")]
     pub frames: Option<u32>,
