@@ -111,7 +111,10 @@ pub fn measure(args: &FrameArgs, scene_name: &str, orbit: Orbit) -> Result<Orbit
             // The converged image of this frame's view (both runs turn the camera alike).
             let at = (k - orbit.from) as usize;
             if references.len() == at {
-                let mut view = FrameState::new(frame.stats.camera, settings.frame.still_image(None));
+                // Compensated frames, with the larger clamp of compensation unless `--clamp`
+                // was given: the reference `igi render --frames N` would make of this view.
+                let mut view = FrameState::new(frame.stats.camera, settings.frame);
+                args.still_image(&mut view, &reference_scene);
                 view.number = REFERENCE_FIRST_FRAME;
                 let reference = renderer
                     .render_accumulated(&mut reference_scene, &view, orbit.reference_frames, &|_, _| {})?

@@ -52,7 +52,9 @@ pub fn measure(args: &FrameArgs, scene_name: &str, seconds: f32, reference_frame
     let (t0, t1) = (first.pose.time, first.pose.time + seconds);
     let mut renderer = FrameRenderer::new(args.threads);
     let mut converged = |time: f32| -> Result<Vec<f32>> {
-        let mut frame = FrameState::new(first.camera, settings.frame.still_image(None));
+        // As `igi render --frames N` would make it (see `FrameArgs::still_image`).
+        let mut frame = FrameState::new(first.camera, settings.frame);
+        args.still_image(&mut frame, &scene);
         frame.pose = ScenePose::at(time);
         frame.number = REFERENCE_FIRST_FRAME;
         let film = renderer.render_accumulated(&mut scene, &frame, reference_frames, &|_, _| {})?;
