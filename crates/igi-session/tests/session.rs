@@ -384,11 +384,11 @@ fn new_input_cancels_a_long_frame_and_its_frame_comes_at_once() {
     eprintln!("the input's frame came {:?} after it", start.elapsed());
 }
 
-/// The local renderer, reporting each frame's outcome.
+/// The local renderer, reporting each frame's settings and outcome.
 #[derive(Debug)]
 struct Reporting {
     renderer: FrameRenderer,
-    outcomes: std::sync::mpsc::Sender<Result<(), String>>,
+    outcomes: std::sync::mpsc::Sender<(igi_render::FrameSettings, Result<(), String>)>,
 }
 
 impl FrameSource for Reporting {
@@ -400,7 +400,7 @@ impl FrameSource for Reporting {
         progress: &(dyn Fn(u32, u32) + Sync),
     ) -> Result<FrameOutput, FrameError> {
         let out = self.renderer.render_frame(scene, frame, cancel, progress);
-        let _ = self.outcomes.send(out.as_ref().map(|_| ()).map_err(|e| e.to_string()));
+        let _ = self.outcomes.send((frame.settings, out.as_ref().map(|_| ()).map_err(|e| e.to_string())));
         out
     }
 
@@ -420,7 +420,7 @@ fn dropping_the_loop_cancels_the_frame_in_progress() {
     let render_loop = RenderLoop::spawn(session);
     std::thread::sleep(Duration::from_secs(1));
     drop(render_loop);
-    let result = outcome.recv_timeout(Duration::from_secs(10)).expect("the frame ends within 10 s");
+    let (_, result) = outcome.recv_timeout(Duration::from_secs(10)).expect("the frame ends within 10 s");
     assert_eq!(result, Err("the frame was cancelled".to_string()));
 }
 
@@ -583,30 +583,6 @@ fn a_still_view_compensates_the_clamp_and_a_moving_one_does_not() {
     assert_eq!(compensation_ms(&moved), 0.0, "a moving frame skips the compensation");
 }
 
-/// A frame source that remembers the settings of every frame it renders.
-#[derive(Debug)]
-struct Recording {
-    renderer: FrameRenderer,
-    settings: std::sync::mpsc::Sender<igi_render::FrameSettings>,
-}
-
-impl FrameSource for Recording {
-    fn render_frame(
-        &mut self,
-        scene: &mut PreparedScene,
-        frame: &FrameState,
-        cancel: &CancelToken,
-        progress: &(dyn Fn(u32, u32) + Sync),
-    ) -> Result<FrameOutput, FrameError> {
-        let _ = self.settings.send(frame.settings);
-        self.renderer.render_frame(scene, frame, cancel, progress)
-    }
-
-    fn threads(&self) -> usize {
-        self.renderer.threads()
-    }
-}
-
 #[test]
 fn a_still_view_accumulates_with_the_clamp_of_igi_render() {
     // A still view's mean is the mean `igi render --frames N` writes: with the scene's default
@@ -624,14 +600,14 @@ fn a_still_view_accumulates_with_the_clamp_of_igi_render() {
             if let Some(clamp) = user_clamp {
                 settings.frame.clamp = clamp;
             }
-            let (sender, rendered) = std::sync::mpsc::channel();
-            let source = Recording { renderer: FrameRenderer::new(2), settings: sender };
+            let (outcomes, rendered) = std::sync::mpsc::channel();
+            let source = Reporting { renderer: FrameRenderer::new(2), outcomes };
             let mut session = Session::with_source(scene, camera, settings, Box::new(source)).unwrap();
             for _ in 0..3 {
                 session.render(0.01).unwrap();
             }
             let clamps: Vec<(f32, bool)> =
-                rendered.try_iter().map(|s| (s.clamp, s.compensate_clamp)).collect();
+                rendered.try_iter().map(|(s, _)| (s.clamp, s.compensate_clamp)).collect();
             let moving = user_clamp.unwrap_or(FrameSettings::clamp_for(diagonal));
             let still = user_clamp.unwrap_or(FrameSettings::compensated_clamp_for(diagonal));
             assert_eq!(clamps, [(moving, false), (still, true), (still, true)], "temporal {temporal}");
